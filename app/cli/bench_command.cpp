@@ -1,0 +1,126 @@
+/// `atelier-cli bench`: benchmarks of the engine as subcommands. Only the CLI11 parsing lives
+/// here; the work is in bench_work_precision.cpp and bench_material.cpp (plain C++).
+
+#include "app/cli/bench_material.h"
+#include "app/cli/bench_work_precision.h"
+#include "app/cli/commands.h"
+#include "sim/simulation.h"
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <array>
+#include <memory>
+#include <string>
+
+namespace atelier::app {
+
+namespace {
+
+void addWorkPrecision(CLI::App& bench) {
+    auto o = std::make_shared<WorkPrecisionOptions>();
+    CLI::App* cmd = bench.add_subcommand(
+        "work-precision",
+        "Every integrator over a sweep of steps/tolerances: wall time and force evaluations "
+        "against the end-position error relative to a tight rk45 reference (CSV, SVG)");
+    cmd->add_option("scene", o->scene, "Scene file (JSON)")->required()->check(CLI::ExistingFile);
+    cmd->add_option("--out,-o", o->out, "CSV output")->required();
+    cmd->add_option("--plot", o->plot, "SVG plot: RMS error against wall time, log-log");
+    cmd->add_option("--duration", o->duration, "Simulated time [s] (default: the scene's)")
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--integrators", o->integrators,
+                    "Integrators to sweep (default: euler midpoint rk4 rk45 implicit-euler)")
+        ->delimiter(',');
+    cmd->add_option("--min-dt", o->minDt, "Smallest fixed step of the sweep [s]")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--min-tolerance", o->minTolerance, "Tightest rk45 tolerance [m]")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--reference-tolerance", o->referenceTolerance,
+                    "Tolerance of the rk45 reference run [m]")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--reference-max-dt", o->referenceMaxDt,
+                    "Largest step of the reference run [s]")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--max-steps", o->maxSteps, "Skip fixed steps that need more steps than this")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--max-run-seconds", o->maxRunSeconds,
+                    "Stop a run after this wall time; it counts as unstable [s]")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--threads,-j", o->threads, "Engine threads (default: all cores)")
+        ->check(CLI::PositiveNumber);
+    cmd->callback([o] {
+        if (const int code = runWorkPrecision(*o); code != EXIT_OK) {
+            throw CLI::RuntimeError(code);
+        }
+    });
+}
+
+void addMaterial(CLI::App& bench) {
+    auto o = std::make_shared<MaterialBenchOptions>();
+    CLI::App* cmd = bench.add_subcommand(
+        "material",
+        "Quasi-static uniaxial tension test of a stretch model on a strip: measured stretch "
+        "stiffness and Poisson ratio against the requested ones (JSON)");
+    // Names are kept as strings (the transformers of CLI11 print enum values as numbers in
+    // their error messages) and converted in the callback.
+    auto names = std::make_shared<std::array<std::string, 3>>(
+        std::array<std::string, 3>{"", "regular", "weft"});
+    TensionTestOptions& t = o->test;
+    cmd->add_option("--model", (*names)[0], "Stretch model")
+        ->required()
+        ->check(CLI::IsMember({"springs", "volino", "fem"}));
+    cmd->add_option("--mesh", (*names)[1], "Triangulation of the strip")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"regular", "irregular"}));
+    cmd->add_option("--direction", (*names)[2], "Pull along weft (x) or warp (y)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"weft", "warp"}));
+    cmd->add_option("--out,-o", o->out, "JSON output (default: stdout)");
+    cmd->add_option("--strain", t.strain, "Imposed strain along the pull [-]")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--weft", t.material.stretchWeft, "Weft stretch stiffness [N/m]")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--warp", t.material.stretchWarp, "Warp stretch stiffness [N/m]")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--shear", t.material.shear, "Shear stiffness [N/m]")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--poisson", t.material.poisson, "Poisson ratio nu12 [-]")
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--cells", t.cellsLong, "Cells along the pull (half as many across)")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber)
+        ->each([o](const std::string& s) { o->test.cellsWide = std::max(1, std::stoi(s) / 2); });
+    cmd->add_option("--seed", t.seed, "Seed of the irregular triangulation")->capture_default_str();
+    cmd->add_flag("--cross-springs", t.crossSprings, "springs: add cross springs over hinges");
+    cmd->callback([o, names] {
+        o->test.model = *sim::stretchModelFromName((*names)[0]);
+        o->test.triangulation = (*names)[1] == "irregular" ? sim::Triangulation::Irregular
+                                                           : sim::Triangulation::Regular;
+        o->test.direction = (*names)[2] == "warp" ? PullDirection::Warp : PullDirection::Weft;
+        if (const int code = runMaterialBench(*o); code != EXIT_OK) {
+            throw CLI::RuntimeError(code);
+        }
+    });
+}
+
+} // namespace
+
+void addBenchCommand(CLI::App& app) {
+    CLI::App* bench = app.add_subcommand("bench", "Benchmarks: integrator work-precision, "
+                                                  "material tension test");
+    bench->require_subcommand(1);
+    addWorkPrecision(*bench);
+    addMaterial(*bench);
+}
+
+} // namespace atelier::app

@@ -1,0 +1,73 @@
+#pragma once
+/// `atelier-cli bench material`: a quasi-static uniaxial tension test of a stretch model on a
+/// rectangular strip, measuring its effective stretch stiffness and Poisson ratio.
+/// Plain C++ (no CLI11): the parsing is in bench_command.cpp.
+
+#include "sim/material.h"
+#include "sim/mesh/cloth_mesh.h"
+#include "sim/scene.h"
+
+#include <string>
+
+namespace atelier::app {
+
+/// Which material axis the strip is pulled along.
+enum class PullDirection {
+    Weft, ///< along x
+    Warp, ///< along y
+};
+
+/// Options of the uniaxial tension test.
+struct TensionTestOptions {
+    sim::StretchModel model = sim::StretchModel::Fem;
+    sim::Triangulation triangulation = sim::Triangulation::Regular;
+    PullDirection direction = PullDirection::Weft;
+    /// Fabric; only stretchWeft, stretchWarp, shear and poisson matter (the test is static).
+    sim::Material material;
+    double strain = 0.01;      ///< imposed engineering strain of the strip along the pull [-]
+    double length = 0.5;       ///< strip length along the pull [m]
+    double width = 0.25;       ///< strip width across the pull [m]
+    int cellsLong = 20;        ///< cells along the pull
+    int cellsWide = 10;        ///< cells across the pull
+    std::uint32_t seed = 1;    ///< irregular triangulation seed
+    bool crossSprings = false; ///< springs model: add cross springs over the hinges
+    /// Newton stops when |r_free| <= tolerance·|reaction| (force norms) [-].
+    double tolerance = 1e-10;
+    int maxIterations = 50; ///< Newton iteration cap
+};
+
+/// What the tension test measured.
+struct TensionTestResult {
+    /// Requested stiffness along the pull: stretchWeft or stretchWarp [N/m].
+    double requestedStretch = 0;
+    /// Requested Poisson ratio: lateral contraction per strain along the pull, ν₁₂ (weft pull)
+    /// or ν₂₁ = ν₁₂·E₂/E₁ (warp pull) [-].
+    double requestedPoisson = 0;
+    /// Reaction on the pulled edge / (width × strain) [N/m].
+    double measuredStretch = 0;
+    /// −(width change at mid-length / width) / strain [-].
+    double measuredPoisson = 0;
+    double reactionForce = 0; ///< total force the pulling grip applies along the pull [N]
+    double lateralStrain = 0; ///< width change at mid-length / width [-]
+    int iterations = 0;       ///< Newton iterations
+    double residual = 0;      ///< final |r_free| / |reaction| [-]
+    bool converged = false;
+    int vertices = 0;
+    int triangles = 0;
+    std::string error; ///< why the solve failed, empty otherwise
+};
+
+/// Runs the uniaxial tension test (see bench_material.cpp for the boundary conditions).
+TensionTestResult runTensionTest(const TensionTestOptions& options);
+
+/// `bench material` as a whole: options plus where to write the JSON.
+struct MaterialBenchOptions {
+    TensionTestOptions test;
+    std::string out; ///< JSON output path; empty = stdout only
+};
+
+/// Runs the test, prints a summary and writes the JSON atomically. Returns an exit code
+/// (app/cli/commands.h).
+int runMaterialBench(const MaterialBenchOptions& options);
+
+} // namespace atelier::app

@@ -1,0 +1,30 @@
+#pragma once
+/// Subcommands of atelier-cli. Each registers itself on the application with a callback that
+/// does the work; a callback reports a non-zero exit status by throwing
+/// `CLI::RuntimeError(code)` (main returns the code without printing anything more).
+///
+/// Exit codes shared by all commands: 0 success, 1 the command ran but failed (e.g. the
+/// simulation blew up), 2 bad input (unreadable or invalid file, bad arguments),
+/// 130 cancelled (Ctrl-C).
+
+namespace CLI {
+class App;
+}
+
+namespace atelier::app {
+
+inline constexpr int EXIT_OK = 0;
+inline constexpr int EXIT_RUN_FAILED = 1;
+inline constexpr int EXIT_BAD_INPUT = 2;
+inline constexpr int EXIT_CANCELLED = 130;
+
+/// `atelier-cli simulate SCENE.json --out OUT.obj --report REPORT.json [--threads N]
+/// [--frames-dir DIR]` (app/cli/simulate_command.cpp).
+void addSimulateCommand(CLI::App& app);
+
+// ---- Further subcommands register here (one function per file in app/cli/) ----
+/// `atelier-cli bench work-precision SCENE.json --out WP.csv [--plot WP.svg]` and
+/// `atelier-cli bench material --model M --mesh T --out M.json` (app/cli/bench_command.cpp).
+void addBenchCommand(CLI::App& app);
+
+} // namespace atelier::app

@@ -1,0 +1,25 @@
+/// atelier-cli: headless Atelier. Subcommands are registered from app/cli/*_command.cpp.
+
+#include "app/cli/commands.h"
+
+#include <CLI/CLI.hpp>
+
+int main(int argc, char** argv) {
+    CLI::App app{"Atelier: cloth and garment simulation, headless"};
+    app.name("atelier-cli");
+    app.require_subcommand(1);
+    app.set_version_flag("--version", "atelier-cli 0.1.0");
+
+    atelier::app::addSimulateCommand(app);
+    // ---- Further subcommands: register them here. ----
+    atelier::app::addBenchCommand(app);
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        // Usage errors exit 2 (bad input); --help and --version exit 0.
+        const int code = app.exit(e);
+        return code == 0 || e.get_name() == "RuntimeError" ? code : atelier::app::EXIT_BAD_INPUT;
+    }
+    return atelier::app::EXIT_OK;
+}

@@ -1,0 +1,116 @@
+#include "io/atomic_file.h"
+
+#include <cerrno>
+#include <cstring>
+#include <fcntl.h>
+#include <fstream>
+#include <sstream>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace atelier::io {
+
+namespace {
+
+Error systemError(const std::filesystem::path& path, const std::string& what) {
+    return Error{path.string(), "", what + ": " + std::strerror(errno)};
+}
+
+/// Closes a descriptor and removes the temporary file unless released.
+class TempFile {
+  public:
+    TempFile(int fd, std::string path) : m_fd(fd), m_path(std::move(path)) {}
+    ~TempFile() {
+        if (m_fd >= 0) {
+            ::close(m_fd);
+        }
+        if (!m_path.empty()) {
+            ::unlink(m_path.c_str());
+        }
+    }
+    TempFile(const TempFile&) = delete;
+    TempFile& operator=(const TempFile&) = delete;
+
+    int fd() const { return m_fd; }
+    const std::string& path() const { return m_path; }
+    /// Closes the descriptor; returns false (errno set) when close reports an error.
+    bool close() {
+        const int fd = m_fd;
+        m_fd = -1;
+        return ::close(fd) == 0;
+    }
+    /// The file was renamed into place: do not remove it.
+    void release() { m_path.clear(); }
+
+  private:
+    int m_fd;
+    std::string m_path;
+};
+
+} // namespace
+
+Result<void> writeFileAtomically(const std::filesystem::path& path, std::string_view contents) {
+    if (path.empty() || !path.has_filename()) {
+        return Error{path.string(), "", "not a file path"};
+    }
+    const std::filesystem::path dir = path.parent_path().empty() ? "." : path.parent_path();
+    std::string name = path.filename().string();
+    name.insert(name.begin(), '.');
+    name.append(".tmp-XXXXXX");
+    std::string tmpl = (dir / name).string();
+    const int fd = ::mkstemp(tmpl.data());
+    if (fd < 0) {
+        return systemError(path, "cannot create a temporary file in " + dir.string());
+    }
+    TempFile tmp(fd, tmpl);
+    // mkstemp creates the file 0600; a written file should have the usual permissions.
+    const mode_t mask = ::umask(0);
+    ::umask(mask);
+    ::fchmod(tmp.fd(), 0666 & ~mask);
+
+    const char* data = contents.data();
+    std::size_t left = contents.size();
+    while (left > 0) {
+        const ssize_t n = ::write(tmp.fd(), data, left);
+        if (n < 0) {
+            if (errno == EINTR) {
+                continue;
+            }
+            return systemError(path, "cannot write");
+        }
+        data += n;
+        left -= static_cast<std::size_t>(n);
+    }
+    if (::fsync(tmp.fd()) != 0) {
+        return systemError(path, "cannot flush to disk");
+    }
+    if (!tmp.close()) {
+        return systemError(path, "cannot close");
+    }
+    if (::rename(tmp.path().c_str(), path.c_str()) != 0) {
+        return systemError(path, "cannot rename the temporary file into place");
+    }
+    tmp.release();
+    // Make the rename itself durable (best effort: some file systems refuse fsync on dirs).
+    const int dirFd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (dirFd >= 0) {
+        ::fsync(dirFd);
+        ::close(dirFd);
+    }
+    return {};
+}
+
+Result<std::string> readFile(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        return systemError(path, "cannot open");
+    }
+    std::ostringstream s;
+    s << in.rdbuf();
+    if (in.bad()) {
+        return systemError(path, "cannot read");
+    }
+    return s.str();
+}
+
+} // namespace atelier::io

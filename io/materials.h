@@ -1,0 +1,30 @@
+#pragma once
+/// Fabric presets: named sim::Material values from a JSON file (assets/materials/fabrics.json).
+
+#include "io/result.h"
+
+#include "sim/material.h"
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <string_view>
+
+namespace atelier::io {
+
+/// Preset name → material (its `name` set to the preset name).
+using MaterialPresets = std::map<std::string, sim::Material>;
+
+/// Reads a fabric preset file:
+/// `{"format": "atelier-fabrics", "version": 1, "presets": {"cotton": {...}, ...}}`, each preset
+/// with every field of `readMaterial` below plus a `"source"` string citing where the values
+/// come from. Errors name the JSON pointer (`fabrics.json: /presets/denim/density_kg_per_m2: ...`).
+Result<MaterialPresets> loadMaterialPresets(const std::filesystem::path& path);
+
+/// Same as `loadMaterialPresets` for JSON text; `file` is used in error messages.
+Result<MaterialPresets> parseMaterialPresets(std::string_view text, const std::string& file);
+
+/// The presets of assets/materials/fabrics.json as built into the library (no file access).
+const MaterialPresets& builtinMaterialPresets();
+
+} // namespace atelier::io

@@ -1,0 +1,82 @@
+#include "io/report.h"
+
+#include "io/atomic_file.h"
+
+#include "sim/simulation.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+
+namespace atelier::io {
+
+namespace {
+
+/// A number, or null when it is not finite (JSON has no NaN or infinity).
+nlohmann::json number(double value) {
+    return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
+}
+
+} // namespace
+
+std::string formatReport(const sim::Simulation& simulation, const ReportFields& extra) {
+    const sim::RunStats& stats = simulation.stats();
+    const sim::SceneSpec& scene = simulation.scene();
+    nlohmann::json j;
+    j["format"] = "atelier-report";
+    j["version"] = 1;
+    j["steps"] = stats.steps;
+    j["rejected_steps"] = stats.rejectedSteps;
+    j["force_evaluations"] = stats.forceEvaluations;
+    j["cg_iterations"] = stats.cgIterations;
+    j["sim_time_s"] = number(stats.simTime);
+    j["wall_time_s"] = number(stats.wallTime);
+    j["min_dt_s"] = number(stats.minDt);
+    j["max_dt_s"] = number(stats.maxDt);
+    j["finite"] = stats.finite && simulation.positions().allFinite();
+    j["max_edge_strain"] = number(simulation.maxEdgeStrain());
+    j["kinetic_energy_j"] = number(simulation.kineticEnergy());
+    j["potential_energy_j"] = number(simulation.potentialEnergy());
+    j["energy_input_j"] = number(stats.energyInput);
+    j["active_stages"] = simulation.activeStages();
+    nlohmann::json stages = nlohmann::json::object();
+    for (const auto& [name, seconds] : stats.stageSeconds) {
+        stages[name] = number(seconds);
+    }
+    j["stage_seconds"] = std::move(stages);
+    j["integrator"] = std::string(sim::integratorName(scene.integrator.kind));
+    std::string error = simulation.error();
+    if (error.empty()) {
+        error = stats.error;
+    }
+    j["error"] = error.empty() ? nlohmann::json(nullptr) : nlohmann::json(error);
+    long long triangles = 0;
+    nlohmann::json cloths = nlohmann::json::array();
+    for (const sim::ClothSpec& cloth : scene.cloths) {
+        triangles += cloth.mesh.triangleCount();
+        cloths.push_back(cloth.name);
+    }
+    j["vertices"] = simulation.positions().rows();
+    j["triangles"] = triangles;
+    j["cloths"] = std::move(cloths);
+    for (const auto& [key, value] : extra) {
+        std::visit(
+            [&](const auto& v) {
+                using V = std::decay_t<decltype(v)>;
+                if constexpr (std::is_same_v<V, double>) {
+                    j[key] = number(v);
+                } else {
+                    j[key] = v;
+                }
+            },
+            value);
+    }
+    return j.dump(2) + "\n";
+}
+
+Result<void> writeReport(const std::filesystem::path& path, const sim::Simulation& simulation,
+                         const ReportFields& extra) {
+    return writeFileAtomically(path, formatReport(simulation, extra));
+}
+
+} // namespace atelier::io

@@ -1,0 +1,37 @@
+#pragma once
+/// Run reports: a JSON summary of a simulation run (counters, timings, final-state figures),
+/// for the CLI, CI and benchmarks.
+
+#include "io/result.h"
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <variant>
+
+namespace atelier::sim {
+class Simulation;
+}
+
+namespace atelier::io {
+
+/// A value of an extra report field.
+using ReportValue = std::variant<std::nullptr_t, bool, std::int64_t, double, std::string>;
+/// Extra fields added at the top level of a report (they override built-in ones).
+using ReportFields = std::map<std::string, ReportValue>;
+
+/// The report of a run as JSON text (2-space indented). Keys:
+/// `format` ("atelier-report"), `version` (1), `steps`, `rejected_steps`, `force_evaluations`,
+/// `cg_iterations`, `sim_time_s`, `wall_time_s`, `min_dt_s`, `max_dt_s`, `finite` (bool),
+/// `max_edge_strain` [-], `kinetic_energy_j`, `potential_energy_j`, `energy_input_j`,
+/// `active_stages` (list), `stage_seconds` (object: stage → [s]), `integrator`, `error` (string
+/// or null), `vertices`, `triangles`, `cloths` (list of names); then `extra`. Non-finite
+/// numbers are written as null.
+std::string formatReport(const sim::Simulation& simulation, const ReportFields& extra = {});
+
+/// Writes `formatReport` to `path` atomically.
+Result<void> writeReport(const std::filesystem::path& path, const sim::Simulation& simulation,
+                         const ReportFields& extra = {});
+
+} // namespace atelier::io

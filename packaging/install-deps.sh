@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Installs every build, test and run dependency of Atelier from Debian's packages.
+# Idempotent: packages already present are left alone; safe to run again.
+set -euo pipefail
+
+PACKAGES=(
+  cmake g++ ninja-build pkg-config ccache git
+  libeigen3-dev nlohmann-json3-dev libassimp-dev libcli11-dev
+  qt6-base-dev libqt6opengl6-dev libepoxy-dev libegl-mesa0 libgl1-mesa-dri xvfb xauth
+  libgtest-dev libgmock-dev libbenchmark-dev
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#PACKAGES[@]} packages present"
+  exit 0
+fi
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+echo "install-deps: installing ${missing[*]}"
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

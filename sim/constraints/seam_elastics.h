@@ -1,0 +1,35 @@
+#pragma once
+/// Seam elastics as an acceleration contribution (C) with one time constant
+/// (Volino & Magnenat-Thalmann 1997, §6.2.2).
+
+#include "sim/forces/force_model.h"
+#include "sim/scene.h"
+
+namespace atelier::sim {
+
+/// Each pair (a, b) is pulled together as a critically damped oscillator of time constant τ
+/// in its relative coordinate r = x_a − x_b:
+/// \f$ \ddot r = -r/\tau^2 - 2\dot r/\tau \f$, shared so momentum is conserved:
+/// \f$ a_a \mathrel{+}= \frac{m_b}{m_a+m_b}\ddot r \f$, \f$ a_b \mathrel{-}= \frac{m_a}{m_a+m_b}\ddot r \f$.
+/// As a force on the pair this is \f$ f_a = \mu\,\ddot r \f$ with the reduced mass μ, which is
+/// how it enters implicit solves. The closing is independent of the masses and of the cloth's
+/// stiffness: a gap shrinks like \f$ (1 + t/\tau)e^{-t/\tau} \f$ when nothing resists.
+class SeamElastics : public ForceModel {
+  public:
+    SeamElastics(const std::vector<SeamPair>& pairs, const VecX& masses, double timeConstant);
+
+    std::string_view name() const override { return "seams"; }
+    void addForces(const MatX3& x, const MatX3& v, MatX3& f) const override;
+    bool hasEnergy() const override { return true; }
+    double energy(const MatX3& x) const override;
+    void jacobianPattern(std::vector<std::pair<int, int>>& pairs) const override;
+    void addJacobian(const MatX3& x, const MatX3& v, double kx, double kv, JacobianMode mode,
+                     BlockSparseMatrix& J) const override;
+
+  private:
+    std::vector<SeamPair> m_pairs;
+    std::vector<double> m_reducedMass; ///< [kg]
+    double m_tau;
+};
+
+} // namespace atelier::sim

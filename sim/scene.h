@@ -1,0 +1,103 @@
+#pragma once
+/// What a simulation is asked to do: cloths, constraints, environment and solver settings.
+/// Plain data: `sim/` takes arrays; files and JSON are io/'s business.
+
+#include "sim/material.h"
+#include "sim/mesh/cloth_mesh.h"
+
+#include <string>
+#include <vector>
+
+namespace atelier::sim {
+
+/// In-plane (stretch/shear) model of a cloth.
+enum class StretchModel {
+    Springs, ///< edge springs (+ optional cross springs): the baseline
+    Volino,  ///< Volino & Magnenat-Thalmann 1997 §3.1 corrected-elongation triangle model
+    Fem,     ///< orthotropic St. Venant–Kirchhoff constant-strain triangles
+};
+
+enum class IntegratorKind { Euler, Midpoint, Rk4, Rk45, ImplicitEuler };
+
+/// One piece of cloth. Vertex indices in constraints are global: cloths are concatenated in order.
+struct ClothSpec {
+    std::string name = "cloth";
+    ClothMesh mesh;          ///< topology and rest shape (built with buildClothMesh)
+    MatX3 position;          ///< (|V|×3) initial positions [m]
+    MatX3 velocity;          ///< (|V|×3) initial velocities [m/s]; empty = at rest
+    Material material;
+    StretchModel model = StretchModel::Fem;
+    bool crossSprings = false; ///< springs model only: add springs across each hinge
+    bool bending = true;       ///< dihedral-angle bending
+    bool plasticity = false;   ///< bending plasticity (material.plasticYieldAngle)
+    /// (|H|) optional per-hinge rest fold angle [rad] (0 = flat); empty = flat pattern.
+    VecX restAngles;
+};
+
+/// A vertex moved along a path: position keyframes, linearly interpolated in time.
+/// Before the first key it holds the first; after `releaseTime` it is free.
+struct Drive {
+    int vertex = 0;
+    std::vector<double> times;   ///< keyframe times [s], increasing
+    std::vector<Vec3> positions; ///< keyframe positions [m]
+    double releaseTime = 1e300;  ///< time after which the vertex is no longer driven [s]
+    /// Tracker input: the vertex follows the path through a critically damped elastic with
+    /// this time constant [s] (a C contribution) instead of exactly (A + B). 0 = exact.
+    double followTimeConstant = 0.0;
+};
+
+/// A seam elastic pulling two vertices together.
+struct SeamPair {
+    int a = 0;
+    int b = 0;
+};
+
+struct AirOptions {
+    bool enabled = false;
+    /// Linear drag coefficient on the normal relative velocity, per area [N·s/m³]
+    /// (f = -c·A·((v - wind)·n) n per triangle).
+    double dragCoefficient = 0.5;
+    Vec3 wind = Vec3::Zero(); ///< wind velocity [m/s]
+};
+
+struct IntegratorOptions {
+    IntegratorKind kind = IntegratorKind::Rk45;
+    double dt = 1e-3;        ///< fixed step, or the first step of rk45 [s]
+    double tolerance = 1e-4; ///< rk45: allowed local error per step on positions [m]
+    /// rk45: velocity errors count as position errors after this time [s]: a step is accepted
+    /// when max(|Δx|, T·|Δv|) <= tolerance. Undamped stiff modes that grow slowly in position
+    /// show first in velocity; this catches them.
+    double velocityErrorTime = 0.01;
+    double minDt = 1e-9;     ///< below this step the run stops with an error [s]
+    double maxDt = 1.0 / 30; ///< upper bound of the adaptive step [s]
+    double growth = 1.5;     ///< largest step growth factor after an accepted step ("grow slowly")
+    /// A step after which some edge is longer than (1 + divergenceStrain) × its rest length is
+    /// taken as diverging and rejected like a non-finite one (explicit methods beyond their
+    /// stability limit blow up through huge but finite values first).
+    double divergenceStrain = 10.0;
+    /// A step whose kinetic energy exceeds this many times the energy put into the cloth so
+    /// far (initial energy, work of gravity, pins and drives) is rejected as diverging.
+    double divergenceEnergyFactor = 10.0;
+    /// Implicit Euler: conjugate-gradient relative tolerance and iteration cap.
+    double cgTolerance = 1e-6;
+    int cgMaxIterations = 500;
+};
+
+struct SceneSpec {
+    std::vector<ClothSpec> cloths;
+    std::vector<int> pins; ///< global vertex indices held at their initial position
+    std::vector<Drive> drives;
+    std::vector<SeamPair> seams;
+    double seamTimeConstant = 0.05; ///< time constant of every seam elastic [s]
+    /// High damping: purely dissipative velocity damping (A) of every vertex toward the mean
+    /// velocity of its neighbours, time constant [s]; 0 = off.
+    double highDampingTimeConstant = 0.0;
+    bool gravity = true;
+    Vec3 gravityVector = Vec3(0, -STANDARD_GRAVITY, 0); ///< [m/s²]
+    AirOptions air;
+    IntegratorOptions integrator;
+    double duration = 1.0;   ///< simulated time [s]
+    double frameRate = 30.0; ///< output frames per second [1/s]
+};
+
+} // namespace atelier::sim

@@ -1,0 +1,735 @@
+#include "sim/simulation.h"
+
+#include "sim/constraints/kinematic.h"
+#include "sim/constraints/seam_elastics.h"
+#include "sim/core/parallel.h"
+#include "sim/forces/air.h"
+#include "sim/forces/bending.h"
+#include "sim/forces/fem.h"
+#include "sim/forces/springs.h"
+#include "sim/forces/volino.h"
+#include "sim/integrators/explicit_rk.h"
+#include "sim/integrators/filtered_cg.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace atelier::sim {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds(Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double>(b - a).count();
+}
+
+/// Accumulates the wall time of a named stage while alive.
+class StageTimer {
+  public:
+    StageTimer(double& slot) : m_slot(slot), m_start(Clock::now()) {}
+    ~StageTimer() { m_slot += seconds(m_start, Clock::now()); }
+    StageTimer(const StageTimer&) = delete;
+    StageTimer& operator=(const StageTimer&) = delete;
+
+  private:
+    double& m_slot;
+    Clock::time_point m_start;
+};
+
+constexpr double INF = std::numeric_limits<double>::infinity();
+
+} // namespace
+
+std::string_view integratorName(IntegratorKind kind) {
+    switch (kind) {
+    case IntegratorKind::Euler: return "euler";
+    case IntegratorKind::Midpoint: return "midpoint";
+    case IntegratorKind::Rk4: return "rk4";
+    case IntegratorKind::Rk45: return "rk45";
+    case IntegratorKind::ImplicitEuler: return "implicit-euler";
+    }
+    return "?";
+}
+
+std::optional<IntegratorKind> integratorFromName(std::string_view name) {
+    for (auto k : {IntegratorKind::Euler, IntegratorKind::Midpoint, IntegratorKind::Rk4,
+                   IntegratorKind::Rk45, IntegratorKind::ImplicitEuler}) {
+        if (integratorName(k) == name) {
+            return k;
+        }
+    }
+    return std::nullopt;
+}
+
+std::string_view stretchModelName(StretchModel model) {
+    switch (model) {
+    case StretchModel::Springs: return "springs";
+    case StretchModel::Volino: return "volino";
+    case StretchModel::Fem: return "fem";
+    }
+    return "?";
+}
+
+std::optional<StretchModel> stretchModelFromName(std::string_view name) {
+    for (auto m : {StretchModel::Springs, StretchModel::Volino, StretchModel::Fem}) {
+        if (stretchModelName(m) == name) {
+            return m;
+        }
+    }
+    return std::nullopt;
+}
+
+double maxEdgeStrain(const ClothMesh& mesh, const MatX3& x, int offset) {
+    double worst = -1.0;
+    for (int e = 0; e < mesh.edges.rows(); ++e) {
+        const int a = mesh.edges(e, 0);
+        const int b = mesh.edges(e, 1);
+        const double rest = (mesh.rest.row(b) - mesh.rest.row(a)).norm();
+        const double len = (x.row(b + offset) - x.row(a + offset)).norm();
+        worst = std::max(worst, len / rest - 1.0);
+    }
+    return worst;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+struct Simulation::Impl {
+    SceneSpec scene;
+    std::string error;
+    std::vector<int> offsets{0};
+    int n = 0;
+    MatX3 x, v;
+    VecX mass, invMass;
+    MatX3 pinPosition;           ///< rows for pinned vertices: their hold position
+    std::vector<char> pinned;    ///< per vertex
+    std::vector<int> driveOf;    ///< per vertex: index of its drive or -1
+    std::vector<std::array<int, 2>> allEdges; ///< global edges of all cloths (high damping)
+    std::vector<std::unique_ptr<ForceModel>> models;
+    std::vector<std::string> stages;
+    std::vector<double*> modelTimers;
+    double t = 0;
+    double dtNext = 0;     ///< next step to try [s]
+    double dtNominal = 0;  ///< fixed-step integrators: the scene's step [s]
+    double previousErrorRatio = 1.0; ///< rk45: error / tolerance of the last accepted step
+    RunStats stats;
+    bool failed = false;
+    double lowestY = INF;  ///< lowest vertex height reached, for the gravitational energy bound
+    double massHeight0 = 0; ///< Σ m_i h_i at the start, h = height along −g [kg·m]
+    double baseEnergyInput = 0; ///< initial kinetic + elastic energy + constraint work [J]
+
+    std::unique_ptr<ExplicitRkStepper> rk;
+    FilteredCg cg;
+    BlockSparseMatrix jacobian;
+    MatX3 xNew, vNew, acc, force, rhs, dv, scratch;
+
+    double* timerForces = nullptr;
+    double* timerConstraints = nullptr;
+    double* timerIntegrator = nullptr;
+    double* timerSolve = nullptr;
+
+    explicit Impl(SceneSpec s) : scene(std::move(s)) {}
+
+    bool hasDrives() const { return !scene.drives.empty(); }
+
+    void build();
+    void accelerations(double time, const MatX3& xs, const MatX3& vs, MatX3& a);
+    void applyCorrectionsA(double h);
+    bool explicitStep(double h, double& errorRatio);
+    bool implicitStep(double h);
+    bool step(double maxH);
+    double constraintPower(const MatX3& f) const;
+    /// Energy put in so far (see RunStats::energyInput), with `xs` counted for the lowest point.
+    double energyBound(const MatX3& xs) const;
+};
+
+double Simulation::Impl::energyBound(const MatX3& xs) const {
+    double e = baseEnergyInput;
+    if (scene.gravity && scene.gravityVector.norm() > 0) {
+        const Vec3 up = -scene.gravityVector.normalized();
+        const double low = std::min(lowestY, (xs * up).minCoeff());
+        e += scene.gravityVector.norm() * (massHeight0 - mass.sum() * low);
+    }
+    return e;
+}
+
+void Simulation::Impl::build() {
+    for (const ClothSpec& c : scene.cloths) {
+        offsets.push_back(offsets.back() + c.mesh.vertexCount());
+    }
+    n = offsets.back();
+    x.resize(n, 3);
+    v.setZero(n, 3);
+    mass.setZero(n);
+    for (std::size_t ci = 0; ci < scene.cloths.size(); ++ci) {
+        const ClothSpec& c = scene.cloths[ci];
+        const int off = offsets[ci];
+        const int nv = c.mesh.vertexCount();
+        x.middleRows(off, nv) = c.position;
+        if (c.velocity.rows() == nv) {
+            v.middleRows(off, nv) = c.velocity;
+        }
+        const VecX m = lumpedMasses(c.mesh, c.material.density);
+        mass.segment(off, nv) = m;
+        for (int e = 0; e < c.mesh.edges.rows(); ++e) {
+            allEdges.push_back({c.mesh.edges(e, 0) + off, c.mesh.edges(e, 1) + off});
+        }
+        switch (c.model) {
+        case StretchModel::Springs:
+            models.push_back(std::make_unique<SpringStretch>(c.mesh, off, c.material, c.crossSprings));
+            break;
+        case StretchModel::Volino:
+            models.push_back(std::make_unique<VolinoStretch>(c.mesh, off, c.material, m));
+            break;
+        case StretchModel::Fem:
+            models.push_back(std::make_unique<FemStretch>(c.mesh, off, c.material));
+            break;
+        }
+        if (c.bending && c.material.bending > 0 && c.mesh.hinges.rows() > 0) {
+            models.push_back(std::make_unique<DihedralBending>(c.mesh, off, c.material,
+                                                               c.restAngles, c.plasticity));
+        }
+        if (scene.air.enabled) {
+            models.push_back(std::make_unique<AirDrag>(c.mesh, off, scene.air));
+        }
+    }
+    if (!scene.seams.empty()) {
+        models.push_back(std::make_unique<SeamElastics>(scene.seams, mass, scene.seamTimeConstant));
+    }
+    pinned.assign(static_cast<std::size_t>(n), 0);
+    pinPosition = x;
+    for (int p : scene.pins) {
+        pinned[static_cast<std::size_t>(p)] = 1;
+    }
+    driveOf.assign(static_cast<std::size_t>(n), -1);
+    for (std::size_t d = 0; d < scene.drives.size(); ++d) {
+        driveOf[static_cast<std::size_t>(scene.drives[d].vertex)] = static_cast<int>(d);
+    }
+    invMass.resize(n);
+    for (int i = 0; i < n; ++i) {
+        const bool held = pinned[static_cast<std::size_t>(i)] != 0 ||
+                          (driveOf[static_cast<std::size_t>(i)] >= 0 &&
+                           scene.drives[static_cast<std::size_t>(driveOf[static_cast<std::size_t>(i)])]
+                                   .followTimeConstant <= 0);
+        invMass[i] = (held || mass[i] <= 0) ? 0.0 : 1.0 / mass[i];
+    }
+
+    // The pipeline: only what the scene needs.
+    if (!scene.pins.empty()) {
+        stages.emplace_back("constraints.pins");
+    }
+    if (hasDrives()) {
+        stages.emplace_back("constraints.drives");
+    }
+    if (scene.highDampingTimeConstant > 0) {
+        stages.emplace_back("constraints.high-damping");
+    }
+    for (const auto& m : models) {
+        stages.emplace_back(m->name());
+    }
+    if (scene.gravity) {
+        stages.emplace_back("gravity");
+    }
+    stages.push_back("integrator." + std::string(integratorName(scene.integrator.kind)));
+    if (scene.integrator.kind == IntegratorKind::Rk45) {
+        stages.emplace_back("step-control.error-estimate");
+    }
+
+    for (const auto& m : models) {
+        modelTimers.push_back(&stats.stageSeconds["forces." + std::string(m->name())]);
+    }
+    timerForces = &stats.stageSeconds["forces.total"];
+    timerConstraints = &stats.stageSeconds["constraints"];
+    timerIntegrator = &stats.stageSeconds["integrator"];
+    if (scene.integrator.kind == IntegratorKind::ImplicitEuler) {
+        timerSolve = &stats.stageSeconds["implicit.solve"];
+        std::vector<std::pair<int, int>> pairs;
+        for (const auto& m : models) {
+            m->jacobianPattern(pairs);
+        }
+        jacobian = BlockSparseMatrix(n, pairs);
+    }
+
+    switch (scene.integrator.kind) {
+    case IntegratorKind::Euler: rk = std::make_unique<ExplicitRkStepper>(ButcherTableau::euler()); break;
+    case IntegratorKind::Midpoint: rk = std::make_unique<ExplicitRkStepper>(ButcherTableau::midpoint()); break;
+    case IntegratorKind::Rk4: rk = std::make_unique<ExplicitRkStepper>(ButcherTableau::rk4()); break;
+    case IntegratorKind::Rk45: rk = std::make_unique<ExplicitRkStepper>(ButcherTableau::cashKarp()); break;
+    case IntegratorKind::ImplicitEuler: break;
+    }
+    dtNominal = scene.integrator.dt;
+    dtNext = scene.integrator.dt;
+
+    // Energy the initial state holds (kinetic + elastic); gravity is added as the run goes.
+    double e0 = 0.5 * (mass.array() * v.rowwise().squaredNorm().array()).sum();
+    for (const auto& m : models) {
+        if (m->hasEnergy()) {
+            e0 += m->energy(x);
+        }
+    }
+    baseEnergyInput = e0;
+    if (scene.gravity && scene.gravityVector.norm() > 0) {
+        const Vec3 up = -scene.gravityVector.normalized();
+        massHeight0 = (mass.array() * (x * up).array()).sum();
+        lowestY = (x * up).minCoeff();
+    }
+}
+
+void Simulation::Impl::accelerations(double time, const MatX3& xs, const MatX3& vs, MatX3& a) {
+    {
+        StageTimer timer(*timerForces);
+        force.setZero(n, 3);
+        for (std::size_t k = 0; k < models.size(); ++k) {
+            StageTimer modelTimer(*modelTimers[k]);
+            models[k]->addForces(xs, vs, force);
+        }
+    }
+    ++stats.forceEvaluations;
+    a.resize(n, 3);
+    for (int i = 0; i < n; ++i) {
+        a.row(i) = mass[i] > 0 ? Vec3(force.row(i).transpose() / mass[i]) : Vec3::Zero();
+    }
+    if (scene.gravity) {
+        a.rowwise() += scene.gravityVector.transpose();
+    }
+    // B: held vertices follow their path exactly (piecewise linear: zero acceleration);
+    // C: tracker-following drives pull with a critically damped elastic.
+    for (int i = 0; i < n; ++i) {
+        if (pinned[static_cast<std::size_t>(i)] != 0) {
+            a.row(i).setZero();
+            continue;
+        }
+        const int d = driveOf[static_cast<std::size_t>(i)];
+        if (d < 0) {
+            continue;
+        }
+        const Drive& drive = scene.drives[static_cast<std::size_t>(d)];
+        if (!driveActive(drive, time)) {
+            continue;
+        }
+        if (drive.followTimeConstant <= 0) {
+            a.row(i).setZero();
+        } else {
+            const PathSample p = samplePath(drive, time);
+            const double tau = drive.followTimeConstant;
+            a.row(i) += (-(xs.row(i).transpose() - p.position) / (tau * tau) -
+                         2.0 * (vs.row(i).transpose() - p.velocity) / tau)
+                            .transpose();
+        }
+    }
+}
+
+double Simulation::Impl::constraintPower(const MatX3& a) const {
+    // Power delivered by the held vertices: their reaction R = m a_imposed − f_internal, with
+    // a the (corrected) acceleration, moving at velocity v.
+    double p = 0;
+    for (int i = 0; i < n; ++i) {
+        if (invMass[i] == 0 && mass[i] > 0) {
+            const Vec3 reaction = mass[i] * a.row(i).transpose() - force.row(i).transpose() -
+                                  (scene.gravity ? Vec3(mass[i] * scene.gravityVector) : Vec3::Zero());
+            p += reaction.dot(v.row(i).transpose());
+        }
+    }
+    return p;
+}
+
+void Simulation::Impl::applyCorrectionsA(double h) {
+    StageTimer timer(*timerConstraints);
+    double injected = 0;
+    for (int p : scene.pins) {
+        injected -= 0.5 * mass[p] * v.row(p).squaredNorm();
+        x.row(p) = pinPosition.row(p);
+        v.row(p).setZero();
+    }
+    for (const Drive& d : scene.drives) {
+        if (!driveActive(d, t) || d.followTimeConstant > 0) {
+            continue;
+        }
+        const PathSample s = samplePath(d, t);
+        const double before = 0.5 * mass[d.vertex] * v.row(d.vertex).squaredNorm();
+        x.row(d.vertex) = s.position.transpose();
+        v.row(d.vertex) = s.velocity.transpose();
+        injected += 0.5 * mass[d.vertex] * v.row(d.vertex).squaredNorm() - before;
+    }
+    baseEnergyInput += std::max(0.0, injected);
+    if (scene.highDampingTimeConstant > 0) {
+        applyHighDamping(allEdges, invMass, h, scene.highDampingTimeConstant, v);
+    }
+}
+
+bool Simulation::Impl::explicitStep(double h, double& errorRatio) {
+    AccelerationFn fn = [this](double time, const MatX3& xs, const MatX3& vs, MatX3& a) {
+        accelerations(time, xs, vs, a);
+    };
+    StageTimer timer(*timerIntegrator);
+    const double err =
+        rk->step(t, h, x, v, fn, xNew, vNew, &acc, scene.integrator.velocityErrorTime);
+    if (scene.integrator.kind == IntegratorKind::Rk45) {
+        errorRatio = err / scene.integrator.tolerance;
+    } else {
+        errorRatio = 0;
+    }
+    return std::isfinite(errorRatio) && xNew.allFinite() && vNew.allFinite();
+}
+
+bool Simulation::Impl::implicitStep(double h) {
+    StageTimer timer(*timerIntegrator);
+    // Baraff & Witkin 1998: (M − h ∂f/∂v − h² ∂f/∂x) Δv = h (f + h ∂f/∂x v).
+    accelerations(t, x, v, acc);
+    // The right-hand side uses the corrected accelerations (gravity, B and C included).
+    rhs.resize(n, 3);
+    for (int i = 0; i < n; ++i) {
+        rhs.row(i) = mass[i] * acc.row(i);
+    }
+    jacobian.setZero();
+    for (const auto& m : models) {
+        m->addJacobian(x, v, 1.0, 0.0, JacobianMode::Definite, jacobian);
+    }
+    jacobian.multiply(v, scratch); // (∂f/∂x) v
+    rhs = h * (rhs + h * scratch);
+    jacobian.setZero();
+    for (const auto& m : models) {
+        m->addJacobian(x, v, -h * h, -h, JacobianMode::Definite, jacobian);
+    }
+    VecX diag = mass;
+    // Tracker-following drives: their C term's stiffness and damping per unit mass.
+    for (const Drive& d : scene.drives) {
+        if (driveActive(d, t) && d.followTimeConstant > 0) {
+            const double tau = d.followTimeConstant;
+            diag[d.vertex] += mass[d.vertex] * (h * h / (tau * tau) + 2.0 * h / tau);
+        }
+    }
+    jacobian.addDiagonal(diag);
+    std::vector<char> held(static_cast<std::size_t>(n), 0);
+    for (int i = 0; i < n; ++i) {
+        held[static_cast<std::size_t>(i)] = invMass[i] == 0 ? 1 : 0;
+    }
+    dv.setZero(n, 3);
+    CgResult r;
+    {
+        StageTimer solveTimer(*timerSolve);
+        r = cg.solve(jacobian, rhs, held, dv, scene.integrator.cgTolerance,
+                     scene.integrator.cgMaxIterations);
+    }
+    stats.cgIterations += r.iterations;
+    vNew = v + dv;
+    xNew = x + h * vNew;
+    return xNew.allFinite() && vNew.allFinite();
+}
+
+bool Simulation::Impl::step(double maxH) {
+    const IntegratorOptions& opt = scene.integrator;
+    double h = std::min({dtNext, maxH, opt.maxDt});
+    for (const Drive& d : scene.drives) {
+        const double ev = nextPathEvent(d, t);
+        if (ev > t + 1e-12 && ev < t + h) {
+            h = ev - t;
+        }
+    }
+    for (;;) {
+        if (h < opt.minDt) {
+            std::ostringstream s;
+            s << "time step fell below the floor (" << h << " s < " << opt.minDt
+              << " s) at t = " << t << " s: the state cannot be integrated stably";
+            error = s.str();
+            failed = true;
+            return false;
+        }
+        const auto start = Clock::now();
+        MatX3 xSave = x;
+        MatX3 vSave = v;
+        applyCorrectionsA(h);
+        bool ok;
+        double errorRatio = 0;
+        if (opt.kind == IntegratorKind::ImplicitEuler) {
+            ok = implicitStep(h);
+        } else {
+            ok = explicitStep(h, errorRatio);
+        }
+        if (ok && errorRatio <= 1.0) {
+            // Divergence guard: an unstable explicit step grows finite garbage before NaN.
+            for (std::size_t c = 0; c < scene.cloths.size() && ok; ++c) {
+                ok = sim::maxEdgeStrain(scene.cloths[c].mesh, xNew, offsets[c]) <=
+                     opt.divergenceStrain;
+            }
+        }
+        if (ok && errorRatio <= 1.0) {
+            const double ke = 0.5 * (mass.array() * vNew.rowwise().squaredNorm().array()).sum();
+            const double power = std::max(0.0, constraintPower(acc));
+            ok = ke <= opt.divergenceEnergyFactor * (energyBound(xNew) + h * power) + 1e-12;
+        }
+        const bool accept = ok && errorRatio <= 1.0;
+        stats.wallTime += seconds(start, Clock::now());
+        if (!accept) {
+            ++stats.rejectedSteps;
+            x = xSave;
+            v = vSave;
+            if (!ok || !std::isfinite(errorRatio)) {
+                h *= 0.25;
+            } else {
+                h *= std::max(0.1, 0.9 * std::pow(errorRatio, -0.25));
+            }
+            dtNext = h;
+            continue;
+        }
+        baseEnergyInput += h * std::max(0.0, constraintPower(acc));
+        x.swap(xNew);
+        v.swap(vNew);
+        t += h;
+        for (const auto& m : models) {
+            m->acceptStep(x, h);
+        }
+        ++stats.steps;
+        stats.minDt = stats.steps == 1 ? h : std::min(stats.minDt, h);
+        stats.maxDt = std::max(stats.maxDt, h);
+        stats.simTime = t;
+        if (scene.gravity) {
+            const Vec3 g = scene.gravityVector;
+            // Height along −g of the lowest vertex.
+            const double gn = g.norm();
+            if (gn > 0) {
+                const double low = (x * (-g / gn)).minCoeff();
+                lowestY = std::min(lowestY, low);
+            }
+        }
+        if (opt.kind == IntegratorKind::Rk45) {
+            // PI step control (Gustafsson 1991; Hairer & Wanner II §IV.2): the integral term
+            // alone hunts at the stability limit of stiff cloth; the proportional term on the
+            // previous error damps that, cutting rejections.
+            const double e = std::max(errorRatio, 1e-6);
+            const double grow = 0.9 * std::pow(e, -0.7 / 5.0) * std::pow(previousErrorRatio, 0.4 / 5.0);
+            previousErrorRatio = e;
+            dtNext = h * std::clamp(grow, 0.2, opt.growth);
+        } else {
+            // Fixed-step methods return to the nominal step after a rejection, gradually.
+            dtNext = std::min(dtNominal, h * 2.0);
+        }
+        return true;
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+
+std::optional<std::string> Simulation::validate(const SceneSpec& s) {
+    if (s.cloths.empty()) {
+        return std::string("the scene has no cloth");
+    }
+    int total = 0;
+    for (std::size_t ci = 0; ci < s.cloths.size(); ++ci) {
+        const ClothSpec& c = s.cloths[ci];
+        const std::string who = "cloth " + std::to_string(ci) + " (" + c.name + ")";
+        const int nv = c.mesh.vertexCount();
+        if (c.mesh.triangleCount() == 0 || c.mesh.restArea.size() != c.mesh.triangleCount()) {
+            return who + ": mesh has no triangles or was not built";
+        }
+        for (int t = 0; t < c.mesh.triangleCount(); ++t) {
+            if (!(c.mesh.restArea[t] > 0)) {
+                return who + ": triangle " + std::to_string(t) + ": zero or negative rest area";
+            }
+        }
+        if (c.position.rows() != nv) {
+            return who + ": " + std::to_string(c.position.rows()) + " positions for " +
+                   std::to_string(nv) + " vertices";
+        }
+        if (c.velocity.rows() != 0 && c.velocity.rows() != nv) {
+            return who + ": velocity count does not match the vertex count";
+        }
+        for (int i = 0; i < nv; ++i) {
+            if (!c.position.row(i).allFinite()) {
+                return who + ": vertex " + std::to_string(i) + ": position is not finite";
+            }
+        }
+        const Material& m = c.material;
+        if (!(m.density > 0) || !std::isfinite(m.density)) {
+            return who + ": material density must be positive and finite";
+        }
+        if (!(m.stretchWeft > 0) || !(m.stretchWarp > 0) || !(m.shear > 0) ||
+            !std::isfinite(m.stretchWeft + m.stretchWarp + m.shear)) {
+            return who + ": stretch and shear stiffness must be positive and finite";
+        }
+        if (!(m.bending >= 0) || !(m.damping >= 0) || !std::isfinite(m.bending + m.damping)) {
+            return who + ": bending and damping must be non-negative and finite";
+        }
+        const double nu21 = m.poisson * m.stretchWarp / m.stretchWeft;
+        if (!(m.poisson >= 0) || !(m.poisson * nu21 < 1.0) ||
+            (c.model == StretchModel::Volino && m.poisson >= 0.5)) {
+            return who + ": Poisson ratio out of range (need 0 <= nu and nu12*nu21 < 1; volino: nu < 0.5)";
+        }
+        if (c.restAngles.size() != 0 && c.restAngles.size() != c.mesh.hinges.rows()) {
+            return who + ": rest_angles has " + std::to_string(c.restAngles.size()) +
+                   " values for " + std::to_string(c.mesh.hinges.rows()) + " interior edges";
+        }
+        total += nv;
+    }
+    for (int p : s.pins) {
+        if (p < 0 || p >= total) {
+            return "pin vertex " + std::to_string(p) + " out of range [0, " + std::to_string(total) + ")";
+        }
+    }
+    for (std::size_t d = 0; d < s.drives.size(); ++d) {
+        const Drive& dr = s.drives[d];
+        const std::string who = "drive " + std::to_string(d);
+        if (dr.vertex < 0 || dr.vertex >= total) {
+            return who + ": vertex " + std::to_string(dr.vertex) + " out of range";
+        }
+        if (dr.times.empty() || dr.times.size() != dr.positions.size()) {
+            return who + ": needs as many key times as key positions, at least one";
+        }
+        for (std::size_t k = 1; k < dr.times.size(); ++k) {
+            if (!(dr.times[k] > dr.times[k - 1])) {
+                return who + ": key times must increase (key " + std::to_string(k) + ")";
+            }
+        }
+        for (const Vec3& p : dr.positions) {
+            if (!p.allFinite()) {
+                return who + ": key positions must be finite";
+            }
+        }
+        if (dr.followTimeConstant < 0) {
+            return who + ": follow time constant must be >= 0";
+        }
+    }
+    for (std::size_t k = 0; k < s.seams.size(); ++k) {
+        const SeamPair& p = s.seams[k];
+        if (p.a < 0 || p.a >= total || p.b < 0 || p.b >= total || p.a == p.b) {
+            return "seam " + std::to_string(k) + ": vertices must be two different vertices in range";
+        }
+    }
+    if (!s.seams.empty() && !(s.seamTimeConstant > 0)) {
+        return std::string("seam time constant must be positive");
+    }
+    const IntegratorOptions& o = s.integrator;
+    if (!(o.dt > 0) || !(o.minDt > 0) || !(o.maxDt >= o.minDt) || !(o.tolerance > 0) ||
+        !(o.growth > 1.0)) {
+        return std::string("integrator: need dt > 0, tolerance > 0, 0 < min_dt <= max_dt, growth > 1");
+    }
+    if (!(s.duration >= 0) || !std::isfinite(s.duration) || !(s.frameRate > 0)) {
+        return std::string("duration must be >= 0 and frame rate > 0");
+    }
+    if (!(s.highDampingTimeConstant >= 0)) {
+        return std::string("high damping time constant must be >= 0");
+    }
+    return std::nullopt;
+}
+
+Simulation::Simulation(SceneSpec scene) : m_impl(std::make_unique<Impl>(std::move(scene))) {
+    if (auto e = validate(m_impl->scene)) {
+        m_impl->error = *e;
+        m_impl->failed = true;
+        m_impl->stats.error = *e;
+        return;
+    }
+    m_impl->build();
+}
+
+Simulation::~Simulation() = default;
+
+RunStatus Simulation::advance(double dt) {
+    Impl& s = *m_impl;
+    if (s.failed) {
+        return RunStatus::Failed;
+    }
+    const double target = s.t + dt;
+    while (s.t < target - 1e-12 * std::max(1.0, target)) {
+        if (!s.step(target - s.t)) {
+            s.stats.error = s.error;
+            s.stats.finite = s.x.allFinite() && s.v.allFinite();
+            return RunStatus::Failed;
+        }
+    }
+    s.t = std::max(s.t, target);
+    s.stats.simTime = s.t;
+    return RunStatus::Finished;
+}
+
+RunStatus Simulation::run(double until, const std::function<void(int, double)>& onFrame,
+                          const std::atomic<bool>* cancel) {
+    Impl& s = *m_impl;
+    if (s.failed) {
+        return RunStatus::Failed;
+    }
+    const double frame = 1.0 / s.scene.frameRate;
+    int index = static_cast<int>(std::floor(s.t / frame + 1e-9));
+    while (s.t < until - 1e-12) {
+        if (cancel != nullptr && cancel->load()) {
+            return RunStatus::Cancelled;
+        }
+        const double nextFrame = std::min(until, (index + 1) * frame);
+        if (advance(nextFrame - s.t) != RunStatus::Finished) {
+            return RunStatus::Failed;
+        }
+        ++index;
+        if (onFrame) {
+            onFrame(index, s.t);
+        }
+    }
+    return RunStatus::Finished;
+}
+
+double Simulation::time() const { return m_impl->t; }
+const MatX3& Simulation::positions() const { return m_impl->x; }
+const MatX3& Simulation::velocities() const { return m_impl->v; }
+const VecX& Simulation::masses() const { return m_impl->mass; }
+const SceneSpec& Simulation::scene() const { return m_impl->scene; }
+const std::vector<int>& Simulation::clothOffsets() const { return m_impl->offsets; }
+std::vector<std::string> Simulation::activeStages() const { return m_impl->stages; }
+const std::string& Simulation::error() const { return m_impl->error; }
+const std::vector<std::unique_ptr<ForceModel>>& Simulation::forceModels() const {
+    return m_impl->models;
+}
+
+const RunStats& Simulation::stats() const {
+    Impl& s = *m_impl;
+    s.stats.finite = s.x.allFinite() && s.v.allFinite();
+    // The gravitational part of the bound: no vertex can have dropped below the lowest point
+    // reached, so gravity has done at most |g| (Σ m_i h_i(0) − M·h_lowest) of work.
+    s.stats.energyInput = s.energyBound(s.x);
+    return s.stats;
+}
+
+double Simulation::kineticEnergy() const {
+    const Impl& s = *m_impl;
+    return 0.5 * (s.mass.array() * s.v.rowwise().squaredNorm().array()).sum();
+}
+
+double Simulation::potentialEnergy() const {
+    const Impl& s = *m_impl;
+    double e = 0;
+    for (const auto& m : s.models) {
+        if (m->hasEnergy()) {
+            e += m->energy(s.x);
+        }
+    }
+    if (s.scene.gravity) {
+        e -= (s.mass.array() * (s.x * s.scene.gravityVector).array()).sum();
+    }
+    return e;
+}
+
+double Simulation::maxEdgeStrain() const {
+    const Impl& s = *m_impl;
+    double worst = -1.0;
+    for (std::size_t c = 0; c < s.scene.cloths.size(); ++c) {
+        worst = std::max(worst, sim::maxEdgeStrain(s.scene.cloths[c].mesh, s.x, s.offsets[c]));
+    }
+    return worst;
+}
+
+void Simulation::evaluateForces(const MatX3& x, const MatX3& v, MatX3& f) const {
+    const Impl& s = *m_impl;
+    f.setZero(x.rows(), 3);
+    for (const auto& m : s.models) {
+        m->addForces(x, v, f);
+    }
+    if (s.scene.gravity) {
+        for (Eigen::Index i = 0; i < x.rows(); ++i) {
+            f.row(i) += s.mass[i] * s.scene.gravityVector.transpose();
+        }
+    }
+}
+
+} // namespace atelier::sim

@@ -1,0 +1,101 @@
+#pragma once
+/// The step loop: kinematic corrections, integration with step control, reports.
+
+#include "sim/forces/force_model.h"
+#include "sim/scene.h"
+
+#include <atomic>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace atelier::sim {
+
+/// Counters and figures of a run so far.
+struct RunStats {
+    long steps = 0;            ///< accepted steps
+    long rejectedSteps = 0;    ///< steps rejected (error above tolerance or non-finite state)
+    long forceEvaluations = 0; ///< derivative evaluations (Runge–Kutta stages, implicit solves)
+    long cgIterations = 0;     ///< implicit Euler: conjugate-gradient iterations in total
+    double simTime = 0;        ///< simulated time reached [s]
+    double wallTime = 0;       ///< wall time spent in steps [s]
+    double minDt = 0;          ///< smallest accepted step [s]
+    double maxDt = 0;          ///< largest accepted step [s]
+    bool finite = true;        ///< the state is finite
+    std::string error;         ///< why the run stopped early; empty when it did not
+    /// Work done on the cloth by pins and drives, plus the energy the initial state held
+    /// (kinetic + elastic + gravitational above the lowest point reached) [J]: an upper bound
+    /// for the kinetic energy a dissipative simulation may show.
+    double energyInput = 0;
+    std::map<std::string, double> stageSeconds; ///< wall time per named stage [s]
+};
+
+/// Result of `run`.
+enum class RunStatus { Finished, Cancelled, Failed };
+
+/// A running simulation of one scene. Not thread-safe: one thread steps it; others read
+/// published snapshots (the GUI).
+class Simulation {
+  public:
+    /// Checks a scene without building it: returns what is wrong, naming the cloth and
+    /// vertex or triangle, or nullopt.
+    static std::optional<std::string> validate(const SceneSpec& scene);
+
+    /// Builds the step pipeline with only the stages the scene needs. The scene must pass
+    /// `validate` (checked; on failure `error()` says why and `run` does nothing).
+    explicit Simulation(SceneSpec scene);
+    ~Simulation();
+    Simulation(const Simulation&) = delete;
+    Simulation& operator=(const Simulation&) = delete;
+
+    /// Advances to simulated time `until` [s]. `onFrame(frameIndex, time)` is called at each
+    /// output frame (every 1/frameRate s). `cancel`, if given, stops between steps.
+    RunStatus run(double until, const std::function<void(int, double)>& onFrame = {},
+                  const std::atomic<bool>* cancel = nullptr);
+    /// Advances by exactly `dt` [s] of simulated time (one or more internal steps).
+    RunStatus advance(double dt);
+
+    double time() const;
+    const MatX3& positions() const;  ///< (|V|×3) over all cloths [m]
+    const MatX3& velocities() const; ///< (|V|×3) [m/s]
+    const VecX& masses() const;      ///< (|V|) [kg]
+    const RunStats& stats() const;
+    const SceneSpec& scene() const;
+    /// First global vertex index of each cloth, plus the total at the end: (|cloths|+1).
+    const std::vector<int>& clothOffsets() const;
+    /// Names of the stages in the step pipeline, in order.
+    std::vector<std::string> activeStages() const;
+    const std::string& error() const;
+
+    /// Kinetic energy [J].
+    double kineticEnergy() const;
+    /// Max over all cloth edges of current length / rest length − 1.
+    double maxEdgeStrain() const;
+    /// Potential energy of the conservative forces and gravity [J] (models without an
+    /// energy, such as volino, count as zero).
+    double potentialEnergy() const;
+
+    /// Computes the total force (internal + external, without constraint corrections) at the
+    /// given state (for benchmarks and tests) [N].
+    void evaluateForces(const MatX3& x, const MatX3& v, MatX3& f) const;
+    /// The force models in the pipeline (for benchmarks and tests).
+    const std::vector<std::unique_ptr<ForceModel>>& forceModels() const;
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> m_impl;
+};
+
+/// Max over edges of |x_i − x_j| / restLength − 1 for a cloth mesh whose vertices start at
+/// `offset` in x.
+double maxEdgeStrain(const ClothMesh& mesh, const MatX3& x, int offset = 0);
+
+std::string_view integratorName(IntegratorKind kind);
+std::optional<IntegratorKind> integratorFromName(std::string_view name);
+std::string_view stretchModelName(StretchModel model);
+std::optional<StretchModel> stretchModelFromName(std::string_view name);
+
+} // namespace atelier::sim

@@ -1,0 +1,281 @@
+/// `atelier-cli bench material` and `bench work-precision`, run as a user would.
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <gtest/gtest.h>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <vector>
+
+namespace atelier::test {
+
+namespace {
+
+/// A fresh temporary directory, removed with its contents afterwards. (Not tests/io/temp_dir.h:
+/// GCC 12 at -O3 reports a false -Wrestrict in its `"-" + std::to_string(...)`.)
+class TempDir {
+  public:
+    TempDir() {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        std::string name = "atelier-bench-";
+        name += info != nullptr ? info->name() : "test";
+        name += '-';
+        name += std::to_string(::getpid());
+        for (char& c : name) {
+            c = c == '/' ? '_' : c;
+        }
+        m_path = std::filesystem::temp_directory_path() / name;
+        std::filesystem::remove_all(m_path);
+        std::filesystem::create_directories(m_path);
+    }
+    ~TempDir() {
+        std::error_code ec;
+        std::filesystem::remove_all(m_path, ec);
+    }
+    TempDir(const TempDir&) = delete;
+    TempDir& operator=(const TempDir&) = delete;
+
+    std::filesystem::path operator/(const std::string& name) const { return m_path / name; }
+    std::filesystem::path write(const std::string& name, const std::string& text) const {
+        const std::filesystem::path p = m_path / name;
+        std::ofstream(p, std::ios::binary) << text;
+        return p;
+    }
+
+  private:
+    std::filesystem::path m_path;
+};
+
+std::string readText(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+/// Runs atelier-cli with `args` (stdout and stderr to `log`); returns its exit status.
+int runCli(const std::string& args, const std::filesystem::path& log) {
+    const std::string command =
+        std::string("\"") + ATELIER_CLI + "\" " + args + " > \"" + log.string() + "\" 2>&1";
+    const int status = std::system(command.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+struct MaterialFigures {
+    double stretch = NAN;
+    double poisson = NAN;
+    double requestedStretch = NAN;
+    double requestedPoisson = NAN;
+};
+
+MaterialFigures runMaterial(const TempDir& dir, const std::string& model, const std::string& mesh,
+                            const std::string& extra = "") {
+    const auto out = dir / (model + "-" + mesh + ".json");
+    const auto log = dir / (model + "-" + mesh + ".log");
+    const int code = runCli("bench material --model " + model + " --mesh " + mesh + " --out \"" +
+                                out.string() + "\" " + extra,
+                            log);
+    EXPECT_EQ(code, 0) << readText(log);
+    MaterialFigures f;
+    if (code != 0) {
+        return f;
+    }
+    const auto j = nlohmann::json::parse(readText(out));
+    EXPECT_EQ(j.at("model"), model);
+    EXPECT_EQ(j.at("mesh"), mesh);
+    EXPECT_TRUE(j.at("converged").get<bool>());
+    EXPECT_LT(j.at("residual").get<double>(), 1e-9);
+    f.stretch = j.at("measured").at("stretch_n_per_m").get<double>();
+    f.poisson = j.at("measured").at("poisson").get<double>();
+    f.requestedStretch = j.at("requested").at("stretch_n_per_m").get<double>();
+    f.requestedPoisson = j.at("requested").at("poisson").get<double>();
+    return f;
+}
+
+} // namespace
+
+class BenchMaterial : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(BenchMaterial, FemReproducesYoungsModulusAndPoissonRatio) {
+    const TempDir dir;
+    const std::string mesh = GetParam();
+    const MaterialFigures f =
+        runMaterial(dir, "fem", mesh, "--weft 3000 --warp 1500 --shear 400 --poisson 0.35");
+    EXPECT_DOUBLE_EQ(f.requestedStretch, 3000);
+    EXPECT_DOUBLE_EQ(f.requestedPoisson, 0.35);
+    EXPECT_LT(std::abs(f.stretch / f.requestedStretch - 1.0), 0.05) << f.stretch;
+    EXPECT_LT(std::abs(f.poisson - f.requestedPoisson), 0.03) << f.poisson;
+}
+
+TEST_P(BenchMaterial, FemAlongWarp) {
+    const TempDir dir;
+    const std::string mesh = GetParam();
+    const MaterialFigures f = runMaterial(
+        dir, "fem", mesh, "--direction warp --weft 3000 --warp 1500 --shear 400 --poisson 0.3");
+    EXPECT_DOUBLE_EQ(f.requestedStretch, 1500);
+    EXPECT_DOUBLE_EQ(f.requestedPoisson, 0.15); // nu21 = nu12 E2 / E1
+    EXPECT_LT(std::abs(f.stretch / f.requestedStretch - 1.0), 0.05) << f.stretch;
+    EXPECT_LT(std::abs(f.poisson - f.requestedPoisson), 0.03) << f.poisson;
+}
+
+TEST_P(BenchMaterial, SpringsAndVolinoReportFinitePositiveFigures) {
+    const TempDir dir;
+    const std::string mesh = GetParam();
+    for (const std::string model : {"springs", "volino"}) {
+        const MaterialFigures f = runMaterial(dir, model, mesh);
+        EXPECT_TRUE(std::isfinite(f.stretch) && f.stretch > 0) << model << ": " << f.stretch;
+        EXPECT_TRUE(std::isfinite(f.poisson) && f.poisson > 0) << model << ": " << f.poisson;
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Meshes, BenchMaterial, ::testing::Values("regular", "irregular"));
+
+TEST(BenchMaterialCli, RejectsAnUnknownModel) {
+    const TempDir dir;
+    EXPECT_EQ(runCli("bench material --model cotton --out x.json", dir / "log"), 2);
+}
+
+namespace {
+
+/// A small hanging sheet: 4×4 cells, two pins, gravity; a soft, lightly damped fabric so that
+/// the explicit methods are stable at steps of about 1e-3 s.
+constexpr const char* TINY_SCENE = R"({
+  "format": "atelier-scene",
+  "version": 1,
+  "cloths": [
+    {
+      "name": "sheet",
+      "mesh": {"type": "rectangle", "width": 0.4, "height": 0.4, "cells": [4, 4], "triangulation": "regular"},
+      "placement": {"origin": [-0.2, 1.0, 0.0], "u_axis": [1, 0, 0], "v_axis": [0, 0, -1]},
+      "material": {"preset": "cotton", "stretch_weft_n_per_m": 500, "stretch_warp_n_per_m": 500,
+                   "damping_s": 0.0001},
+      "model": "fem",
+      "bending": true
+    }
+  ],
+  "pins": [
+    {"cloth": "sheet", "corner": "top-left"},
+    {"cloth": "sheet", "corner": "top-right"}
+  ],
+  "gravity": true,
+  "integrator": {"type": "rk45", "dt": 1e-4, "tolerance": 1e-4, "max_dt": 0.01},
+  "duration": 1.0,
+  "frame_rate": 30
+}
+)";
+
+struct CsvRow {
+    std::string integrator;
+    double setting = 0;
+    double wall = 0;
+    long evaluations = 0;
+    double rms = 0;
+    double max = 0;
+    bool stable = false;
+};
+
+double parseNumber(const std::string& s) {
+    if (s == "nan") {
+        return NAN;
+    }
+    std::size_t used = 0;
+    const double v = std::stod(s, &used);
+    EXPECT_EQ(used, s.size()) << s;
+    return v;
+}
+
+std::vector<CsvRow> parseCsv(const std::string& text) {
+    std::vector<CsvRow> rows;
+    std::istringstream in(text);
+    std::string line;
+    bool header = false;
+    while (std::getline(in, line)) {
+        if (line.empty() || line[0] == '#') {
+            continue;
+        }
+        if (!header) {
+            EXPECT_EQ(line, "integrator,setting,wall_s,force_evaluations,rms_error_m,max_error_m,"
+                            "stable");
+            header = true;
+            continue;
+        }
+        std::vector<std::string> cells;
+        std::istringstream fields(line);
+        for (std::string cell; std::getline(fields, cell, ',');) {
+            cells.push_back(cell);
+        }
+        EXPECT_EQ(cells.size(), 7u) << line;
+        if (cells.size() != 7) {
+            continue;
+        }
+        CsvRow r;
+        r.integrator = cells[0];
+        r.setting = parseNumber(cells[1]);
+        r.wall = parseNumber(cells[2]);
+        r.evaluations = std::stol(cells[3]);
+        r.rms = parseNumber(cells[4]);
+        r.max = parseNumber(cells[5]);
+        EXPECT_TRUE(cells[6] == "true" || cells[6] == "false") << line;
+        r.stable = cells[6] == "true";
+        rows.push_back(r);
+    }
+    EXPECT_TRUE(header);
+    return rows;
+}
+
+} // namespace
+
+TEST(BenchWorkPrecision, SweepsEveryIntegratorAndPlots) {
+    const TempDir dir;
+    const auto scene = dir.write("tiny.json", TINY_SCENE);
+    const auto csv = dir / "wp.csv";
+    const auto svg = dir / "wp.svg";
+    const int code = runCli("bench work-precision \"" + scene.string() + "\" --out \"" +
+                                csv.string() + "\" --plot \"" + svg.string() +
+                                "\" --duration 0.1 --min-dt 2e-4 --min-tolerance 1e-6 --threads 1",
+                            dir / "log");
+    ASSERT_EQ(code, 0) << readText(dir / "log");
+
+    const std::vector<CsvRow> rows = parseCsv(readText(csv));
+    std::map<std::string, std::vector<CsvRow>> by;
+    for (const CsvRow& r : rows) {
+        by[r.integrator].push_back(r);
+        EXPECT_GT(r.setting, 0);
+        EXPECT_GE(r.wall, 0);
+        EXPECT_GT(r.evaluations, 0);
+        if (r.stable) {
+            EXPECT_TRUE(std::isfinite(r.rms) && std::isfinite(r.max)) << r.integrator;
+            EXPECT_LE(r.rms, r.max + 1e-15);
+        }
+    }
+    for (const char* name : {"euler", "midpoint", "rk4", "rk45", "implicit-euler"}) {
+        EXPECT_FALSE(by[name].empty()) << name;
+    }
+    // rk4: the error falls as the step falls (over its stable steps, above the reference's
+    // own error).
+    std::vector<CsvRow> rk4;
+    for (const CsvRow& r : by["rk4"]) {
+        if (r.stable) {
+            rk4.push_back(r);
+        }
+    }
+    ASSERT_GE(rk4.size(), 2u) << readText(csv);
+    for (std::size_t k = 1; k < rk4.size(); ++k) {
+        EXPECT_LT(rk4[k].setting, rk4[k - 1].setting);
+        EXPECT_LT(rk4[k].rms, rk4[k - 1].rms + 1e-8) << "dt " << rk4[k].setting;
+    }
+    EXPECT_LT(rk4.back().rms, 0.1 * rk4.front().rms + 1e-8);
+
+    const std::string plot = readText(svg);
+    EXPECT_EQ(plot.rfind("<svg", 0), 0u);
+    EXPECT_NE(plot.find("</svg>"), std::string::npos);
+    for (const char* name : {"euler", "midpoint", "rk4", "rk45", "implicit-euler"}) {
+        EXPECT_NE(plot.find(std::string(">") + name + "</text>"), std::string::npos) << name;
+    }
+}
+
+} // namespace atelier::test

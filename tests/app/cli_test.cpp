@@ -1,0 +1,103 @@
+/// Runs the built atelier-cli (ATELIER_CLI) on tiny scenes and checks exit codes and outputs.
+
+#include "io/temp_dir.h"
+
+#include <nlohmann/json.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <sys/wait.h>
+
+namespace atelier {
+namespace {
+
+const char* const TINY_SCENE = R"({
+  "format": "atelier-scene",
+  "version": 1,
+  "cloths": [{
+    "name": "tiny",
+    "mesh": {"type": "rectangle", "width": 0.2, "height": 0.2, "cells": [3, 3]},
+    "placement": {"origin": [0, 1, 0], "u_axis": [1, 0, 0], "v_axis": [0, 0, -1]},
+    "material": "cotton"
+  }],
+  "pins": [{"cloth": "tiny", "edge": "top"}],
+  "integrator": {"type": "implicit-euler", "dt": 0.01, "max_dt": 0.01},
+  "duration": 0.05,
+  "frame_rate": 100
+})";
+
+struct CliRun {
+    int exitCode = -1;
+    std::string stderrText;
+};
+
+CliRun runCli(const test::TempDir& dir, const std::string& args) {
+    const auto errPath = dir / "stderr.txt";
+    const std::string command =
+        std::string("\"") + ATELIER_CLI + "\" " + args + " 2> \"" + errPath.string() + "\"";
+    const int status = std::system(command.c_str());
+    CliRun run;
+    run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    run.stderrText = test::readText(errPath);
+    return run;
+}
+
+TEST(Cli, SimulateWritesMeshAndReport) {
+    test::TempDir dir;
+    const auto scene = dir.write("tiny.json", TINY_SCENE);
+    const auto out = dir / "out.obj";
+    const auto report = dir / "report.json";
+    const CliRun run = runCli(dir, "simulate \"" + scene.string() + "\" --out \"" + out.string() +
+                                       "\" --report \"" + report.string() +
+                                       "\" --threads 1 --frames-dir \"" +
+                                       (dir / "frames").string() + "\"");
+    ASSERT_TRUE(std::filesystem::exists(report)) << run.stderrText;
+    const auto json = nlohmann::json::parse(test::readText(report));
+    for (const char* key :
+         {"steps", "rejected_steps", "force_evaluations", "sim_time_s", "wall_time_s", "min_dt_s",
+          "max_dt_s", "finite", "max_edge_strain", "kinetic_energy_j", "energy_input_j",
+          "active_stages", "stage_seconds", "integrator", "error", "vertices", "triangles"}) {
+        EXPECT_TRUE(json.contains(key)) << key;
+    }
+    EXPECT_EQ(json["vertices"], 16);
+    EXPECT_EQ(json["triangles"], 18);
+    EXPECT_EQ(json["integrator"], "implicit-euler");
+    EXPECT_TRUE(json["active_stages"].is_array());
+    EXPECT_TRUE(json["stage_seconds"].is_object());
+    // Exit 0 exactly when the run finished with a finite state; the report says which.
+    if (json["finite"] == true && json["error"].is_null()) {
+        EXPECT_EQ(run.exitCode, 0) << run.stderrText;
+        EXPECT_TRUE(std::filesystem::exists(out));
+        const std::string obj = test::readText(out);
+        EXPECT_NE(obj.find("g tiny"), std::string::npos);
+        EXPECT_NE(obj.find("vt "), std::string::npos);
+    } else {
+        EXPECT_EQ(run.exitCode, 1) << run.stderrText;
+    }
+}
+
+TEST(Cli, BadSceneExitsWithTwoAndNamesTheJsonPath) {
+    test::TempDir dir;
+    std::string text = TINY_SCENE;
+    text.replace(text.find("\"cotton\""), 8, "\"cottn\"");
+    const auto scene = dir.write("bad.json", text);
+    const CliRun run = runCli(dir, "simulate \"" + scene.string() + "\" --report \"" +
+                                       (dir / "r.json").string() + "\"");
+    EXPECT_EQ(run.exitCode, 2);
+    EXPECT_NE(run.stderrText.find("error: "), std::string::npos) << run.stderrText;
+    EXPECT_NE(run.stderrText.find("bad.json: /cloths/0/material: "), std::string::npos)
+        << run.stderrText;
+    EXPECT_FALSE(std::filesystem::exists(dir / "r.json"));
+}
+
+TEST(Cli, MissingSceneAndBadArguments) {
+    test::TempDir dir;
+    EXPECT_EQ(runCli(dir, "simulate \"" + (dir / "nope.json").string() + "\"").exitCode, 2);
+    EXPECT_EQ(runCli(dir, "frobnicate").exitCode, 2);
+    EXPECT_EQ(runCli(dir, "simulate x.json --threads 0").exitCode, 2);
+    EXPECT_EQ(runCli(dir, "--help > /dev/null").exitCode, 0);
+}
+
+} // namespace
+} // namespace atelier

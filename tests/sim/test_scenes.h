@@ -1,0 +1,35 @@
+#pragma once
+// Small generated scenes shared by the engine tests.
+
+#include "sim/simulation.h"
+
+namespace atelier::test {
+
+/// A square sheet of `cells`×`cells` in the vertical plane z = 0 (pattern x → world x,
+/// pattern y → world y), optionally pinned at its two top corners.
+inline sim::SceneSpec smallSheet(sim::StretchModel model, int cells = 4, double size = 1.0,
+                                 bool pinTopCorners = true) {
+    sim::SceneSpec s;
+    sim::ClothSpec c;
+    sim::RectangleOptions r;
+    r.width = size;
+    r.height = size;
+    r.cellsX = cells;
+    r.cellsY = cells;
+    sim::MatX2 rest;
+    sim::MatX3i tris;
+    sim::makeRectangle(r, rest, tris);
+    (void)sim::buildClothMesh(rest, tris, c.mesh);
+    c.position.resize(rest.rows(), 3);
+    for (int i = 0; i < rest.rows(); ++i) {
+        c.position.row(i) << rest(i, 0), rest(i, 1), 0.0;
+    }
+    c.model = model;
+    s.cloths.push_back(c);
+    if (pinTopCorners) {
+        s.pins = {cells * (cells + 1), (cells + 1) * (cells + 1) - 1};
+    }
+    return s;
+}
+
+} // namespace atelier::test
