@@ -13,6 +13,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <random>
 #include <set>
 
@@ -92,6 +93,16 @@ class SceneParser {
             std::sort(m_scene.pins.begin(), m_scene.pins.end());
             m_scene.pins.erase(std::unique(m_scene.pins.begin(), m_scene.pins.end()),
                                m_scene.pins.end());
+            // A random (crumpled) start scatters the free vertices only: pins hold the
+            // placement, or the crumpling would stretch the cloth between them for good.
+            for (int pin : m_scene.pins) {
+                for (const auto& [c, placed] : m_placed) {
+                    const int begin = m_cloths[c].offset;
+                    if (pin >= begin && pin < begin + m_cloths[c].vertexCount) {
+                        m_scene.cloths[c].position.row(pin - begin) = placed.row(pin - begin);
+                    }
+                }
+            }
         }
         if (const json* drives = r.find("drives")) {
             const std::string ptr = r.pointerOf("drives");
@@ -293,6 +304,7 @@ class SceneParser {
             // mt19937 is specified exactly by the standard: the same seed gives the same start
             // on every platform (unlike std::uniform_real_distribution).
             std::mt19937 rng(static_cast<std::uint32_t>(seed));
+            m_placed[m_scene.cloths.size()] = cloth.position;
             for (int i = 0; i < info.vertexCount; ++i) {
                 for (int k = 0; k < 3; ++k) {
                     const double unit = static_cast<double>(rng()) / 4294967296.0; // [0, 1)
@@ -597,6 +609,7 @@ class SceneParser {
     MaterialPresets m_presets;
     sim::SceneSpec m_scene;
     std::vector<ClothInfo> m_cloths;
+    std::map<std::size_t, sim::MatX3> m_placed; ///< cloth index → positions before a random start
 };
 
 } // namespace

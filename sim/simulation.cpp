@@ -115,6 +115,7 @@ struct Simulation::Impl {
     double t = 0;
     double dtNext = 0;     ///< next step to try [s]
     double dtNominal = 0;  ///< fixed-step integrators: the scene's step [s]
+    std::string lastRejection; ///< why the last step was rejected (for error messages)
     double previousErrorRatio = 1.0; ///< rk45: error / tolerance of the last accepted step
     RunStats stats;
     bool failed = false;
@@ -125,7 +126,7 @@ struct Simulation::Impl {
     std::unique_ptr<ExplicitRkStepper> rk;
     FilteredCg cg;
     BlockSparseMatrix jacobian;
-    MatX3 xNew, vNew, acc, force, rhs, dv, scratch;
+    MatX3 xNew, vNew, acc, force, forceStart, accEnd, rhs, dv, scratch;
 
     double* timerForces = nullptr;
     double* timerConstraints = nullptr;
@@ -143,6 +144,10 @@ struct Simulation::Impl {
     bool implicitStep(double h);
     bool step(double maxH);
     double constraintPower(const MatX3& f) const;
+    /// Whether some vertex held by a drive moves (then the constraint does work).
+    bool heldVerticesMove() const;
+    /// Sets invMass: 0 for vertices held at time t (pins, exact drives not yet released).
+    void updateHeld();
     /// Energy put in so far (see RunStats::energyInput), with `xs` counted for the lowest point.
     double energyBound(const MatX3& xs) const;
 };
@@ -209,14 +214,7 @@ void Simulation::Impl::build() {
     for (std::size_t d = 0; d < scene.drives.size(); ++d) {
         driveOf[static_cast<std::size_t>(scene.drives[d].vertex)] = static_cast<int>(d);
     }
-    invMass.resize(n);
-    for (int i = 0; i < n; ++i) {
-        const bool held = pinned[static_cast<std::size_t>(i)] != 0 ||
-                          (driveOf[static_cast<std::size_t>(i)] >= 0 &&
-                           scene.drives[static_cast<std::size_t>(driveOf[static_cast<std::size_t>(i)])]
-                                   .followTimeConstant <= 0);
-        invMass[i] = (held || mass[i] <= 0) ? 0.0 : 1.0 / mass[i];
-    }
+    updateHeld();
 
     // The pipeline: only what the scene needs.
     if (!scene.pins.empty()) {
@@ -289,6 +287,9 @@ void Simulation::Impl::accelerations(double time, const MatX3& xs, const MatX3& 
         }
     }
     ++stats.forceEvaluations;
+    if (&xs == &x) {
+        forceStart = force; // forces at the step's start, for the work of the held vertices
+    }
     a.resize(n, 3);
     for (int i = 0; i < n; ++i) {
         a.row(i) = mass[i] > 0 ? Vec3(force.row(i).transpose() / mass[i]) : Vec3::Zero();
@@ -296,49 +297,72 @@ void Simulation::Impl::accelerations(double time, const MatX3& xs, const MatX3& 
     if (scene.gravity) {
         a.rowwise() += scene.gravityVector.transpose();
     }
-    // B: held vertices follow their path exactly (piecewise linear: zero acceleration);
-    // C: tracker-following drives pull with a critically damped elastic.
+    // B: held vertices (pins; exact drives, on piecewise linear paths) get zero acceleration.
+    // C: tracker-following drives pull with a critically damped elastic. Whether a drive is
+    // active is decided at the step's start, so every stage of a step sees the same constraints
+    // (steps stop at path keys and release times).
     for (int i = 0; i < n; ++i) {
-        if (pinned[static_cast<std::size_t>(i)] != 0) {
+        if (invMass[i] == 0) {
             a.row(i).setZero();
+        }
+    }
+    for (const Drive& drive : scene.drives) {
+        if (drive.followTimeConstant <= 0 || !driveActive(drive, t)) {
             continue;
         }
-        const int d = driveOf[static_cast<std::size_t>(i)];
-        if (d < 0) {
-            continue;
-        }
-        const Drive& drive = scene.drives[static_cast<std::size_t>(d)];
-        if (!driveActive(drive, time)) {
-            continue;
-        }
-        if (drive.followTimeConstant <= 0) {
-            a.row(i).setZero();
-        } else {
-            const PathSample p = samplePath(drive, time);
-            const double tau = drive.followTimeConstant;
-            a.row(i) += (-(xs.row(i).transpose() - p.position) / (tau * tau) -
-                         2.0 * (vs.row(i).transpose() - p.velocity) / tau)
-                            .transpose();
-        }
+        const PathSample p = samplePath(drive, time);
+        const double tau = drive.followTimeConstant;
+        const int i = drive.vertex;
+        a.row(i) += (-(xs.row(i).transpose() - p.position) / (tau * tau) -
+                     2.0 * (vs.row(i).transpose() - p.velocity) / tau)
+                        .transpose();
     }
 }
 
-double Simulation::Impl::constraintPower(const MatX3& a) const {
-    // Power delivered by the held vertices: their reaction R = m a_imposed − f_internal, with
-    // a the (corrected) acceleration, moving at velocity v.
+double Simulation::Impl::constraintPower(const MatX3& f) const {
+    // Power delivered by the held vertices: on a held vertex (zero acceleration on its
+    // piecewise linear path) the constraint applies R = −f − m g, moving at velocity v.
     double p = 0;
-    for (int i = 0; i < n; ++i) {
+    for (const Drive& d : scene.drives) {
+        const int i = d.vertex;
         if (invMass[i] == 0 && mass[i] > 0) {
-            const Vec3 reaction = mass[i] * a.row(i).transpose() - force.row(i).transpose() -
-                                  (scene.gravity ? Vec3(mass[i] * scene.gravityVector) : Vec3::Zero());
+            Vec3 reaction = -f.row(i).transpose();
+            if (scene.gravity) {
+                reaction -= mass[i] * scene.gravityVector;
+            }
             p += reaction.dot(v.row(i).transpose());
         }
     }
     return p;
 }
 
+bool Simulation::Impl::heldVerticesMove() const {
+    for (const Drive& d : scene.drives) {
+        if (invMass[d.vertex] == 0 && v.row(d.vertex).squaredNorm() > 0) {
+            return true;
+        }
+    }
+    return false;
+}
+
+void Simulation::Impl::updateHeld() {
+    invMass.resize(n);
+    for (int i = 0; i < n; ++i) {
+        bool held = pinned[static_cast<std::size_t>(i)] != 0;
+        const int d = driveOf[static_cast<std::size_t>(i)];
+        if (!held && d >= 0) {
+            const Drive& drive = scene.drives[static_cast<std::size_t>(d)];
+            held = driveActive(drive, t) && drive.followTimeConstant <= 0;
+        }
+        invMass[i] = (held || mass[i] <= 0) ? 0.0 : 1.0 / mass[i];
+    }
+}
+
 void Simulation::Impl::applyCorrectionsA(double h) {
     StageTimer timer(*timerConstraints);
+    if (hasDrives()) {
+        updateHeld();
+    }
     double injected = 0;
     for (int p : scene.pins) {
         injected -= 0.5 * mass[p] * v.row(p).squaredNorm();
@@ -434,7 +458,8 @@ bool Simulation::Impl::step(double maxH) {
         if (h < opt.minDt) {
             std::ostringstream s;
             s << "time step fell below the floor (" << h << " s < " << opt.minDt
-              << " s) at t = " << t << " s: the state cannot be integrated stably";
+              << " s) at t = " << t << " s: the state cannot be integrated stably (last rejection: "
+              << lastRejection << ")";
             error = s.str();
             failed = true;
             return false;
@@ -450,19 +475,37 @@ bool Simulation::Impl::step(double maxH) {
         } else {
             ok = explicitStep(h, errorRatio);
         }
+        double work = 0;
+        bool energyRejected = false;
+        double keRejected = 0;
         if (ok && errorRatio <= 1.0) {
-            // Divergence guard: an unstable explicit step grows finite garbage before NaN.
-            for (std::size_t c = 0; c < scene.cloths.size() && ok; ++c) {
-                ok = sim::maxEdgeStrain(scene.cloths[c].mesh, xNew, offsets[c]) <=
-                     opt.divergenceStrain;
+            if (heldVerticesMove()) {
+                // Work of the drives over the step, trapezoidal in their reaction forces (one
+                // more force evaluation, only while a drive moves a vertex).
+                const double p0 = constraintPower(forceStart);
+                accelerations(t + h, xNew, vNew, accEnd);
+                work = 0.5 * h * (p0 + constraintPower(force));
             }
-        }
-        if (ok && errorRatio <= 1.0) {
             const double ke = 0.5 * (mass.array() * vNew.rowwise().squaredNorm().array()).sum();
-            const double power = std::max(0.0, constraintPower(acc));
-            ok = ke <= opt.divergenceEnergyFactor * (energyBound(xNew) + h * power) + 1e-12;
+            ok = ke <= opt.divergenceEnergyFactor * (energyBound(xNew) + std::max(0.0, work)) +
+                           1e-12;
+            energyRejected = !ok;
+            keRejected = ke;
         }
         const bool accept = ok && errorRatio <= 1.0;
+        if (!accept) {
+            std::ostringstream why;
+            if (!ok && energyRejected) {
+                why << "kinetic energy " << keRejected << " J above " << opt.divergenceEnergyFactor
+                    << " × the energy put in";
+            } else if (!ok) {
+                why << "non-finite state";
+            } else {
+                why << "error estimate " << errorRatio << " × tolerance";
+            }
+            why << " at h = " << h << " s";
+            lastRejection = why.str();
+        }
         stats.wallTime += seconds(start, Clock::now());
         if (!accept) {
             ++stats.rejectedSteps;
@@ -476,7 +519,7 @@ bool Simulation::Impl::step(double maxH) {
             dtNext = h;
             continue;
         }
-        baseEnergyInput += h * std::max(0.0, constraintPower(acc));
+        baseEnergyInput += std::max(0.0, work);
         x.swap(xNew);
         v.swap(vNew);
         t += h;

@@ -34,6 +34,7 @@ struct RunOutcome {
     WorkPrecisionRow row;
     sim::MatX3 positions;
     bool completed = false; ///< reached the end time with a finite state
+    bool timedOut = false;  ///< stopped at the wall-time cap
     std::string error;
 };
 
@@ -71,6 +72,7 @@ RunOutcome runScene(const sim::SceneSpec& scene, double duration, double maxRunS
     out.completed = status == sim::RunStatus::Finished && !timedOut && stats.finite &&
                     out.positions.allFinite();
     out.row.stable = out.completed && (!fixedStep || stats.rejectedSteps == 0);
+    out.timedOut = timedOut;
     if (timedOut) {
         out.error = "stopped after " + std::to_string(maxRunSeconds) + " s of wall time";
     } else if (!out.completed) {
@@ -358,7 +360,18 @@ int runWorkPrecision(const WorkPrecisionOptions& o) {
               << reference.row.forceEvaluations << " force evaluations\n";
 
     std::vector<WorkPrecisionRow> rows;
+    std::vector<std::string> notes; // settings skipped or not measured, for the CSV header
     for (sim::IntegratorKind kind : kinds) {
+        if (kind != sim::IntegratorKind::Rk45) {
+            for (int k = 0; FIRST_DT * std::ldexp(1.0, -k) >= o.minDt * (1 - 1e-9); ++k) {
+                const double dt = FIRST_DT * std::ldexp(1.0, -k);
+                if (duration / dt > static_cast<double>(o.maxSteps)) {
+                    notes.push_back(std::string(sim::integratorName(kind)) + " " +
+                                    formatNumber(dt) + ": skipped (more than " +
+                                    std::to_string(o.maxSteps) + " steps)");
+                }
+            }
+        }
         for (double setting : sweepSettings(kind, o, duration)) {
             sim::SceneSpec scene = base;
             scene.integrator.kind = kind;
@@ -384,6 +397,10 @@ int runWorkPrecision(const WorkPrecisionOptions& o) {
                 run.row.integrator.c_str(), setting, run.row.wallSeconds, run.row.forceEvaluations,
                 run.row.rmsError, run.row.stable ? "stable" : ("unstable: " + run.error).c_str());
             std::cerr << line << "\n";
+            if (run.timedOut) {
+                notes.push_back(run.row.integrator + " " + formatNumber(setting) +
+                                ": not measured (" + run.error + ")");
+            }
             rows.push_back(run.row);
         }
     }
@@ -395,6 +412,9 @@ int runWorkPrecision(const WorkPrecisionOptions& o) {
         << " m max_dt=" << formatNumber(refScene.integrator.maxDt)
         << " s; wall_s=" << formatNumber(reference.row.wallSeconds)
         << " force_evaluations=" << reference.row.forceEvaluations << "\n";
+    for (const std::string& note : notes) {
+        csv << "# " << note << "\n";
+    }
     csv << "# setting: fixed step [s] (euler, midpoint, rk4, implicit-euler) or tolerance [m] "
            "(rk45); errors: |x - x_ref| over vertices at the end time; stable: finished, finite "
            "and (fixed step) no rejected step\n";

@@ -151,7 +151,7 @@ DihedralBending::DihedralBending(const ClothMesh& mesh, int offset, const Materi
       m_damping(std::max(material.damping, 0.0)),
       m_plasticity(plasticity && material.plasticYieldAngle > 0),
       m_yieldAngle(material.plasticYieldAngle), m_plasticRate(std::max(material.plasticRate, 0.0)),
-      m_gather(mesh.hinges, offset) {
+      m_gather(mesh.hinges, offset), m_gradientCap(VecX::Zero(mesh.hinges.rows())) {
     if (restAngles.size() == m_hinges.rows()) {
         m_restAngle = restAngles;
     }
@@ -163,7 +163,22 @@ DihedralBending::DihedralBending(const ClothMesh& mesh, int offset, const Materi
         const Vec2 p3 = mesh.rest.row(m_hinges(h, 3)).transpose();
         const double areas = std::abs(signedArea(p0, p1, p2)) + std::abs(signedArea(p1, p0, p3));
         m_weight[h] = areas > 0 ? 3.0 * (p1 - p0).squaredNorm() / areas : 0.0;
+        // |∇θ| at a wing tip is 1/height; allow GRADIENT_CAP times the rest value.
+        const double e = (p1 - p0).norm();
+        const double h0 = e > 0 ? 2.0 * std::abs(signedArea(p0, p1, p2)) / e : 0.0;
+        const double h1 = e > 0 ? 2.0 * std::abs(signedArea(p1, p0, p3)) / e : 0.0;
+        const double hmin = std::min(h0, h1);
+        m_gradientCap[h] = hmin > 0 ? GRADIENT_CAP / hmin : 0.0;
     }
+}
+
+double DihedralBending::gradientScale(const std::array<Vec3, 4>& g, int h) const {
+    double largest = 0;
+    for (const Vec3& ga : g) {
+        largest = std::max(largest, ga.norm());
+    }
+    const double cap = m_gradientCap[h];
+    return largest > cap ? cap / largest : 1.0;
 }
 
 std::array<Vec3, 4> DihedralBending::corners(const MatX3& x, int h) const {
@@ -181,7 +196,8 @@ double DihedralBending::angle(const MatX3& x, int h) const {
 
 void DihedralBending::addForces(const MatX3& x, const MatX3& v, MatX3& f) const {
     const std::int64_t nh = m_hinges.rows();
-    MatX3 buffer = MatX3::Zero(4 * nh, 3);
+    MatX3& buffer = m_buffer;
+    buffer.setZero(4 * nh, 3);
     ATELIER_PARALLEL_FOR(nh)
     for (std::int64_t hh = 0; hh < nh; ++hh) {
         const int h = static_cast<int>(hh);
@@ -196,8 +212,9 @@ void DihedralBending::addForces(const MatX3& x, const MatX3& v, MatX3& f) const 
             thetaDot += g[a].dot(cv[a]);
         }
         const double theta = dihedralAngle(c[0], c[1], c[2], c[3]);
-        const double s =
-            -m_stiffness * m_weight[h] * ((theta - m_restAngle[h]) + m_damping * thetaDot);
+        // dE/dθ = k w sin(θ − θ̄): continuous when the hinge folds through ±π (see header).
+        const double s = -m_stiffness * m_weight[h] * gradientScale(g, h) *
+                         (std::sin(theta - m_restAngle[h]) + m_damping * thetaDot);
         for (std::size_t a = 0; a < 4; ++a) {
             buffer.row(4 * hh + static_cast<std::int64_t>(a)) = s * g[a].transpose();
         }
@@ -212,7 +229,7 @@ double DihedralBending::energy(const MatX3& x) const {
     for (std::int64_t hh = 0; hh < nh; ++hh) {
         const int h = static_cast<int>(hh);
         const double d = angle(x, h) - m_restAngle[h];
-        w[h] = 0.5 * m_stiffness * m_weight[h] * d * d;
+        w[h] = m_stiffness * m_weight[h] * (1.0 - std::cos(d));
     }
     return w.sum();
 }
@@ -241,17 +258,20 @@ void DihedralBending::addJacobian(const MatX3& x, const MatX3& v, double kx, dou
             grad.segment<3>(3 * static_cast<int>(a)) = g[a];
             vel.segment<3>(3 * static_cast<int>(a)) = cv[a];
         }
-        const double kw = m_stiffness * m_weight[h];
+        const double kw = m_stiffness * m_weight[h] * gradientScale(g, h);
         const Eigen::Matrix<double, 12, 12> ggT = grad * grad.transpose();
-        Eigen::Matrix<double, 12, 12> K = -kw * ggT;
+        const double d = dihedralAngle(c[0], c[1], c[2], c[3]) - m_restAngle[h];
+        Eigen::Matrix<double, 12, 12> K;
         if (exact) {
+            K = -kw * std::cos(d) * ggT;
             Eigen::Matrix<double, 12, 12> H;
             if (dihedralAngleHessian(c, H)) {
-                const double theta = dihedralAngle(c[0], c[1], c[2], c[3]);
                 const double thetaDot = grad.dot(vel);
-                const double s = (theta - m_restAngle[h]) + m_damping * thetaDot;
+                const double s = std::sin(d) + m_damping * thetaDot;
                 K -= kw * (s * H + m_damping * grad * (H * vel).transpose());
             }
+        } else {
+            K = -kw * std::max(0.0, std::cos(d)) * ggT;
         }
         const Eigen::Matrix<double, 12, 12> total = kx * K - (kv * kw * m_damping) * ggT;
         for (int a = 0; a < 4; ++a) {

@@ -35,7 +35,8 @@ bool dihedralAngleHessian(const std::array<Vec3, 4>& x, Eigen::Matrix<double, 12
 
 /// Discrete-shells bending (Grinspun, Hirani, Desbrun & Schröder 2003 "Discrete shells";
 /// Bridson et al. 2003) on every interior edge (hinge) h:
-/// \f[ E_h = \tfrac12\,k\,w_h\,(\theta_h - \bar\theta_h)^2,\qquad
+/// \f[ E_h = k\,w_h\,\big(1 - \cos(\theta_h - \bar\theta_h)\big)
+///     \approx \tfrac12\,k\,w_h\,(\theta_h - \bar\theta_h)^2,\qquad
 ///     w_h = \frac{3\,|\bar e_h|^2}{\bar A_0 + \bar A_1} \f]
 /// with k = `material.bending` [N·m], |ē| the rest edge length and Ā₀, Ā₁ the rest areas of the
 /// two triangles, i.e. \f$ E_h = \tfrac32 k (\theta-\bar\theta)^2 |\bar e|^2/(\bar A_0+\bar A_1)
@@ -47,11 +48,26 @@ bool dihedralAngleHessian(const std::array<Vec3, 4>& x, Eigen::Matrix<double, 12
 /// (isotropic), ≈2.9·k for weft/warp cylinders and ≈4.5·k at 45° on makeRectangle's regular
 /// grid, and much more on meshes with slivers (see bending_test.cpp).
 ///
+/// The cosine form (= ½ k w (2 sin(Δθ/2))²) equals the quadratic discrete-shells energy to
+/// within 5% in torque for |θ − θ̄| < 30° and, unlike it, is periodic: when a hinge folds
+/// through itself θ wraps from π to −π, and the quadratic energy's force would jump there
+/// (from −k w π ∇θ to +k w π ∇θ), which no error-controlled integrator can step across (a
+/// jerked sheet folds that way). With the cosine the torque k w sin(θ − θ̄) is continuous.
+///
+/// Degenerate wings: |∇θ| at a wing tip is 1/height, unbounded as a triangle collapses into a
+/// needle (a violently stretched sheet does that), and a force that grows without bound near a
+/// configuration stalls any error-controlled step. The force is therefore scaled by
+/// min(1, cap/max_a|∇θ_a|) with cap = 50/(rest wing height): continuous, equal to the
+/// energy's gradient whenever no wing is below 1/50 of its rest height, and bounded beyond
+/// (the seed paper, §2.2.1: "remove all the singular configurations where the forces are
+/// infinite"). The Jacobian uses the same scale.
+///
 /// Damping is strain-rate (fold-rate) damping with τ = `material.damping` [s]:
-/// \f[ f = -k\,w_h\,\big((\theta - \bar\theta) + \tau\,\dot\theta\big)\,\nabla\theta,\qquad
+/// \f[ f = -k\,w_h\,\big(\sin(\theta - \bar\theta) + \tau\,\dot\theta\big)\,\nabla\theta,\qquad
 ///     \dot\theta = \nabla\theta\cdot v \f]
-/// Jacobian `Exact`: ∂f/∂x = −k w (∇θ∇θᵀ + (θ−θ̄+τθ̇)∇²θ + τ∇θ(∇²θ v)ᵀ), ∂f/∂v = −k w τ ∇θ∇θᵀ.
-/// `Definite`: ∂f/∂x ≈ −k w ∇θ∇θᵀ (Gauss–Newton, NSD), same ∂f/∂v.
+/// Jacobian `Exact`: ∂f/∂x = −k w (cos Δθ ∇θ∇θᵀ + (sin Δθ + τθ̇)∇²θ + τ∇θ(∇²θ v)ᵀ),
+/// ∂f/∂v = −k w τ ∇θ∇θᵀ. `Definite`: ∂f/∂x ≈ −k w max(cos Δθ, 0) ∇θ∇θᵀ (Gauss–Newton, NSD),
+/// same ∂f/∂v.
 ///
 /// Plasticity (when enabled and `material.plasticYieldAngle` > 0): after each accepted step the
 /// rest angle follows the part of θ − θ̄ beyond the yield angle θ_y:
@@ -86,6 +102,11 @@ class DihedralBending : public ForceModel {
 
     int m_offset;
     Eigen::Matrix<int, Eigen::Dynamic, 4, Eigen::RowMajor> m_hinges; ///< (|H|×4) local
+    /// Force scale that keeps |∇θ| ≤ m_gradientCap[h] (1 when the hinge is not degenerate).
+    double gradientScale(const std::array<Vec3, 4>& g, int h) const;
+    VecX m_gradientCap; ///< (|H|) largest |∇θ| a corner may feel [1/m]
+    static constexpr double GRADIENT_CAP = 50.0;
+    mutable MatX3 m_buffer; ///< (|H|·4 × 3) per-corner forces; one evaluating thread per model
     VecX m_weight;                                                   ///< (|H|) w_h
     VecX m_restAngle;                                                ///< (|H|) θ̄ [rad]
     double m_stiffness;                                              ///< k [N·m]

@@ -180,10 +180,12 @@ TEST(DihedralBending, FoldedPairEnergyFollowsTheDocumentedFormula) {
     for (double phi : {0.2, -0.9, 2.0}) {
         const MatX3 x = foldedPair(mesh, phi, 1, 6);
         EXPECT_NEAR(model.angle(x, 0), phi, 1e-12);
-        EXPECT_NEAR(model.energy(x), 0.5 * m.bending * w * phi * phi, 1e-12 * m.bending * w);
-        // Moment about the edge: the force on the folded wing tip is k·w·θ/h₁ against the fold.
+        EXPECT_NEAR(model.energy(x), m.bending * w * (1.0 - std::cos(phi)),
+                    1e-12 * m.bending * w);
+        // Moment about the edge: the force on the folded wing tip is k·w·sin θ/h₁ against the
+        // fold (≈ k·w·θ/h₁ for small folds).
         const MatX3 f = test::forces(model, x, MatX3::Zero(6, 3));
-        EXPECT_NEAR(f.row(1 + 3).norm(), m.bending * w * std::abs(phi) / 0.05,
+        EXPECT_NEAR(f.row(1 + 3).norm(), m.bending * w * std::abs(std::sin(phi)) / 0.05,
                     1e-9 * m.bending * w / 0.05);
     }
 }

@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Installs dependencies, builds Atelier twice and runs the whole test suite:
+#   1. Release with -Werror: unit tier + slow tier (long stability/accuracy scenes);
+#   2. AddressSanitizer + UndefinedBehaviorSanitizer: the whole suite again.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+bash packaging/install-deps.sh
+
+JOBS=${ATELIER_JOBS:-$(nproc)}
+export CTEST_OUTPUT_ON_FAILURE=1
+
+echo "== Release build (-Wall -Wextra -Wpedantic -Werror)"
+cmake --preset ci
+cmake --build --preset ci -j "$JOBS"
+echo "== Tests (Release): unit and slow tiers"
+ctest --preset ci -j "$JOBS"
+
+echo "== AddressSanitizer + UndefinedBehaviorSanitizer build"
+cmake --preset asan
+cmake --build --preset asan -j "$JOBS"
+echo "== Tests (ASan + UBSan)"
+ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1} \
+UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1} \
+  ctest --preset asan -j "$JOBS" ${ATELIER_ASAN_CTEST_ARGS:-}

@@ -1,0 +1,70 @@
+// Every scene in assets/scenes/hard/ must end finite, with kinetic energy bounded by the
+// energy put in, and back to a sane shape once released (max edge strain < 10%).
+
+#include "io/scene_file.h"
+#include "sim/simulation.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+
+namespace atelier {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<std::string> hardScenes() {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(fs::path(ATELIER_SOURCE_DIR) / "assets/scenes/hard")) {
+        if (e.path().extension() == ".json") {
+            names.push_back(e.path().stem().string());
+        }
+    }
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+class HardCase : public ::testing::TestWithParam<std::string> {};
+
+void runHardScene(const sim::SceneSpec& scene, const std::string& label) {
+    sim::Simulation simulation(scene);
+    ASSERT_TRUE(simulation.error().empty()) << simulation.error();
+    const sim::RunStatus status = simulation.run(scene.duration);
+    const sim::RunStats& stats = simulation.stats();
+    EXPECT_EQ(status, sim::RunStatus::Finished) << label << ": " << stats.error;
+    EXPECT_TRUE(stats.finite) << label;
+    EXPECT_TRUE(simulation.positions().allFinite()) << label;
+    EXPECT_LE(simulation.kineticEnergy(), stats.energyInput) << label;
+    EXPECT_LT(simulation.maxEdgeStrain(), 0.10) << label;
+}
+
+TEST_P(HardCase, EndsFiniteBoundedAndSane) {
+    const fs::path path = fs::path(ATELIER_SOURCE_DIR) / "assets/scenes/hard" / (GetParam() + ".json");
+    auto loaded = io::loadScene(path.string());
+    ASSERT_TRUE(loaded.ok()) << loaded.error().toString();
+    runHardScene(loaded.value(), GetParam());
+}
+
+TEST_P(HardCase, EndsFiniteBoundedAndSaneWithRk45) {
+    // The same scene with the paper's adaptive Runge–Kutta instead of the scene's integrator.
+    const fs::path path = fs::path(ATELIER_SOURCE_DIR) / "assets/scenes/hard" / (GetParam() + ".json");
+    auto loaded = io::loadScene(path.string());
+    ASSERT_TRUE(loaded.ok()) << loaded.error().toString();
+    sim::SceneSpec scene = loaded.value();
+    scene.integrator.kind = sim::IntegratorKind::Rk45;
+    scene.integrator.dt = 1e-4;
+    scene.integrator.tolerance = 1e-3;
+    scene.integrator.maxDt = 1.0 / 60;
+    runHardScene(scene, GetParam() + " (rk45)");
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, HardCase, ::testing::ValuesIn(hardScenes()),
+                         [](const auto& info) {
+                             std::string n = info.param;
+                             std::replace(n.begin(), n.end(), '-', '_');
+                             return n;
+                         });
+
+} // namespace
+} // namespace atelier
