@@ -151,7 +151,8 @@ DihedralBending::DihedralBending(const ClothMesh& mesh, int offset, const Materi
       m_damping(std::max(material.damping, 0.0)),
       m_plasticity(plasticity && material.plasticYieldAngle > 0),
       m_yieldAngle(material.plasticYieldAngle), m_plasticRate(std::max(material.plasticRate, 0.0)),
-      m_gather(mesh.hinges, offset), m_gradientCap(VecX::Zero(mesh.hinges.rows())) {
+      m_gather(mesh.hinges, offset) {
+    m_gradientCap = VecX::Zero(mesh.hinges.rows());
     if (restAngles.size() == m_hinges.rows()) {
         m_restAngle = restAngles;
     }
