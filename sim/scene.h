@@ -41,8 +41,10 @@ struct Drive {
     std::vector<double> times;   ///< keyframe times [s], increasing
     std::vector<Vec3> positions; ///< keyframe positions [m]
     double releaseTime = 1e300;  ///< time after which the vertex is no longer driven [s]
-    /// Tracker input: the vertex follows the path through a critically damped elastic with
-    /// this time constant [s] (a C contribution) instead of exactly (A + B). 0 = exact.
+    /// Tracker input: instead of following the path exactly (A + B), the vertex's acceleration
+    /// is set (B) to the critically damped law a = −(x − p)/τ² − 2(v − ṗ)/τ with this time
+    /// constant τ [s], which low-pass filters a noisy path whatever the cloth pulling on it.
+    /// 0 = exact.
     double followTimeConstant = 0.0;
 };
 

@@ -143,7 +143,7 @@ struct Simulation::Impl {
     bool explicitStep(double h, double& errorRatio);
     bool implicitStep(double h);
     bool step(double maxH);
-    double constraintPower(const MatX3& f) const;
+    double constraintPower(const MatX3& f, const MatX3& a, const MatX3& vel) const;
     /// Whether some vertex held by a drive moves (then the constraint does work).
     bool heldVerticesMove() const;
     /// Sets invMass: 0 for vertices held at time t (pins, exact drives not yet released).
@@ -297,10 +297,11 @@ void Simulation::Impl::accelerations(double time, const MatX3& xs, const MatX3& 
     if (scene.gravity) {
         a.rowwise() += scene.gravityVector.transpose();
     }
-    // B: held vertices (pins; exact drives, on piecewise linear paths) get zero acceleration.
-    // C: tracker-following drives pull with a critically damped elastic. Whether a drive is
-    // active is decided at the step's start, so every stage of a step sees the same constraints
-    // (steps stop at path keys and release times).
+    // B: held vertices get the acceleration of their constraint: zero for pins and exact drives
+    // (piecewise linear paths); for tracker-following drives the critically damped law toward
+    // the path (time constant τ), which replaces the mechanical acceleration so the grab
+    // filters the input's noise whatever the cloth's mass and stiffness. Whether a drive is
+    // active is decided at the step's start (steps stop at path keys and release times).
     for (int i = 0; i < n; ++i) {
         if (invMass[i] == 0) {
             a.row(i).setZero();
@@ -313,24 +314,25 @@ void Simulation::Impl::accelerations(double time, const MatX3& xs, const MatX3& 
         const PathSample p = samplePath(drive, time);
         const double tau = drive.followTimeConstant;
         const int i = drive.vertex;
-        a.row(i) += (-(xs.row(i).transpose() - p.position) / (tau * tau) -
-                     2.0 * (vs.row(i).transpose() - p.velocity) / tau)
-                        .transpose();
+        a.row(i) = (-(xs.row(i).transpose() - p.position) / (tau * tau) -
+                    2.0 * (vs.row(i).transpose() - p.velocity) / tau)
+                       .transpose();
     }
 }
 
-double Simulation::Impl::constraintPower(const MatX3& f) const {
-    // Power delivered by the held vertices: on a held vertex (zero acceleration on its
-    // piecewise linear path) the constraint applies R = −f − m g, moving at velocity v.
+double Simulation::Impl::constraintPower(const MatX3& f, const MatX3& a,
+                                         const MatX3& vel) const {
+    // Power delivered by the drives: on a held vertex with imposed acceleration a the
+    // constraint applies R = m a − f − m g, moving at velocity v.
     double p = 0;
     for (const Drive& d : scene.drives) {
         const int i = d.vertex;
         if (invMass[i] == 0 && mass[i] > 0) {
-            Vec3 reaction = -f.row(i).transpose();
+            Vec3 reaction = mass[i] * a.row(i).transpose() - f.row(i).transpose();
             if (scene.gravity) {
                 reaction -= mass[i] * scene.gravityVector;
             }
-            p += reaction.dot(v.row(i).transpose());
+            p += reaction.dot(vel.row(i).transpose());
         }
     }
     return p;
@@ -352,7 +354,7 @@ void Simulation::Impl::updateHeld() {
         const int d = driveOf[static_cast<std::size_t>(i)];
         if (!held && d >= 0) {
             const Drive& drive = scene.drives[static_cast<std::size_t>(d)];
-            held = driveActive(drive, t) && drive.followTimeConstant <= 0;
+            held = driveActive(drive, t);
         }
         invMass[i] = (held || mass[i] <= 0) ? 0.0 : 1.0 / mass[i];
     }
@@ -419,20 +421,25 @@ bool Simulation::Impl::implicitStep(double h) {
     for (const auto& m : models) {
         m->addJacobian(x, v, -h * h, -h, JacobianMode::Definite, jacobian);
     }
-    VecX diag = mass;
-    // Tracker-following drives: their C term's stiffness and damping per unit mass.
-    for (const Drive& d : scene.drives) {
-        if (driveActive(d, t) && d.followTimeConstant > 0) {
-            const double tau = d.followTimeConstant;
-            diag[d.vertex] += mass[d.vertex] * (h * h / (tau * tau) + 2.0 * h / tau);
-        }
-    }
-    jacobian.addDiagonal(diag);
+    jacobian.addDiagonal(mass);
     std::vector<char> held(static_cast<std::size_t>(n), 0);
     for (int i = 0; i < n; ++i) {
         held[static_cast<std::size_t>(i)] = invMass[i] == 0 ? 1 : 0;
     }
     dv.setZero(n, 3);
+    // Tracker-following drives: their velocity change is imposed, from the backward-Euler
+    // form of the critically damped law (stable for any h/τ).
+    for (const Drive& d : scene.drives) {
+        if (d.followTimeConstant > 0 && driveActive(d, t)) {
+            const double tau = d.followTimeConstant;
+            const PathSample p = samplePath(d, t + h);
+            const Vec3 xi = x.row(d.vertex).transpose();
+            const Vec3 vi = v.row(d.vertex).transpose();
+            const Vec3 vNext = (vi + h * (-(xi - p.position) / (tau * tau) + 2.0 * p.velocity / tau)) /
+                               (1.0 + h * h / (tau * tau) + 2.0 * h / tau);
+            dv.row(d.vertex) = (vNext - vi).transpose();
+        }
+    }
     CgResult r;
     {
         StageTimer solveTimer(*timerSolve);
@@ -482,9 +489,9 @@ bool Simulation::Impl::step(double maxH) {
             if (heldVerticesMove()) {
                 // Work of the drives over the step, trapezoidal in their reaction forces (one
                 // more force evaluation, only while a drive moves a vertex).
-                const double p0 = constraintPower(forceStart);
+                const double p0 = constraintPower(forceStart, acc, v);
                 accelerations(t + h, xNew, vNew, accEnd);
-                work = 0.5 * h * (p0 + constraintPower(force));
+                work = 0.5 * h * (p0 + constraintPower(force, accEnd, vNew));
             }
             const double ke = 0.5 * (mass.array() * vNew.rowwise().squaredNorm().array()).sum();
             ok = ke <= opt.divergenceEnergyFactor * (energyBound(xNew) + std::max(0.0, work)) +

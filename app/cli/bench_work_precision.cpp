@@ -53,9 +53,16 @@ RunOutcome runScene(const sim::SceneSpec& scene, double duration, double maxRunS
     const auto start = Clock::now();
     sim::RunStatus status = sim::RunStatus::Finished;
     bool timedOut = false;
+    bool diverged = false;
     while (simulation.time() < duration - 1e-12 * std::max(1.0, duration)) {
         status = simulation.advance(std::min(chunk, duration - simulation.time()));
         if (status != sim::RunStatus::Finished) {
+            break;
+        }
+        if (fixedStep && simulation.stats().rejectedSteps > 0) {
+            // A fixed-step method that needed a rejection has diverged at this step: it is
+            // unstable here, and finishing it (with the engine's rescue steps) costs much.
+            diverged = true;
             break;
         }
         if (std::chrono::duration<double>(Clock::now() - start).count() > maxRunSeconds) {
@@ -69,11 +76,13 @@ RunOutcome runScene(const sim::SceneSpec& scene, double duration, double maxRunS
     out.row.wallSeconds = stats.wallTime;
     out.row.forceEvaluations = stats.forceEvaluations;
     out.positions = simulation.positions();
-    out.completed = status == sim::RunStatus::Finished && !timedOut && stats.finite &&
-                    out.positions.allFinite();
+    out.completed = status == sim::RunStatus::Finished && !timedOut && !diverged &&
+                    stats.finite && out.positions.allFinite();
     out.row.stable = out.completed && (!fixedStep || stats.rejectedSteps == 0);
     out.timedOut = timedOut;
-    if (timedOut) {
+    if (diverged) {
+        out.error = "diverged: a step was rejected at t = " + std::to_string(simulation.time()) + " s";
+    } else if (timedOut) {
         out.error = "stopped after " + std::to_string(maxRunSeconds) + " s of wall time";
     } else if (!out.completed) {
         out.error = !stats.error.empty() ? stats.error : std::string("the state is not finite");

@@ -1,5 +1,7 @@
 /// `atelier-cli bench material` and `bench work-precision`, run as a user would.
 
+#include "io/temp_dir.h"
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -17,45 +19,6 @@ namespace atelier::test {
 
 namespace {
 
-/// A fresh temporary directory, removed with its contents afterwards. (Not tests/io/temp_dir.h:
-/// GCC 12 at -O3 reports a false -Wrestrict in its `"-" + std::to_string(...)`.)
-class TempDir {
-  public:
-    TempDir() {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        std::string name = "atelier-bench-";
-        name += info != nullptr ? info->name() : "test";
-        name += '-';
-        name += std::to_string(::getpid());
-        for (char& c : name) {
-            c = c == '/' ? '_' : c;
-        }
-        m_path = std::filesystem::temp_directory_path() / name;
-        std::filesystem::remove_all(m_path);
-        std::filesystem::create_directories(m_path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        std::filesystem::remove_all(m_path, ec);
-    }
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-
-    std::filesystem::path operator/(const std::string& name) const { return m_path / name; }
-    std::filesystem::path write(const std::string& name, const std::string& text) const {
-        const std::filesystem::path p = m_path / name;
-        std::ofstream(p, std::ios::binary) << text;
-        return p;
-    }
-
-  private:
-    std::filesystem::path m_path;
-};
-
-std::string readText(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 
 /// Runs atelier-cli with `args` (stdout and stderr to `log`); returns its exit status.
 int runCli(const std::string& args, const std::filesystem::path& log) {

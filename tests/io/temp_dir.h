@@ -19,6 +19,9 @@ class TempDir {
             name.append(info->test_suite_name()).append("-").append(info->name());
         }
         name.append("-").append(std::to_string(::getpid()));
+        for (char& c : name) {
+            c = c == '/' ? '_' : c; // parameterised test names hold '/'
+        }
         m_path = std::filesystem::temp_directory_path() / name;
         std::filesystem::remove_all(m_path);
         std::filesystem::create_directories(m_path);

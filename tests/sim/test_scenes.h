@@ -6,9 +6,10 @@
 namespace atelier::test {
 
 /// A square sheet of `cells`×`cells` in the vertical plane z = 0 (pattern x → world x,
-/// pattern y → world y), optionally pinned at its two top corners.
+/// pattern y → world y) or, when `horizontal`, in the plane y = 0 (pattern y → world −z),
+/// optionally pinned at its two "top" corners (pattern y = size).
 inline sim::SceneSpec smallSheet(sim::StretchModel model, int cells = 4, double size = 1.0,
-                                 bool pinTopCorners = true) {
+                                 bool pinTopCorners = true, bool horizontal = false) {
     sim::SceneSpec s;
     sim::ClothSpec c;
     sim::RectangleOptions r;
@@ -22,7 +23,11 @@ inline sim::SceneSpec smallSheet(sim::StretchModel model, int cells = 4, double 
     (void)sim::buildClothMesh(rest, tris, c.mesh);
     c.position.resize(rest.rows(), 3);
     for (int i = 0; i < rest.rows(); ++i) {
-        c.position.row(i) << rest(i, 0), rest(i, 1), 0.0;
+        if (horizontal) {
+            c.position.row(i) << rest(i, 0), 0.0, -rest(i, 1);
+        } else {
+            c.position.row(i) << rest(i, 0), rest(i, 1), 0.0;
+        }
     }
     c.model = model;
     s.cloths.push_back(c);

@@ -1,0 +1,228 @@
+// Kinematic corrections: pins (A + B), drives (exact and tracker-following), seam elastics (C)
+// and high damping (A, purely dissipative); and the pipeline holds only the stages a scene needs.
+
+#include "sim/constraints/kinematic.h"
+#include "sim/simulation.h"
+#include "sim/test_scenes.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+namespace atelier::sim {
+namespace {
+
+bool hasStage(const Simulation& s, const std::string& name) {
+    const auto st = s.activeStages();
+    return std::find(st.begin(), st.end(), name) != st.end();
+}
+
+TEST(Constraints, PinsHoldExactly) {
+    SceneSpec scene = test::smallSheet(StretchModel::Fem, 4, 1.0, true, true);
+    scene.integrator.kind = IntegratorKind::Rk45;
+    const MatX3 start = scene.cloths[0].position;
+    Simulation sim(scene);
+    ASSERT_EQ(sim.run(0.5), RunStatus::Finished) << sim.error();
+    for (int p : scene.pins) {
+        EXPECT_EQ((sim.positions().row(p) - start.row(p)).norm(), 0.0);
+        EXPECT_EQ(sim.velocities().row(p).norm(), 0.0);
+    }
+    // The rest fell.
+    EXPECT_LT(sim.positions().col(1).minCoeff(), start.col(1).minCoeff() - 0.01);
+}
+
+TEST(Constraints, ExactDriveFollowsItsPathThenReleases) {
+    SceneSpec scene = test::smallSheet(StretchModel::Volino, 4);
+    scene.integrator.kind = IntegratorKind::ImplicitEuler;
+    scene.integrator.dt = 1e-3;
+    Drive d;
+    d.vertex = 0; // bottom-left corner
+    const Vec3 p0 = scene.cloths[0].position.row(0).transpose();
+    d.times = {0.0, 0.2};
+    d.positions = {p0, p0 + Vec3(0, 0, 0.3)};
+    d.releaseTime = 0.3;
+    scene.drives.push_back(d);
+    Simulation sim(scene);
+    ASSERT_TRUE(hasStage(sim, "constraints.drives"));
+    ASSERT_EQ(sim.advance(0.1), RunStatus::Finished) << sim.error();
+    EXPECT_NEAR((sim.positions().row(0).transpose() - (p0 + Vec3(0, 0, 0.15))).norm(), 0.0, 1e-12);
+    ASSERT_EQ(sim.advance(0.15), RunStatus::Finished);
+    EXPECT_NEAR((sim.positions().row(0).transpose() - (p0 + Vec3(0, 0, 0.3))).norm(), 0.0, 1e-12);
+    ASSERT_EQ(sim.advance(0.5), RunStatus::Finished);
+    // Released at 0.3 s: the corner has swung away from where the drive left it.
+    EXPECT_GT((sim.positions().row(0).transpose() - (p0 + Vec3(0, 0, 0.3))).norm(), 0.05);
+}
+
+TEST(Constraints, TrackerDriveSmoothsNoisyInput) {
+    // A grab fed by a noisy tracker (±5 cm jitter at 60 Hz) follows through a critically damped
+    // elastic: it stays finite and close to the mean path, and moves less than the raw input.
+    SceneSpec scene = test::smallSheet(StretchModel::Fem, 4);
+    scene.integrator.kind = IntegratorKind::Rk45;
+    Drive d;
+    d.vertex = 0;
+    d.followTimeConstant = 0.05;
+    const Vec3 p0 = scene.cloths[0].position.row(0).transpose();
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> noise(-0.05, 0.05);
+    double inputPath = 0;
+    Vec3 previous = p0;
+    for (int k = 0; k <= 60; ++k) {
+        d.times.push_back(k / 60.0);
+        const Vec3 p = p0 + Vec3(0.5 * k / 60.0, 0, 0) + Vec3(noise(rng), noise(rng), noise(rng));
+        inputPath += (p - previous).norm();
+        previous = p;
+        d.positions.push_back(p);
+    }
+    scene.drives.push_back(d);
+    Simulation sim(scene);
+    double outputPath = 0;
+    Vec3 last = p0;
+    ASSERT_EQ(sim.run(1.0, [&](int, double) {
+        outputPath += (sim.positions().row(0).transpose() - last).norm();
+        last = sim.positions().row(0).transpose();
+    }), RunStatus::Finished) << sim.error();
+    EXPECT_TRUE(sim.positions().allFinite());
+    EXPECT_LT((sim.positions().row(0).transpose() - (p0 + Vec3(0.5, 0, 0))).norm(), 0.1);
+    EXPECT_LT(outputPath, 0.5 * inputPath);
+}
+
+TEST(Constraints, SeamElasticsCloseWithTheirTimeConstant) {
+    // Two free vertices of two separate sheets (no gravity, no stiffness coupling between them):
+    // the gap closes like (1 + t/τ) e^(−t/τ), independent of mass.
+    SceneSpec scene = test::smallSheet(StretchModel::Fem, 2, 0.2, false);
+    ClothSpec second = scene.cloths[0];
+    second.position.col(2).array() += 0.1;
+    second.material.density *= 3.0; // masses differ: the closing must not depend on them
+    scene.cloths.push_back(second);
+    scene.gravity = false;
+    const int a = 4;                    // centre of the first sheet
+    const int b = 9 + 4;                // centre of the second
+    scene.seams.push_back({a, b});
+    scene.seamTimeConstant = 0.05;
+    scene.integrator.kind = IntegratorKind::Rk45;
+    scene.integrator.tolerance = 1e-7;
+    Simulation sim(scene);
+    ASSERT_TRUE(hasStage(sim, "seams"));
+    const double gap0 = (sim.positions().row(a) - sim.positions().row(b)).norm();
+    ASSERT_EQ(sim.advance(0.05), RunStatus::Finished) << sim.error();
+    const double gap = (sim.positions().row(a) - sim.positions().row(b)).norm();
+    // The sheets' own elasticity pulls the seamed vertices back a little: allow 15%.
+    EXPECT_NEAR(gap / gap0, 2.0 * std::exp(-1.0), 0.15);
+    ASSERT_EQ(sim.advance(0.45), RunStatus::Finished);
+    EXPECT_LT((sim.positions().row(a) - sim.positions().row(b)).norm(), 0.1 * gap0);
+    // Momentum is conserved (no gravity, no pins).
+    const Vec3 momentum = (sim.velocities().array().colwise() * sim.masses().array()).colwise().sum();
+    EXPECT_LT(momentum.norm(), 1e-9);
+}
+
+TEST(Constraints, HighDampingIsPurelyDissipativeAndConservesMomentum) {
+    std::mt19937 rng(3);
+    std::normal_distribution<double> n01;
+    const int n = 30;
+    MatX3 v(n, 3);
+    for (int i = 0; i < n; ++i) {
+        v.row(i) << n01(rng), n01(rng), n01(rng);
+    }
+    VecX invMass(n);
+    for (int i = 0; i < n; ++i) {
+        invMass[i] = 1.0 / (0.5 + std::abs(n01(rng)));
+    }
+    std::vector<std::array<int, 2>> edges;
+    for (int i = 0; i + 1 < n; ++i) {
+        edges.push_back({i, i + 1});
+        edges.push_back({i, (i * 7 + 3) % n});
+    }
+    auto energy = [&](const MatX3& w) {
+        double e = 0;
+        for (int i = 0; i < n; ++i) {
+            e += 0.5 * w.row(i).squaredNorm() / invMass[i];
+        }
+        return e;
+    };
+    auto momentum = [&](const MatX3& w) {
+        Vec3 p = Vec3::Zero();
+        for (int i = 0; i < n; ++i) {
+            p += w.row(i).transpose() / invMass[i];
+        }
+        return p;
+    };
+    for (double tau : {1e-6, 1e-3, 1.0}) { // far below, at and far above the step
+        MatX3 w = v;
+        double before = energy(w);
+        const Vec3 p = momentum(w);
+        for (int k = 0; k < 20; ++k) {
+            applyHighDamping(edges, invMass, 1e-3, tau, w);
+            const double after = energy(w);
+            EXPECT_LE(after, before + 1e-12) << "tau " << tau;
+            before = after;
+        }
+        EXPECT_LT((momentum(w) - p).norm(), 1e-9) << "tau " << tau;
+        EXPECT_TRUE(w.allFinite());
+    }
+}
+
+TEST(Pipeline, HoldsOnlyTheStagesTheSceneNeeds) {
+    SceneSpec bare = test::smallSheet(StretchModel::Springs, 2, 1.0, false);
+    bare.gravity = false;
+    bare.cloths[0].bending = false;
+    Simulation plain(bare);
+    EXPECT_EQ(plain.activeStages(),
+              (std::vector<std::string>{"stretch.springs", "integrator.rk45",
+                                        "step-control.error-estimate"}));
+
+    SceneSpec full = test::smallSheet(StretchModel::Fem, 2);
+    full.air.enabled = true;
+    full.highDampingTimeConstant = 0.1;
+    full.integrator.kind = IntegratorKind::ImplicitEuler;
+    Simulation rich(full);
+    for (const char* s : {"constraints.pins", "constraints.high-damping", "stretch.fem", "bending",
+                          "air", "gravity", "integrator.implicit-euler"}) {
+        EXPECT_TRUE(hasStage(rich, s)) << s;
+    }
+    EXPECT_FALSE(hasStage(rich, "seams"));
+    EXPECT_FALSE(hasStage(rich, "constraints.drives"));
+}
+
+TEST(StepControl, DtFloorStopsWithAClearErrorAndAFiniteState) {
+    // Euler far beyond its stability limit, with a floor it cannot get under: the run stops
+    // with an error naming the floor, never with NaN.
+    SceneSpec scene = test::smallSheet(StretchModel::Fem, 6);
+    scene.cloths[0].material.stretchWeft = scene.cloths[0].material.stretchWarp = 1e6;
+    scene.integrator.kind = IntegratorKind::Euler;
+    scene.integrator.dt = 1e-2;
+    scene.integrator.minDt = 1e-3;
+    Simulation sim(scene);
+    EXPECT_EQ(sim.run(1.0), RunStatus::Failed);
+    EXPECT_NE(sim.error().find("floor"), std::string::npos) << sim.error();
+    EXPECT_TRUE(sim.positions().allFinite());
+    EXPECT_TRUE(sim.stats().finite);
+}
+
+TEST(Validation, RefusesBadScenesNamingTheProblem) {
+    SceneSpec scene = test::smallSheet(StretchModel::Fem, 2);
+    scene.cloths[0].material.density = -1;
+    auto e = Simulation::validate(scene);
+    ASSERT_TRUE(e.has_value());
+    EXPECT_NE(e->find("density"), std::string::npos);
+
+    scene = test::smallSheet(StretchModel::Fem, 2);
+    scene.pins.push_back(1000);
+    e = Simulation::validate(scene);
+    ASSERT_TRUE(e.has_value());
+    EXPECT_NE(e->find("1000"), std::string::npos);
+
+    // Inverted rest triangle: refused when the mesh is built, naming it.
+    MatX2 rest(3, 2);
+    rest << 0, 0, 0, 1, 1, 0; // clockwise
+    MatX3i tris(1, 3);
+    tris << 0, 1, 2;
+    ClothMesh mesh;
+    const auto err = buildClothMesh(rest, tris, mesh);
+    ASSERT_TRUE(err.has_value());
+    EXPECT_NE(err->find("triangle 0"), std::string::npos);
+}
+
+} // namespace
+} // namespace atelier::sim
