@@ -357,6 +357,40 @@ class SceneParser {
         if (cloth.plasticity && !(cloth.material.plasticYieldAngle > 0)) {
             r.fail("plasticity", "plasticity needs a material with plastic_yield_angle_rad > 0");
         }
+        if (const json* folds = r.find("folds")) {
+            // Per-edge rest fold angles: [{"vertices": [a, b], "angle_deg": 90}, ...].
+            const std::string foldsPtr = r.pointerOf("folds");
+            const json& list = detail::arrayAt(*folds, foldsPtr);
+            cloth.restAngles = sim::VecX::Zero(cloth.mesh.hinges.rows());
+            for (std::size_t k = 0; k < list.size(); ++k) {
+                ObjectReader fr(list[k], detail::childPointer(foldsPtr, k));
+                const json& ends = detail::arrayAt(fr.require("vertices"), fr.pointerOf("vertices"));
+                if (ends.size() != 2 || !ends[0].is_number_integer() || !ends[1].is_number_integer()) {
+                    fr.fail("vertices", "must be two vertex indices of an interior edge");
+                }
+                const int a = ends[0].get<int>();
+                const int b = ends[1].get<int>();
+                const double angleDeg = fr.number("angle_deg");
+                if (!(std::abs(angleDeg) < 180.0)) {
+                    fr.fail("angle_deg", "must be strictly between -180 and 180");
+                }
+                fr.finish();
+                int hinge = -1;
+                for (int h = 0; h < cloth.mesh.hinges.rows(); ++h) {
+                    const int u = cloth.mesh.hinges(h, 0);
+                    const int v = cloth.mesh.hinges(h, 1);
+                    if ((u == a && v == b) || (u == b && v == a)) {
+                        hinge = h;
+                        break;
+                    }
+                }
+                if (hinge < 0) {
+                    fr.fail("vertices", "(" + std::to_string(a) + ", " + std::to_string(b) +
+                                            ") is not an interior edge of this cloth");
+                }
+                cloth.restAngles[hinge] = angleDeg * 3.14159265358979323846 / 180.0;
+            }
+        }
         r.finish();
         m_cloths.push_back(info);
         m_scene.cloths.push_back(std::move(cloth));

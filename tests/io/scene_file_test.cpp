@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include <regex>
 
@@ -123,6 +124,29 @@ TEST(SceneFile, PlacementPinsDrivesAndSettings) {
     EXPECT_EQ(scene.integrator.kind, sim::IntegratorKind::ImplicitEuler);
     EXPECT_EQ(scene.duration, 2.5);
     EXPECT_EQ(scene.frameRate, 24);
+}
+
+TEST(SceneFile, FoldsSetRestAnglesOfInteriorEdges) {
+    const auto loaded = parse(sceneText("", R"(,
+    "folds": [{"vertices": [6, 1], "angle_deg": 90}])"));
+    ASSERT_TRUE(loaded.ok()) << loaded.error().toString();
+    const sim::ClothSpec& cloth = loaded.value().cloths[0];
+    ASSERT_EQ(cloth.restAngles.size(), cloth.mesh.hinges.rows());
+    int folded = 0;
+    for (int h = 0; h < cloth.mesh.hinges.rows(); ++h) {
+        const bool isFold = (cloth.mesh.hinges(h, 0) == 1 && cloth.mesh.hinges(h, 1) == 6) ||
+                            (cloth.mesh.hinges(h, 0) == 6 && cloth.mesh.hinges(h, 1) == 1);
+        EXPECT_DOUBLE_EQ(cloth.restAngles[h], isFold ? std::acos(-1.0) / 2 : 0.0);
+        folded += isFold ? 1 : 0;
+    }
+    EXPECT_EQ(folded, 1);
+    // A border edge has no fold angle.
+    expectError(parse(sceneText("", R"(,
+    "folds": [{"vertices": [0, 1], "angle_deg": 30}])")),
+                "/cloths/0/folds/0/vertices", "not an interior edge");
+    expectError(parse(sceneText("", R"(,
+    "folds": [{"vertices": [6, 1], "angle_deg": 180}])")),
+                "/cloths/0/folds/0/angle_deg", "between");
 }
 
 TEST(SceneFile, MaterialOverridesAndRandomStart) {
