@@ -126,7 +126,8 @@ struct Simulation::Impl {
     std::unique_ptr<ExplicitRkStepper> rk;
     FilteredCg cg;
     BlockSparseMatrix jacobian;
-    MatX3 xNew, vNew, acc, force, forceStart, accEnd, rhs, dv, scratch;
+    MatX3 xNew, vNew, acc, force, forceStart, accEnd, rhs, dv, scratch, xSave, vSave;
+    std::vector<char> held; ///< implicit Euler: per vertex, whether CG keeps its Δv
 
     double* timerForces = nullptr;
     double* timerConstraints = nullptr;
@@ -422,7 +423,7 @@ bool Simulation::Impl::implicitStep(double h) {
         m->addJacobian(x, v, -h * h, -h, JacobianMode::Definite, jacobian);
     }
     jacobian.addDiagonal(mass);
-    std::vector<char> held(static_cast<std::size_t>(n), 0);
+    held.assign(static_cast<std::size_t>(n), 0);
     for (int i = 0; i < n; ++i) {
         held[static_cast<std::size_t>(i)] = invMass[i] == 0 ? 1 : 0;
     }
@@ -472,8 +473,8 @@ bool Simulation::Impl::step(double maxH) {
             return false;
         }
         const auto start = Clock::now();
-        MatX3 xSave = x;
-        MatX3 vSave = v;
+        xSave = x; // members: no allocation after the first step
+        vSave = v;
         applyCorrectionsA(h);
         bool ok;
         double errorRatio = 0;

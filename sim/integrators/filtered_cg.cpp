@@ -43,9 +43,9 @@ CgResult FilteredCg::solve(const BlockSparseMatrix& A, const MatX3& b,
     A.multiply(x, m_q);
     m_r = b - m_q;
     filter(m_r, constrained);
-    MatX3 sb = b;
-    filter(sb, constrained);
-    const double bNorm = std::sqrt(dot(sb, sb));
+    m_z = b;
+    filter(m_z, constrained);
+    const double bNorm = std::sqrt(dot(m_z, m_z));
     if (bNorm == 0.0) {
         result.converged = true;
         return result;
