@@ -52,7 +52,9 @@ template <sim::IntegratorKind K> void integratorStep(benchmark::State& state) {
 void sizes(benchmark::internal::Benchmark* b) {
     b->ArgNames({"cells", "threads"});
     for (int cells : BENCH_CELLS) {
-        b->Args({cells, 1});
+        for (int threads : {1, 2}) {
+            b->Args({cells, threads});
+        }
     }
     b->UseRealTime()->Unit(benchmark::kMillisecond);
 }
