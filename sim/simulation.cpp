@@ -288,8 +288,8 @@ void Simulation::Impl::accelerations(double time, const MatX3& xs, const MatX3& 
         }
     }
     ++stats.forceEvaluations;
-    if (&xs == &x) {
-        forceStart = force; // forces at the step's start, for the work of the held vertices
+    if (&xs == &x && !scene.drives.empty()) {
+        forceStart = force; // forces at the step's start, for the work of the drives
     }
     a.resize(n, 3);
     for (int i = 0; i < n; ++i) {
@@ -503,7 +503,7 @@ bool Simulation::Impl::step(double maxH) {
         const bool accept = ok && errorRatio <= 1.0;
         if (!accept) {
             std::ostringstream why;
-            if (!ok && energyRejected) {
+            if (energyRejected) {
                 why << "kinetic energy " << keRejected << " J above " << opt.divergenceEnergyFactor
                     << " × the energy put in";
             } else if (!ok) {
