@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 namespace atelier::io {
@@ -59,6 +60,21 @@ std::string formatReport(const sim::Simulation& simulation, const ReportFields& 
     j["vertices"] = simulation.positions().rows();
     j["triangles"] = triangles;
     j["cloths"] = std::move(cloths);
+    // Collision figures (0 and [] without a collision stage).
+    j["max_penetration_m"] = number(stats.maxPenetration);
+    j["intersecting_triangle_pairs"] = simulation.intersectingTrianglePairs();
+    double collisionFraction = 0;
+    if (const auto it = stats.stageSeconds.find("collision");
+        it != stats.stageSeconds.end() && stats.wallTime > 0) {
+        collisionFraction = std::clamp(it->second / stats.wallTime, 0.0, 1.0);
+    }
+    j["collision_time_fraction"] = number(collisionFraction);
+    j["contacts"] = stats.contacts;
+    nlohmann::json obstacles = nlohmann::json::array();
+    for (const sim::ObstacleSpec& obstacle : scene.obstacles) {
+        obstacles.push_back(obstacle.name);
+    }
+    j["obstacles"] = std::move(obstacles);
     for (const auto& [key, value] : extra) {
         std::visit(
             [&](const auto& v) {

@@ -26,8 +26,13 @@ using ReportFields = std::map<std::string, ReportValue>;
 /// `cg_iterations`, `sim_time_s`, `wall_time_s`, `min_dt_s`, `max_dt_s`, `finite` (bool),
 /// `max_edge_strain` [-], `kinetic_energy_j`, `potential_energy_j`, `energy_input_j`,
 /// `active_stages` (list), `stage_seconds` (object: stage → [s]), `integrator`, `error` (string
-/// or null), `vertices`, `triangles`, `cloths` (list of names); then `extra`. Non-finite
-/// numbers are written as null.
+/// or null), `vertices`, `triangles`, `cloths` (list of names); collision figures, always
+/// present (0 or [] without a collision stage): `max_penetration_m` (RunStats::maxPenetration:
+/// deepest cloth vertex inside an obstacle beyond its thickness over the output frames [m]),
+/// `intersecting_triangle_pairs` (Simulation::intersectingTrianglePairs() at the final state,
+/// computed here), `collision_time_fraction` (stage_seconds["collision"] / wall_time_s, clamped
+/// to [0, 1]; 0 when the wall time is 0), `contacts` (active contacts after the last step),
+/// `obstacles` (list of names); then `extra`. Non-finite numbers are written as null.
 std::string formatReport(const sim::Simulation& simulation, const ReportFields& extra = {});
 
 /// Writes `formatReport` to `path` atomically.

@@ -5,6 +5,7 @@
 #include "io/material_json.h"
 #include "io/obj.h"
 
+#include "sim/collision/obstacle.h"
 #include "sim/simulation.h"
 
 #include <Eigen/Geometry>
@@ -54,6 +55,82 @@ constexpr std::array<sim::StretchModel, 3> MODELS = {
 
 /// Largest generated grid, to refuse a typo like `"cells": [20000, 20000]` early.
 constexpr long long MAX_GRID_VERTICES = 4'000'000;
+/// Limits of generated obstacle shapes (typos like `"cells": 20000` are refused early).
+constexpr long long MAX_SHAPE_CELLS = 500;
+constexpr long long MAX_SPHERE_SUBDIVISIONS = 7;
+constexpr long long MIN_CAPSULE_SEGMENTS = 6;
+constexpr long long MAX_CAPSULE_SEGMENTS = 1024;
+
+constexpr double RAD_PER_DEG = 3.14159265358979323846 / 180.0;
+
+/// An integer `key` in [lo, hi], or `fallback` when absent.
+int boundedInteger(ObjectReader& r, std::string_view key, long long fallback, long long lo,
+                   long long hi) {
+    const long long n = r.integer(key, fallback);
+    if (n < lo || n > hi) {
+        r.fail(key, "must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                        "] (found " + std::to_string(n) + ")");
+    }
+    return static_cast<int>(n);
+}
+
+/// An OBJ as an obstacle mesh: one vertex per `v` line that a face uses, in file order (UV
+/// seams welded back, unused `v` lines dropped), scaled by `scale`.
+void weldObj(const ObjMesh& mesh, double scale, sim::MatX3& vertices, sim::MatX3i& triangles) {
+    int sources = 0;
+    for (const int s : mesh.sourceVertex) {
+        sources = std::max(sources, s + 1);
+    }
+    std::vector<int> index(static_cast<std::size_t>(sources), -1);
+    for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
+        for (int c = 0; c < 3; ++c) {
+            index[static_cast<std::size_t>(
+                mesh.sourceVertex[static_cast<std::size_t>(mesh.triangles(t, c))])] = 0;
+        }
+    }
+    int next = 0;
+    for (int& i : index) {
+        if (i == 0) {
+            i = next++;
+        }
+    }
+    vertices.resize(next, 3);
+    for (std::size_t v = 0; v < mesh.sourceVertex.size(); ++v) {
+        const int i = index[static_cast<std::size_t>(mesh.sourceVertex[v])];
+        if (i >= 0) {
+            vertices.row(i) = scale * mesh.positions.row(static_cast<Eigen::Index>(v));
+        }
+    }
+    triangles.resize(mesh.triangles.rows(), 3);
+    for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
+        for (int c = 0; c < 3; ++c) {
+            triangles(t, c) = index[static_cast<std::size_t>(
+                mesh.sourceVertex[static_cast<std::size_t>(mesh.triangles(t, c))])];
+        }
+    }
+}
+
+/// Six times the signed volume enclosed by a closed mesh: positive when its faces are
+/// counter-clockwise seen from outside.
+double signedVolume6(const sim::MatX3& vertices, const sim::MatX3i& triangles) {
+    double sum = 0;
+    for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
+        const sim::Vec3 a = vertices.row(triangles(t, 0));
+        const sim::Vec3 b = vertices.row(triangles(t, 1));
+        const sim::Vec3 c = vertices.row(triangles(t, 2));
+        sum += a.dot(b.cross(c));
+    }
+    return sum;
+}
+
+/// The rotation matrix of a rotation vector (axis × angle) [rad].
+sim::Mat3 rotationMatrix(const sim::Vec3& rotation) {
+    const double angle = rotation.norm();
+    if (angle < 1e-300) {
+        return sim::Mat3::Identity();
+    }
+    return Eigen::AngleAxisd(angle, rotation / angle).toRotationMatrix();
+}
 
 class SceneParser {
   public:
@@ -83,6 +160,12 @@ class SceneParser {
         for (std::size_t i = 0; i < cloths.size(); ++i) {
             readCloth(cloths[i], detail::childPointer(r.pointerOf("cloths"), i), offset);
             offset += m_scene.cloths.back().mesh.vertexCount();
+        }
+        if (const json* obstacles = r.find("obstacles")) {
+            const std::string ptr = r.pointerOf("obstacles");
+            for (std::size_t i = 0; i < detail::arrayAt(*obstacles, ptr).size(); ++i) {
+                readObstacle((*obstacles)[i], detail::childPointer(ptr, i));
+            }
         }
 
         if (const json* pins = r.find("pins")) {
@@ -126,6 +209,9 @@ class SceneParser {
             m_scene.air.dragCoefficient = a.nonNegative("drag", m_scene.air.dragCoefficient);
             m_scene.air.wind = a.vec3("wind", m_scene.air.wind);
             a.finish();
+        }
+        if (const json* collision = r.find("collision")) {
+            readCollision(ObjectReader(*collision, r.pointerOf("collision")));
         }
         if (const json* integrator = r.find("integrator")) {
             readIntegrator(ObjectReader(*integrator, r.pointerOf("integrator")));
@@ -357,6 +443,8 @@ class SceneParser {
         if (cloth.plasticity && !(cloth.material.plasticYieldAngle > 0)) {
             r.fail("plasticity", "plasticity needs a material with plastic_yield_angle_rad > 0");
         }
+        cloth.thickness = r.nonNegative("thickness", cloth.thickness);
+        cloth.selfCollision = r.boolean("self_collision", cloth.selfCollision);
         if (const json* folds = r.find("folds")) {
             // Per-edge rest fold angles: [{"vertices": [a, b], "angle_deg": 90}, ...].
             const std::string foldsPtr = r.pointerOf("folds");
@@ -591,6 +679,205 @@ class SceneParser {
         }
         r.finish();
         m_scene.seams.push_back(seam);
+    }
+
+    void readObstacle(const json& value, const std::string& ptr) {
+        ObjectReader r(value, ptr);
+        r.allow({"description"});
+        r.optionalString("description");
+        sim::ObstacleSpec obstacle;
+        obstacle.name = r.string("name", "obstacle" + std::to_string(m_scene.obstacles.size()));
+        for (const sim::ObstacleSpec& other : m_scene.obstacles) {
+            if (other.name == obstacle.name) {
+                r.fail("name", "another obstacle is already named " + inQuotes(obstacle.name));
+            }
+        }
+
+        // Shape: the mesh in the obstacle's own frame.
+        bool closedDefault = true;
+        bool isObj = false;
+        double scale = 1.0;
+        {
+            ObjectReader sh(r.require("shape"), r.pointerOf("shape"));
+            const std::string type = sh.string("type");
+            if (type == "plane") {
+                const double size = sh.positive("size", 2.0);
+                const int cells = boundedInteger(sh, "cells", 1, 1, MAX_SHAPE_CELLS);
+                sim::makePlaneMesh(size, cells, obstacle.vertices, obstacle.triangles);
+                closedDefault = false;
+            } else if (type == "sphere") {
+                const double radius = sh.positive("radius");
+                const int subdivisions =
+                    boundedInteger(sh, "subdivisions", 4, 0, MAX_SPHERE_SUBDIVISIONS);
+                sim::makeSphereMesh(radius, subdivisions, obstacle.vertices, obstacle.triangles);
+            } else if (type == "box") {
+                const sim::Vec3 size = sh.vec3("size");
+                if (!(size.minCoeff() > 0)) {
+                    sh.fail("size", "every extent must be positive");
+                }
+                const int cells = boundedInteger(sh, "cells", 1, 1, MAX_SHAPE_CELLS);
+                sim::makeBoxMesh(size, cells, obstacle.vertices, obstacle.triangles);
+            } else if (type == "capsule") {
+                const double radius = sh.positive("radius");
+                const double length = sh.positive("length");
+                const int segments =
+                    boundedInteger(sh, "segments", 32, MIN_CAPSULE_SEGMENTS, MAX_CAPSULE_SEGMENTS);
+                sim::makeCapsuleMesh(radius, length, segments, obstacle.vertices,
+                                     obstacle.triangles);
+            } else if (type == "obj") {
+                const std::string path = sh.string("path");
+                scale = sh.positive("scale", 1.0);
+                auto obj = readObj(m_baseDir / path);
+                if (!obj.ok()) {
+                    failFile(sh.pointerOf("path"), obj.error());
+                }
+                if (obj.value().triangles.rows() == 0) {
+                    sh.fail("path", path + ": has no faces");
+                }
+                weldObj(obj.value(), scale, obstacle.vertices, obstacle.triangles);
+                isObj = true;
+            } else {
+                sh.fail("type", "unknown shape type " + inQuotes(type) +
+                                    " (expected \"plane\", \"sphere\", \"box\", \"capsule\" "
+                                    "or \"obj\")");
+            }
+            sh.finish();
+        }
+        const bool closedOriented =
+            sim::isClosedOriented(obstacle.triangles, static_cast<int>(obstacle.vertices.rows()));
+        if (isObj) {
+            closedDefault = closedOriented;
+        }
+        obstacle.closed = r.boolean("closed", closedDefault);
+        if (obstacle.closed && !closedOriented) {
+            r.fail("closed", "the mesh is not closed: a closed obstacle needs every edge shared "
+                             "by exactly two triangles that traverse it in opposite directions "
+                             "(leave \"closed\" out or set it to false for a two-sided surface)");
+        }
+        if (obstacle.closed && isObj &&
+            !(signedVolume6(obstacle.vertices, obstacle.triangles) > 0)) {
+            r.fail("shape", "the faces of the closed mesh point inward (negative enclosed "
+                            "volume); reverse their vertex order so that they are "
+                            "counter-clockwise seen from outside");
+        }
+
+        obstacle.thickness = r.nonNegative("thickness", obstacle.thickness);
+        obstacle.staticFriction = r.nonNegative("static_friction", obstacle.staticFriction);
+        obstacle.kineticFriction = r.nonNegative("kinetic_friction", obstacle.kineticFriction);
+
+        // Pose and motion: a static pose (one key), rigid keys, or per-vertex frames.
+        sim::ObstacleKey pose;
+        pose.translation = r.vec3("position", sim::Vec3::Zero());
+        pose.rotation = r.vec3("rotation_deg", sim::Vec3::Zero()) * RAD_PER_DEG;
+        const json* motion = r.find("motion");
+        const json* frames = r.find("frames");
+        if (motion != nullptr && frames != nullptr) {
+            r.fail("frames", "give either \"motion\" (rigid keys) or \"frames\" (per-vertex "
+                             "animation), not both");
+        }
+        if (motion != nullptr) {
+            readObstacleMotion(ObjectReader(*motion, r.pointerOf("motion")), pose, obstacle);
+        } else if (frames != nullptr) {
+            if (!isObj) {
+                r.fail("frames", "per-vertex frames need an \"obj\" shape");
+            }
+            readObstacleFrames(ObjectReader(*frames, r.pointerOf("frames")), pose, scale, obstacle);
+        } else {
+            obstacle.keys.push_back(pose);
+        }
+        r.finish();
+        m_scene.obstacles.push_back(std::move(obstacle));
+    }
+
+    /// `motion`: rigid keys; positions and rotations a key leaves out are the static pose's.
+    static void readObstacleMotion(ObjectReader r, const sim::ObstacleKey& pose,
+                                   sim::ObstacleSpec& obstacle) {
+        const std::string kp = r.pointerOf("keys");
+        const json& keys = detail::arrayAt(r.require("keys"), kp);
+        if (keys.empty()) {
+            r.fail("keys", "a motion needs at least one key");
+        }
+        for (std::size_t i = 0; i < keys.size(); ++i) {
+            ObjectReader k(keys[i], detail::childPointer(kp, i));
+            sim::ObstacleKey key;
+            key.time = k.number("time");
+            if (!obstacle.keys.empty() && !(key.time > obstacle.keys.back().time)) {
+                k.fail("time", "key times must increase (the previous key is at " +
+                                   json(obstacle.keys.back().time).dump() + " s)");
+            }
+            key.translation = k.vec3("position", pose.translation);
+            key.rotation = pose.rotation;
+            if (const json* rotation = k.find("rotation_deg")) {
+                key.rotation = detail::vec3At(*rotation, k.pointerOf("rotation_deg")) * RAD_PER_DEG;
+            }
+            k.finish();
+            obstacle.keys.push_back(key);
+        }
+        r.finish();
+    }
+
+    /// `frames`: per-vertex animation from OBJ files of the same mesh; each frame is scaled
+    /// and placed by the static pose like the shape.
+    void readObstacleFrames(ObjectReader r, const sim::ObstacleKey& pose, double scale,
+                            sim::ObstacleSpec& obstacle) const {
+        const std::string tp = r.pointerOf("times");
+        const std::string pp = r.pointerOf("paths");
+        const json& times = detail::arrayAt(r.require("times"), tp);
+        const json& paths = detail::arrayAt(r.require("paths"), pp);
+        if (times.empty()) {
+            r.fail("times", "frames need at least one time");
+        }
+        if (paths.size() != times.size()) {
+            r.fail("paths", "expected " + std::to_string(times.size()) +
+                                " paths, one per time, found " + std::to_string(paths.size()));
+        }
+        const sim::Mat3 rotation = rotationMatrix(pose.rotation);
+        const Eigen::Index nv = obstacle.vertices.rows();
+        for (std::size_t i = 0; i < times.size(); ++i) {
+            const std::string timePtr = detail::childPointer(tp, i);
+            const double t = detail::numberAt(times[i], timePtr);
+            if (!obstacle.frameTimes.empty() && !(t > obstacle.frameTimes.back())) {
+                throw JsonError{timePtr, "frame times must increase"};
+            }
+            const std::string pathPtr = detail::childPointer(pp, i);
+            if (!paths[i].is_string()) {
+                throw JsonError{pathPtr, "expected a string, found " + detail::typeName(paths[i])};
+            }
+            const std::string path = paths[i].get<std::string>();
+            auto obj = readObj(m_baseDir / path);
+            if (!obj.ok()) {
+                failFile(pathPtr, obj.error());
+            }
+            sim::MatX3 positions;
+            sim::MatX3i triangles;
+            weldObj(obj.value(), scale, positions, triangles);
+            if (positions.rows() != nv) {
+                throw JsonError{pathPtr, path + ": has " + std::to_string(positions.rows()) +
+                                             " vertices (used by faces); the shape's mesh has " +
+                                             std::to_string(nv) +
+                                             " (every frame is the same mesh, moved)"};
+            }
+            for (Eigen::Index v = 0; v < nv; ++v) {
+                positions.row(v) =
+                    (rotation * positions.row(v).transpose() + pose.translation).transpose();
+            }
+            obstacle.frameTimes.push_back(t);
+            obstacle.frames.push_back(std::move(positions));
+        }
+        r.finish();
+    }
+
+    void readCollision(ObjectReader r) {
+        sim::CollisionOptions& o = m_scene.collision;
+        o.continuous = r.boolean("continuous", o.continuous);
+        const long long iterations = r.integer("iterations", o.iterations);
+        if (iterations < 1 || iterations > std::numeric_limits<int>::max()) {
+            r.fail("iterations", "must be a positive integer");
+        }
+        o.iterations = static_cast<int>(iterations);
+        o.proximityFactor = r.nonNegative("proximity_factor", o.proximityFactor);
+        o.extractionSpeed = r.positive("extraction_speed", o.extractionSpeed);
+        r.finish();
     }
 
     void readGravity(ObjectReader& r) {

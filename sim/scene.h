@@ -32,6 +32,57 @@ struct ClothSpec {
     bool plasticity = false;   ///< bending plasticity (material.plasticYieldAngle)
     /// (|H|) optional per-hinge rest fold angle [rad] (0 = flat); empty = flat pattern.
     VecX restAngles;
+    /// Collision thickness: the distance this cloth keeps from obstacles and other cloth,
+    /// added to theirs [m].
+    double thickness = 0.002;
+    /// Detect and resolve this cloth's collisions with itself (and with other cloths that
+    /// also ask for it). Off = the stage is not in the pipeline for it.
+    bool selfCollision = false;
+};
+
+/// A rigid pose of an obstacle at a time: world = R(rotation)·local + translation.
+struct ObstacleKey {
+    double time = 0;                   ///< [s]
+    Vec3 translation = Vec3::Zero();   ///< [m]
+    /// Rotation vector (axis × angle) [rad]. Keys are interpolated linearly in the rotation
+    /// vector, so a spin about one axis may hold many turns between two keys.
+    Vec3 rotation = Vec3::Zero();
+};
+
+/// A collision obstacle: a triangle mesh (loaded, or generated from a shape), static or
+/// moving rigidly by keyframes or per vertex by frames. Outward normals by the right-hand
+/// rule (counter-clockwise seen from outside).
+struct ObstacleSpec {
+    std::string name = "obstacle";
+    MatX3 vertices;   ///< (|V|×3) in the obstacle's own frame [m]
+    MatX3i triangles; ///< (|F|×3)
+    /// Watertight and consistently oriented: it has an inside, and a cloth vertex found
+    /// inside is pushed out (to the side it entered from). Open meshes (a plane) have two
+    /// sides, and a vertex keeps the side it was on.
+    bool closed = false;
+    std::vector<ObstacleKey> keys; ///< rigid motion; empty = static at its own frame
+    /// Per-vertex animation (an animated body): positions per frame (|V|×3 each) at
+    /// `frameTimes`, linearly interpolated; when set it replaces `keys`.
+    std::vector<double> frameTimes;
+    std::vector<MatX3> frames;
+    double thickness = 0.002;     ///< collision thickness of the obstacle surface [m]
+    double staticFriction = 0.4;  ///< Coulomb static coefficient [-]
+    double kineticFriction = 0.3; ///< Coulomb kinetic coefficient [-]
+};
+
+/// Collision stage settings (used only when the scene has obstacles or self-collision).
+struct CollisionOptions {
+    /// Continuous detection over each step (vertex–triangle and edge–edge), so fast obstacles
+    /// and large steps cannot tunnel.
+    bool continuous = true;
+    /// Gauss–Seidel passes of the position/velocity corrections per step.
+    int iterations = 4;
+    /// Contacts are gathered within (1 + proximityFactor) × the contact distance, so that
+    /// vertices about to touch are known to the next step [-].
+    double proximityFactor = 0.5;
+    /// Largest speed at which a vertex found inside a closed obstacle is carried out along
+    /// the cloth toward where it entered [m/s].
+    double extractionSpeed = 1.0;
 };
 
 /// A vertex moved along a path: position keyframes, linearly interpolated in time.
@@ -87,6 +138,8 @@ struct IntegratorOptions {
 
 struct SceneSpec {
     std::vector<ClothSpec> cloths;
+    std::vector<ObstacleSpec> obstacles;
+    CollisionOptions collision;
     std::vector<int> pins; ///< global vertex indices held at their initial position
     std::vector<Drive> drives;
     std::vector<SeamPair> seams;

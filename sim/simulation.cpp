@@ -1,5 +1,7 @@
 #include "sim/simulation.h"
 
+#include "sim/collision/collision_stage.h"
+#include "sim/collision/obstacle.h"
 #include "sim/constraints/kinematic.h"
 #include "sim/constraints/seam_elastics.h"
 #include "sim/core/parallel.h"
@@ -128,6 +130,10 @@ struct Simulation::Impl {
     BlockSparseMatrix jacobian;
     MatX3 xNew, vNew, acc, force, forceStart, accEnd, rhs, dv, scratch, xSave, vSave;
     std::vector<char> held; ///< implicit Euler: per vertex, whether CG keeps its Δv
+    std::unique_ptr<CollisionStage> collision;
+    double hStep = 0;        ///< the step being taken [s]
+    double collisionPower = 0; ///< power of the contact corrections at the step's start [W]
+    double* timerCollision = nullptr;
 
     double* timerForces = nullptr;
     double* timerConstraints = nullptr;
@@ -233,6 +239,19 @@ void Simulation::Impl::build() {
     if (scene.gravity) {
         stages.emplace_back("gravity");
     }
+    if (CollisionStage::needed(scene)) {
+        if (!scene.obstacles.empty()) {
+            stages.emplace_back("collision.obstacles");
+        }
+        if (std::any_of(scene.cloths.begin(), scene.cloths.end(),
+                        [](const ClothSpec& c) { return c.selfCollision; })) {
+            stages.emplace_back("collision.self");
+        }
+        if (scene.collision.continuous) {
+            stages.emplace_back("collision.continuous");
+        }
+        stages.emplace_back("collision.response");
+    }
     stages.push_back("integrator." + std::string(integratorName(scene.integrator.kind)));
     if (scene.integrator.kind == IntegratorKind::Rk45) {
         stages.emplace_back("step-control.error-estimate");
@@ -262,6 +281,16 @@ void Simulation::Impl::build() {
     }
     dtNominal = scene.integrator.dt;
     dtNext = scene.integrator.dt;
+    if (CollisionStage::needed(scene)) {
+        timerCollision = &stats.stageSeconds["collision"];
+        // The start (hierarchies, trapped vertices) is timed apart: `collision` is a share of
+        // the steps' wall time.
+        StageTimer timer(stats.stageSeconds["collision.setup"]);
+        collision = std::make_unique<CollisionStage>(scene, offsets, x);
+        collision->update(0.0, 0.0, x, x, v, invMass); // resolve the start, find trapped vertices
+        stats.maxPenetration = collision->penetration(x);
+        stats.contacts = collision->figures().contacts;
+    }
 
     // Energy the initial state holds (kinetic + elastic); gravity is added as the run goes.
     double e0 = 0.5 * (mass.array() * v.rowwise().squaredNorm().array()).sum();
@@ -318,6 +347,14 @@ void Simulation::Impl::accelerations(double time, const MatX3& xs, const MatX3& 
         a.row(i) = (-(xs.row(i).transpose() - p.position) / (tau * tau) -
                     2.0 * (vs.row(i).transpose() - p.velocity) / tau)
                        .transpose();
+    }
+    if (collision && scene.integrator.kind != IntegratorKind::ImplicitEuler) {
+        // B: contacts hold (no re-approach) with Coulomb friction.
+        StageTimer timer(*timerCollision);
+        const double power = collision->correctAccelerations(vs, a, mass, invMass, hStep);
+        if (&xs == &x) {
+            collisionPower = power;
+        }
     }
 }
 
@@ -449,6 +486,11 @@ bool Simulation::Impl::implicitStep(double h) {
     }
     stats.cgIterations += r.iterations;
     vNew = v + dv;
+    if (collision) {
+        // Contacts on the end-of-step velocities (the implicit form of B), with friction.
+        StageTimer timer(*timerCollision);
+        collision->correctVelocities(vNew, invMass);
+    }
     xNew = x + h * vNew;
     return xNew.allFinite() && vNew.allFinite();
 }
@@ -458,6 +500,12 @@ bool Simulation::Impl::step(double maxH) {
     double h = std::min({dtNext, maxH, opt.maxDt});
     for (const Drive& d : scene.drives) {
         const double ev = nextPathEvent(d, t);
+        if (ev > t + 1e-12 && ev < t + h) {
+            h = ev - t;
+        }
+    }
+    for (const ObstacleSpec& o : scene.obstacles) {
+        const double ev = nextObstacleEvent(o, t);
         if (ev > t + 1e-12 && ev < t + h) {
             h = ev - t;
         }
@@ -473,6 +521,8 @@ bool Simulation::Impl::step(double maxH) {
             return false;
         }
         const auto start = Clock::now();
+        hStep = h;
+        collisionPower = 0;
         xSave = x; // members: no allocation after the first step
         vSave = v;
         applyCorrectionsA(h);
@@ -501,6 +551,17 @@ bool Simulation::Impl::step(double maxH) {
             keRejected = ke;
         }
         const bool accept = ok && errorRatio <= 1.0;
+        if (accept && collision) {
+            // Collision detection over the step and the kinematic corrections (A) of the end
+            // state; energy the corrections add (moving obstacles, friction carrying the cloth)
+            // counts as put in.
+            StageTimer timer(*timerCollision);
+            const double before = 0.5 * (mass.array() * vNew.rowwise().squaredNorm().array()).sum();
+            collision->update(t, t + h, x, xNew, vNew, invMass);
+            const double after = 0.5 * (mass.array() * vNew.rowwise().squaredNorm().array()).sum();
+            work += std::max(0.0, after - before) + std::max(0.0, collisionPower * h);
+            stats.contacts = collision->figures().contacts;
+        }
         if (!accept) {
             std::ostringstream why;
             if (energyRejected) {
@@ -653,6 +714,62 @@ std::optional<std::string> Simulation::validate(const SceneSpec& s) {
     if (!s.seams.empty() && !(s.seamTimeConstant > 0)) {
         return std::string("seam time constant must be positive");
     }
+    for (std::size_t k = 0; k < s.obstacles.size(); ++k) {
+        const ObstacleSpec& ob = s.obstacles[k];
+        const std::string who = "obstacle " + std::to_string(k) + " (" + ob.name + ")";
+        const int nv = static_cast<int>(ob.vertices.rows());
+        if (ob.triangles.rows() == 0 || nv == 0) {
+            return who + ": mesh has no triangles";
+        }
+        if (!ob.vertices.allFinite()) {
+            return who + ": vertex positions must be finite";
+        }
+        for (Eigen::Index t = 0; t < ob.triangles.rows(); ++t) {
+            for (int c = 0; c < 3; ++c) {
+                if (ob.triangles(t, c) < 0 || ob.triangles(t, c) >= nv) {
+                    return who + ": triangle " + std::to_string(t) + " has a vertex out of range";
+                }
+            }
+        }
+        if (ob.closed && !isClosedOriented(ob.triangles, nv)) {
+            return who + ": marked closed but not watertight with consistent orientation";
+        }
+        if (!(ob.thickness >= 0) || !(ob.staticFriction >= 0) || !(ob.kineticFriction >= 0) ||
+            !std::isfinite(ob.thickness + ob.staticFriction + ob.kineticFriction)) {
+            return who + ": thickness and friction must be non-negative and finite";
+        }
+        for (std::size_t i = 1; i < ob.keys.size(); ++i) {
+            if (!(ob.keys[i].time > ob.keys[i - 1].time)) {
+                return who + ": key times must increase (key " + std::to_string(i) + ")";
+            }
+        }
+        for (const ObstacleKey& key : ob.keys) {
+            if (!key.translation.allFinite() || !key.rotation.allFinite() || !std::isfinite(key.time)) {
+                return who + ": keys must be finite";
+            }
+        }
+        if (ob.frames.size() != ob.frameTimes.size()) {
+            return who + ": as many frame times as frames are needed";
+        }
+        for (std::size_t i = 0; i < ob.frames.size(); ++i) {
+            if (ob.frames[i].rows() != nv || !ob.frames[i].allFinite()) {
+                return who + ": frame " + std::to_string(i) + " must have " + std::to_string(nv) +
+                       " finite positions";
+            }
+            if (i > 0 && !(ob.frameTimes[i] > ob.frameTimes[i - 1])) {
+                return who + ": frame times must increase (frame " + std::to_string(i) + ")";
+            }
+        }
+    }
+    for (std::size_t ci = 0; ci < s.cloths.size(); ++ci) {
+        if (!(s.cloths[ci].thickness >= 0) || !std::isfinite(s.cloths[ci].thickness)) {
+            return "cloth " + std::to_string(ci) + ": thickness must be non-negative and finite";
+        }
+    }
+    if (!(s.collision.iterations >= 1) || !(s.collision.proximityFactor >= 0) ||
+        !(s.collision.extractionSpeed > 0)) {
+        return std::string("collision: need iterations >= 1, proximity factor >= 0, extraction speed > 0");
+    }
     const IntegratorOptions& o = s.integrator;
     if (!(o.dt > 0) || !(o.minDt > 0) || !(o.maxDt >= o.minDt) || !(o.tolerance > 0) ||
         !(o.growth > 1.0)) {
@@ -714,6 +831,11 @@ RunStatus Simulation::run(double until, const std::function<void(int, double)>& 
             return RunStatus::Failed;
         }
         ++index;
+        if (s.collision) {
+            // A measurement for the report, not part of the steps.
+            StageTimer timer(s.stats.stageSeconds["collision.measure"]);
+            s.stats.maxPenetration = std::max(s.stats.maxPenetration, s.collision->penetration(s.x));
+        }
         if (onFrame) {
             onFrame(index, s.t);
         }
@@ -729,6 +851,20 @@ const SceneSpec& Simulation::scene() const { return m_impl->scene; }
 const std::vector<int>& Simulation::clothOffsets() const { return m_impl->offsets; }
 std::vector<std::string> Simulation::activeStages() const { return m_impl->stages; }
 const std::string& Simulation::error() const { return m_impl->error; }
+const CollisionStage* Simulation::collision() const { return m_impl->collision.get(); }
+
+long Simulation::intersectingTrianglePairs() const {
+    return m_impl->collision ? m_impl->collision->intersectingTrianglePairs(m_impl->x) : 0;
+}
+
+double Simulation::penetration() const {
+    return m_impl->collision ? m_impl->collision->penetration(m_impl->x) : 0.0;
+}
+
+const MatX3& Simulation::obstaclePositions(int k) const {
+    return m_impl->collision->obstaclePositions(k);
+}
+
 const std::vector<std::unique_ptr<ForceModel>>& Simulation::forceModels() const {
     return m_impl->models;
 }

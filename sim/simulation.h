@@ -31,7 +31,13 @@ struct RunStats {
     /// for the kinetic energy a dissipative simulation may show.
     double energyInput = 0;
     std::map<std::string, double> stageSeconds; ///< wall time per named stage [s]
+    /// Deepest cloth vertex inside an obstacle beyond its thickness, over all output frames
+    /// (and the start) [m]; 0 without obstacles.
+    double maxPenetration = 0;
+    long contacts = 0; ///< active contacts after the last step
 };
+
+class CollisionStage;
 
 /// Result of `run`.
 enum class RunStatus { Finished, Cancelled, Failed };
@@ -81,6 +87,15 @@ class Simulation {
     /// Computes the total force (internal + external, without constraint corrections) at the
     /// given state (for benchmarks and tests) [N].
     void evaluateForces(const MatX3& x, const MatX3& v, MatX3& f) const;
+    /// The collision stage, or null when the scene has no obstacles and no self-collision.
+    const CollisionStage* collision() const;
+    /// Exact count of intersecting triangle pairs now (cloth–cloth and cloth–obstacle;
+    /// triangles sharing a vertex excluded); 0 without a collision stage.
+    long intersectingTrianglePairs() const;
+    /// Deepest penetration now (see RunStats::maxPenetration) [m].
+    double penetration() const;
+    /// World positions of obstacle k now (|V_k|×3).
+    const MatX3& obstaclePositions(int k) const;
     /// The force models in the pipeline (for benchmarks and tests).
     const std::vector<std::unique_ptr<ForceModel>>& forceModels() const;
 

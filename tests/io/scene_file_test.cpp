@@ -66,10 +66,10 @@ TEST(SceneFile, EveryBundledSceneLoads) {
             EXPECT_EQ(cloth.position.rows(), cloth.mesh.vertexCount());
             EXPECT_TRUE(cloth.position.allFinite());
         }
-        EXPECT_LE(vertices, 600) << "bundled scenes stay small";
+        EXPECT_LE(vertices, 1200) << "bundled scenes stay small (CI runs them all)";
         ++count;
     }
-    EXPECT_GE(count, 7);
+    EXPECT_GE(count, 15);
 }
 
 TEST(SceneFile, HangingSheetContents) {

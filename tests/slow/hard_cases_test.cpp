@@ -37,6 +37,7 @@ void runHardScene(const sim::SceneSpec& scene, const std::string& label) {
     EXPECT_TRUE(simulation.positions().allFinite()) << label;
     EXPECT_LE(simulation.kineticEnergy(), stats.energyInput) << label;
     EXPECT_LT(simulation.maxEdgeStrain(), 0.10) << label;
+    EXPECT_EQ(simulation.intersectingTrianglePairs(), 0) << label;
 }
 
 TEST_P(HardCase, EndsFiniteBoundedAndSane) {

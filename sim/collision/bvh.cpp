@@ -1,0 +1,892 @@
+#include "sim/collision/bvh.h"
+
+#include "sim/core/parallel.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numbers>
+#include <numeric>
+
+namespace atelier::sim {
+
+namespace {
+
+constexpr double PI = std::numbers::pi;
+/// Morton codes use this many bits per axis (3 × 21 = 63 bits).
+constexpr int MORTON_BITS = 21;
+/// Nodes in Morton order a node looks ahead at when components are joined by proximity.
+constexpr int JOIN_WINDOW = 8;
+/// Outward rounding of a merged cone's half-angle [rad], so that rounding never leaves a normal
+/// outside it (two exactly opposite flat layers must give a cone of at least π/2, never π/2
+/// minus an ulp, which the default culling angle would cull).
+constexpr double CONE_SLACK = 1e-12;
+/// Nearly opposite axes (|a + b|, or the sine of the angle between them, below NEAR_OPPOSITE)
+/// fix the merged axis only to about AXIS_ROUNDING over that length [rad]: the merged
+/// half-angle is widened by that bound (above NEAR_OPPOSITE, CONE_SLACK covers it).
+constexpr double NEAR_OPPOSITE = 1e-3;
+constexpr double AXIS_ROUNDING = 8 * std::numeric_limits<double>::epsilon();
+/// A triangle whose angle has a sine below this is degenerate: its normal is unknown.
+constexpr double DEGENERATE_SINE = 1e-10;
+
+double surfaceArea(const Aabb& b) {
+    const Vec3 d = (b.hi - b.lo).cwiseMax(Vec3::Zero());
+    return 2.0 * (d.x() * d.y() + d.y() * d.z() + d.z() * d.x());
+}
+
+Aabb merged(const Aabb& a, const Aabb& b) {
+    Aabb m = a;
+    m.add(b);
+    return m;
+}
+
+Vec3 centre(const Aabb& b) {
+    return 0.5 * (b.lo + b.hi);
+}
+
+/// Cone of a triangle's normal: zero half-angle around the unit normal, or "any direction"
+/// (half-angle π) when the triangle is degenerate up to rounding (the sine of its angle at `a`
+/// below DEGENERATE_SINE), whose computed normal would be noise.
+NormalCone triangleCone(const Vec3& a, const Vec3& b, const Vec3& c) {
+    const Vec3 e1 = b - a;
+    const Vec3 e2 = c - a;
+    const Vec3 n = e1.cross(e2);
+    const double len2 = n.squaredNorm();
+    if (!(len2 > DEGENERATE_SINE * DEGENERATE_SINE * e1.squaredNorm() * e2.squaredNorm())) {
+        return {Vec3::UnitZ(), PI};
+    }
+    return {n / std::sqrt(len2), 0.0};
+}
+
+/// Polynomial Σ c[k] w^k of degree 10 by Estrin's scheme (short dependency chains).
+inline double estrin10(const std::array<double, 11>& c, double w) {
+    const double w2 = w * w;
+    const double w4 = w2 * w2;
+    const double w8 = w4 * w4;
+    const double q0 = c[0] + c[1] * w;
+    const double q1 = c[2] + c[3] * w;
+    const double q2 = c[4] + c[5] * w;
+    const double q3 = c[6] + c[7] * w;
+    const double q4 = c[8] + c[9] * w;
+    return (q0 + q1 * w2) + (q2 + q3 * w2) * w4 + (q4 + c[10] * w2) * w8;
+}
+
+/// Polynomial Σ c[k] w^k of degree 7 by Estrin's scheme.
+inline double estrin7(const std::array<double, 8>& c, double w) {
+    const double w2 = w * w;
+    const double w4 = w2 * w2;
+    return (c[0] + c[1] * w) + (c[2] + c[3] * w) * w2 +
+           ((c[4] + c[5] * w) + (c[6] + c[7] * w) * w2) * w4;
+}
+
+/// atan(z) for |z| <= tan(π/12) by its Taylor series to z²¹ (truncation error < 1e-14).
+inline double atanSmall(double z) {
+    // (−1)^k / (2k+1), k = 0..10
+    constexpr std::array<double, 11> C = {1.0,      -1.0 / 3,  1.0 / 5,  -1.0 / 7,
+                                          1.0 / 9,  -1.0 / 11, 1.0 / 13, -1.0 / 15,
+                                          1.0 / 17, -1.0 / 19, 1.0 / 21};
+    return z * estrin10(C, z * z);
+}
+
+/// Angle of the direction (c, s) with s >= 0, in [0, π]: std::atan2(s, c) to ~1e-14 [rad],
+/// with one division (refit merges a cone per node; libm's atan2 and sincos dominated it).
+inline double upperAngle(double s, double c) {
+    constexpr double SQRT3 = 1.7320508075688772;
+    constexpr double TAN_PI_12 = 0.2679491924311227; // 2 − √3
+    // Reduce to t = lo / hi ∈ [0, 1], then to z = tan(atan t − π/6) when t > tan(π/12).
+    const double ac = std::abs(c);
+    const bool swap = s > ac;
+    const double lo = swap ? ac : s;
+    const double hi = swap ? s : ac;
+    const bool shift = lo > TAN_PI_12 * hi;
+    const double num = shift ? SQRT3 * lo - hi : lo;
+    const double den = shift ? SQRT3 * hi + lo : hi;
+    double angle = (shift ? PI / 6 : 0.0) + atanSmall(den > 0 ? num / den : 0.0);
+    if (swap) {
+        angle = PI / 2 - angle;
+    }
+    return c < 0 ? PI - angle : angle;
+}
+
+/// sin and cos of r in [0, π] by Taylor series on [0, π/4] (truncation error < 1e-16).
+inline void sinCos(double r, double& sine, double& cosine) {
+    const bool negateCos = r > PI / 2;
+    if (negateCos) {
+        r = PI - r;
+    }
+    const bool swap = r > PI / 4;
+    if (swap) {
+        r = PI / 2 - r;
+    }
+    // sin r = r Σ (−r²)^k / (2k+1)!, cos r = Σ (−r²)^k / (2k)!, k = 0..7.
+    constexpr std::array<double, 8> S = {
+        1.0,          -1.0 / 6,        1.0 / 120,          -1.0 / 5040,
+        1.0 / 362880, -1.0 / 39916800, 1.0 / 6227020800.0, -1.0 / 1307674368000.0};
+    constexpr std::array<double, 8> C = {
+        1.0,         -0.5,           1.0 / 24,        -1.0 / 720,
+        1.0 / 40320, -1.0 / 3628800, 1.0 / 479001600, -1.0 / 87178291200.0};
+    const double r2 = r * r;
+    const double s = r * estrin7(S, r2);
+    const double c = estrin7(C, r2);
+    sine = swap ? c : s;
+    cosine = swap ? s : c;
+    if (negateCos) {
+        cosine = -cosine;
+    }
+}
+
+/// mergeCones (defined here to be inlined into refit and the self query).
+inline NormalCone mergeConesInline(const NormalCone& a, const NormalCone& b) {
+    if (a.halfAngle >= PI) {
+        return a;
+    }
+    if (b.halfAngle >= PI) {
+        return b;
+    }
+    if (a.axis == b.axis) { // common inside flat patches
+        return a.halfAngle >= b.halfAngle ? a : b;
+    }
+    if (a.halfAngle == b.halfAngle) { // e.g. two triangles: the axis bisects, no rotation
+        const Vec3 sum = a.axis + b.axis;
+        const double sumNorm = sum.norm();
+        // θ = 2 atan(|a − b| / |a + b|); half = θ/2 + θa
+        double half = upperAngle((a.axis - b.axis).norm(), sumNorm) + a.halfAngle + CONE_SLACK;
+        if (sumNorm > 0 && sumNorm < NEAR_OPPOSITE) {
+            half += AXIS_ROUNDING / sumNorm; // the direction of a short a + b is inexact
+        }
+        if (half >= PI) {
+            return {a.axis, PI};
+        }
+        return {sumNorm > 0 ? Vec3(sum / sumNorm) : Vec3(a.axis.unitOrthogonal()), half};
+    }
+    const double cosTheta = a.axis.dot(b.axis);
+    const Vec3 perpendicular = b.axis - cosTheta * a.axis;
+    const double sinTheta = perpendicular.norm();
+    const double theta = upperAngle(sinTheta, cosTheta); // angle between the axes
+    if (theta + b.halfAngle <= a.halfAngle) {
+        return a;
+    }
+    if (theta + a.halfAngle <= b.halfAngle) {
+        return b;
+    }
+    double half = 0.5 * (a.halfAngle + b.halfAngle + theta) + CONE_SLACK;
+    if (cosTheta < 0 && sinTheta > 0 && sinTheta < NEAR_OPPOSITE) {
+        half += AXIS_ROUNDING / sinTheta; // the direction of a short perpendicular is inexact
+    }
+    if (half >= PI) {
+        return {a.axis, PI};
+    }
+    // Rotate a's axis towards b's on their great circle by (θb + θ − θa)/2 ∈ (0, θ). The result
+    // is a unit vector up to rounding (a few ulps, far below CONE_SLACK): not renormalised.
+    double sine = 0;
+    double cosine = 1;
+    sinCos(0.5 * (b.halfAngle + theta - a.halfAngle), sine, cosine);
+    if (sinTheta > 0) {
+        return {cosine * a.axis + (sine / sinTheta) * perpendicular, half};
+    }
+    return {cosine * a.axis + sine * a.axis.unitOrthogonal(), half}; // opposite axes
+}
+
+/// Box and cone of a leaf: its triangle at x0 (∪ x1) grown by margin.
+void refitLeaf(SurfaceBvh::Node& node, const MatX3i& triangles, const MatX3& x0, const MatX3* x1,
+               double margin, int vertexOffset) {
+    const int i0 = vertexOffset + triangles(node.triangle, 0);
+    const int i1 = vertexOffset + triangles(node.triangle, 1);
+    const int i2 = vertexOffset + triangles(node.triangle, 2);
+    const Vec3 a = x0.row(i0);
+    const Vec3 b = x0.row(i1);
+    const Vec3 c = x0.row(i2);
+    Aabb box;
+    box.lo = a.cwiseMin(b).cwiseMin(c);
+    box.hi = a.cwiseMax(b).cwiseMax(c);
+    NormalCone cone = triangleCone(a, b, c); // π when degenerate: never culled
+    if (x1 != nullptr) {
+        const Vec3 a1 = x1->row(i0);
+        const Vec3 b1 = x1->row(i1);
+        const Vec3 c1 = x1->row(i2);
+        box.lo = box.lo.cwiseMin(a1).cwiseMin(b1).cwiseMin(c1);
+        box.hi = box.hi.cwiseMax(a1).cwiseMax(b1).cwiseMax(c1);
+        cone = mergeConesInline(cone, triangleCone(a1, b1, c1));
+    }
+    box.lo.array() -= margin;
+    box.hi.array() += margin;
+    node.box = box;
+    node.cone = cone;
+}
+
+/// Spreads the low 21 bits of v so that there are two zero bits between consecutive ones.
+std::uint64_t spreadBits(std::uint64_t v) {
+    v &= 0x1fffffULL;
+    v = (v | v << 32) & 0x1f00000000ffffULL;
+    v = (v | v << 16) & 0x1f0000ff0000ffULL;
+    v = (v | v << 8) & 0x100f00f00f00f00fULL;
+    v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+    v = (v | v << 2) & 0x1249249249249249ULL;
+    return v;
+}
+
+/// Indices 0..|centres|-1 sorted along the Morton (Z-order) curve of the points.
+std::vector<int> mortonOrder(const std::vector<Vec3>& centres) {
+    Aabb bounds;
+    for (const Vec3& c : centres) {
+        bounds.add(c);
+    }
+    const Vec3 extent = (bounds.hi - bounds.lo).cwiseMax(Vec3::Constant(1e-300));
+    const double cells = static_cast<double>((1 << MORTON_BITS) - 1);
+    std::vector<std::pair<std::uint64_t, int>> keyed(centres.size());
+    for (std::size_t i = 0; i < centres.size(); ++i) {
+        const Vec3 q = ((centres[i] - bounds.lo).array() / extent.array() * cells).matrix();
+        std::uint64_t code = 0;
+        for (int a = 0; a < 3; ++a) {
+            const double clamped = std::clamp(q[a], 0.0, cells);
+            code |= spreadBits(static_cast<std::uint64_t>(clamped)) << a;
+        }
+        keyed[i] = {code, static_cast<int>(i)};
+    }
+    std::sort(keyed.begin(), keyed.end());
+    std::vector<int> order(keyed.size());
+    for (std::size_t i = 0; i < keyed.size(); ++i) {
+        order[i] = keyed[i].second;
+    }
+    return order;
+}
+
+/// Undirected weighted graph in compressed rows: the neighbours of node i are
+/// nbr[begin[i] .. begin[i+1]) with the number of shared mesh edges in `weight`.
+struct Graph {
+    std::vector<int> begin;
+    std::vector<int> nbr;
+    std::vector<int> weight;
+    bool hasEdges() const { return !nbr.empty(); }
+};
+
+/// Graph of `n` nodes from undirected edges (a, b, weight), a != b; duplicates are merged
+/// (weights summed).
+Graph buildGraph(int n, std::vector<std::array<int, 3>>& edges) {
+    std::vector<std::array<int, 3>> directed;
+    directed.reserve(2 * edges.size());
+    for (const auto& e : edges) {
+        directed.push_back({e[0], e[1], e[2]});
+        directed.push_back({e[1], e[0], e[2]});
+    }
+    edges.clear();
+    std::sort(directed.begin(), directed.end(), [](const auto& p, const auto& q) {
+        return p[0] != q[0] ? p[0] < q[0] : p[1] < q[1];
+    });
+    Graph g;
+    g.begin.assign(static_cast<std::size_t>(n) + 1, 0);
+    g.nbr.reserve(directed.size());
+    g.weight.reserve(directed.size());
+    for (std::size_t k = 0; k < directed.size(); ++k) {
+        const auto& e = directed[k];
+        if (!g.nbr.empty() && k > 0 && directed[k - 1][0] == e[0] && directed[k - 1][1] == e[1]) {
+            g.weight.back() += e[2];
+            continue;
+        }
+        g.nbr.push_back(e[1]);
+        g.weight.push_back(e[2]);
+        ++g.begin[static_cast<std::size_t>(e[0]) + 1];
+    }
+    std::partial_sum(g.begin.begin(), g.begin.end(), g.begin.begin());
+    return g;
+}
+
+/// Triangle edge adjacency: triangles sharing an edge (all pairs on a non-manifold edge).
+Graph triangleAdjacency(const MatX3i& triangles) {
+    const int nt = static_cast<int>(triangles.rows());
+    std::vector<std::array<int, 3>> halfEdges; // (lower vertex, upper vertex, triangle)
+    halfEdges.reserve(3 * static_cast<std::size_t>(nt));
+    for (int t = 0; t < nt; ++t) {
+        for (int k = 0; k < 3; ++k) {
+            const int u = triangles(t, k);
+            const int v = triangles(t, (k + 1) % 3);
+            if (u != v) {
+                halfEdges.push_back({std::min(u, v), std::max(u, v), t});
+            }
+        }
+    }
+    std::sort(halfEdges.begin(), halfEdges.end());
+    std::vector<std::array<int, 3>> edges;
+    edges.reserve(halfEdges.size());
+    for (std::size_t s = 0; s < halfEdges.size();) {
+        std::size_t e = s + 1;
+        while (e < halfEdges.size() && halfEdges[e][0] == halfEdges[s][0] &&
+               halfEdges[e][1] == halfEdges[s][1]) {
+            ++e;
+        }
+        for (std::size_t i = s; i < e; ++i) {
+            for (std::size_t j = i + 1; j < e; ++j) {
+                if (halfEdges[i][2] != halfEdges[j][2]) {
+                    edges.push_back({halfEdges[i][2], halfEdges[j][2], 1});
+                }
+            }
+        }
+        s = e;
+    }
+    return buildGraph(nt, edges);
+}
+
+/// A group of 2 or 3 nodes of one level (local indices) that becomes one parent.
+struct Group {
+    std::array<int, 3> members{-1, -1, -1};
+    int size = 0;
+    Aabb box;
+};
+
+} // namespace
+
+NormalCone mergeCones(const NormalCone& a, const NormalCone& b) {
+    return mergeConesInline(a, b);
+}
+
+SurfaceBvh::SurfaceBvh(const MatX3i& triangles, const MatX3& x) : m_triangles(triangles) {
+    const int nt = static_cast<int>(m_triangles.rows());
+    if (nt == 0) {
+        return;
+    }
+    const int nv = m_triangles.maxCoeff() + 1;
+
+    // Number of distinct triangles on each vertex: a vertex is on the boundary of a patch when
+    // fewer of the patch's triangles are on it.
+    std::vector<int> trianglesOnVertex(static_cast<std::size_t>(nv), 0);
+    // Per entry of m_boundary: how many of the node's triangles are on that vertex.
+    std::vector<int> boundaryCount;
+    m_nodes.resize(static_cast<std::size_t>(nt));
+    m_boundary.reserve(6 * static_cast<std::size_t>(nt));
+    boundaryCount.reserve(6 * static_cast<std::size_t>(nt));
+    for (int t = 0; t < nt; ++t) {
+        std::array<int, 3> v{m_triangles(t, 0), m_triangles(t, 1), m_triangles(t, 2)};
+        std::sort(v.begin(), v.end());
+        const auto end = std::unique(v.begin(), v.end());
+        Node& node = m_nodes[static_cast<std::size_t>(t)];
+        node.triangle = t;
+        node.boundaryBegin = static_cast<int>(m_boundary.size());
+        for (auto it = v.begin(); it != end; ++it) {
+            ++trianglesOnVertex[static_cast<std::size_t>(*it)];
+            m_boundary.push_back(*it);
+            boundaryCount.push_back(1);
+            node.box.add(Vec3(x.row(*it).transpose()));
+        }
+        node.boundaryEnd = static_cast<int>(m_boundary.size());
+    }
+
+    // Appends the parent of 2 or 3 nodes; its boundary is the merge of the children's, less
+    // the vertices whose triangles are now all inside the patch.
+    std::vector<std::pair<int, int>> merging;
+    const auto addParent = [&](const std::array<int, 3>& children, int count) {
+        Node parent;
+        merging.clear();
+        for (std::size_t k = 0; k < static_cast<std::size_t>(count); ++k) {
+            const Node& child = m_nodes[static_cast<std::size_t>(children[k])];
+            parent.children[k] = children[k];
+            parent.box.add(child.box);
+            for (int i = child.boundaryBegin; i < child.boundaryEnd; ++i) {
+                merging.emplace_back(m_boundary[static_cast<std::size_t>(i)],
+                                     boundaryCount[static_cast<std::size_t>(i)]);
+            }
+        }
+        std::sort(merging.begin(), merging.end());
+        parent.boundaryBegin = static_cast<int>(m_boundary.size());
+        for (std::size_t i = 0; i < merging.size();) {
+            const int v = merging[i].first;
+            int inside = 0;
+            for (; i < merging.size() && merging[i].first == v; ++i) {
+                inside += merging[i].second;
+            }
+            if (inside < trianglesOnVertex[static_cast<std::size_t>(v)]) {
+                m_boundary.push_back(v);
+                boundaryCount.push_back(inside);
+            }
+        }
+        parent.boundaryEnd = static_cast<int>(m_boundary.size());
+        m_nodes.push_back(parent);
+        return static_cast<int>(m_nodes.size()) - 1;
+    };
+
+    std::vector<int> level(static_cast<std::size_t>(nt)); // node ids of the current level
+    std::iota(level.begin(), level.end(), 0);
+    Graph graph = triangleAdjacency(m_triangles);
+    std::vector<Vec3> centres;
+    std::vector<int> groupOf;
+    std::vector<Group> groups;
+    std::vector<int> nextOf;
+    std::vector<int> next;
+    std::vector<std::array<int, 3>> nextEdges;
+
+    // Turns the groups of the current level into parents; ungrouped nodes are carried up.
+    // Fills nextOf (local index → local index in the next level) and replaces `level`.
+    const auto promote = [&]() {
+        const std::size_t m = level.size();
+        next.clear();
+        nextOf.assign(m, -1);
+        for (const Group& g : groups) {
+            std::array<int, 3> ids{-1, -1, -1};
+            for (int k = 0; k < g.size; ++k) {
+                const auto local = static_cast<std::size_t>(g.members[static_cast<std::size_t>(k)]);
+                ids[static_cast<std::size_t>(k)] = level[local];
+                nextOf[local] = static_cast<int>(next.size());
+            }
+            next.push_back(addParent(ids, g.size));
+        }
+        for (std::size_t i = 0; i < m; ++i) {
+            if (nextOf[i] < 0) {
+                nextOf[i] = static_cast<int>(next.size());
+                next.push_back(level[i]);
+            }
+        }
+        level.swap(next);
+    };
+    const auto startLevel = [&]() {
+        const std::size_t m = level.size();
+        centres.resize(m);
+        for (std::size_t i = 0; i < m; ++i) {
+            centres[i] = centre(m_nodes[static_cast<std::size_t>(level[i])].box);
+        }
+        groupOf.assign(m, -1);
+        groups.clear();
+        return mortonOrder(centres);
+    };
+    const auto boxOf = [&](int local) -> const Aabb& {
+        return m_nodes[static_cast<std::size_t>(level[static_cast<std::size_t>(local)])].box;
+    };
+
+    // Levels of edge-adjacent grouping, until every remaining node is a connected component.
+    while (graph.hasEdges()) {
+        const std::vector<int> order = startLevel();
+        // Pair each node with its ungrouped neighbour giving the smallest merged box (ties: the
+        // one sharing more edges).
+        for (const int i : order) {
+            if (groupOf[static_cast<std::size_t>(i)] >= 0) {
+                continue;
+            }
+            int best = -1;
+            double bestArea = std::numeric_limits<double>::infinity();
+            int bestWeight = 0;
+            for (int k = graph.begin[static_cast<std::size_t>(i)];
+                 k < graph.begin[static_cast<std::size_t>(i) + 1]; ++k) {
+                const int j = graph.nbr[static_cast<std::size_t>(k)];
+                if (groupOf[static_cast<std::size_t>(j)] >= 0) {
+                    continue;
+                }
+                const double area = surfaceArea(merged(boxOf(i), boxOf(j)));
+                const int weight = graph.weight[static_cast<std::size_t>(k)];
+                if (area < bestArea || (area == bestArea && weight > bestWeight)) {
+                    best = j;
+                    bestArea = area;
+                    bestWeight = weight;
+                }
+            }
+            if (best >= 0) {
+                Group g;
+                g.members = {i, best, -1};
+                g.size = 2;
+                g.box = merged(boxOf(i), boxOf(best));
+                groupOf[static_cast<std::size_t>(i)] = static_cast<int>(groups.size());
+                groupOf[static_cast<std::size_t>(best)] = static_cast<int>(groups.size());
+                groups.push_back(g);
+            }
+        }
+        // A node left alone (all its neighbours grouped) joins a neighbouring pair as a third
+        // child, the one giving the smallest box; if every neighbouring group is full it is
+        // carried up.
+        for (const int i : order) {
+            if (groupOf[static_cast<std::size_t>(i)] >= 0) {
+                continue;
+            }
+            int best = -1;
+            double bestArea = std::numeric_limits<double>::infinity();
+            for (int k = graph.begin[static_cast<std::size_t>(i)];
+                 k < graph.begin[static_cast<std::size_t>(i) + 1]; ++k) {
+                const int g =
+                    groupOf[static_cast<std::size_t>(graph.nbr[static_cast<std::size_t>(k)])];
+                if (g < 0 || groups[static_cast<std::size_t>(g)].size != 2) {
+                    continue;
+                }
+                const double area =
+                    surfaceArea(merged(groups[static_cast<std::size_t>(g)].box, boxOf(i)));
+                if (area < bestArea) {
+                    best = g;
+                    bestArea = area;
+                }
+            }
+            if (best >= 0) {
+                Group& g = groups[static_cast<std::size_t>(best)];
+                g.members[2] = i;
+                g.size = 3;
+                g.box.add(boxOf(i));
+                groupOf[static_cast<std::size_t>(i)] = best;
+            }
+        }
+        promote();
+        // The next level's adjacency: the current one's edges between different parents.
+        nextEdges.clear();
+        for (std::size_t i = 0; i + 1 < graph.begin.size(); ++i) {
+            for (int k = graph.begin[i]; k < graph.begin[i + 1]; ++k) {
+                const auto j = static_cast<std::size_t>(graph.nbr[static_cast<std::size_t>(k)]);
+                if (i < j && nextOf[i] != nextOf[j]) {
+                    nextEdges.push_back(
+                        {nextOf[i], nextOf[j], graph.weight[static_cast<std::size_t>(k)]});
+                }
+            }
+        }
+        graph = buildGraph(static_cast<int>(level.size()), nextEdges);
+    }
+
+    const std::size_t firstJoin = m_nodes.size();
+    // Disconnected components: join nodes by proximity of their box centres, pairing each with
+    // the nearest of the next few ungrouped nodes along the Morton curve, until one root.
+    while (level.size() > 1) {
+        const std::vector<int> order = startLevel();
+        const std::size_t m = order.size();
+        int alone = -1;
+        for (std::size_t a = 0; a < m; ++a) {
+            const int i = order[a];
+            if (groupOf[static_cast<std::size_t>(i)] >= 0) {
+                continue;
+            }
+            int best = -1;
+            double bestDistance = std::numeric_limits<double>::infinity();
+            int looked = 0;
+            for (std::size_t b = a + 1; b < m && looked < JOIN_WINDOW; ++b) {
+                const int j = order[b];
+                if (groupOf[static_cast<std::size_t>(j)] >= 0) {
+                    continue;
+                }
+                ++looked;
+                const double d =
+                    (centres[static_cast<std::size_t>(i)] - centres[static_cast<std::size_t>(j)])
+                        .squaredNorm();
+                if (d < bestDistance) {
+                    best = j;
+                    bestDistance = d;
+                }
+            }
+            if (best < 0) {
+                alone = i; // only the last ungrouped node can be left alone
+                continue;
+            }
+            Group g;
+            g.members = {i, best, -1};
+            g.size = 2;
+            groupOf[static_cast<std::size_t>(i)] = static_cast<int>(groups.size());
+            groupOf[static_cast<std::size_t>(best)] = static_cast<int>(groups.size());
+            groups.push_back(g);
+        }
+        if (alone >= 0) { // join the pair with the nearest centre
+            int best = -1;
+            double bestDistance = std::numeric_limits<double>::infinity();
+            for (std::size_t g = 0; g < groups.size(); ++g) {
+                const Vec3 c = 0.5 * (centres[static_cast<std::size_t>(groups[g].members[0])] +
+                                      centres[static_cast<std::size_t>(groups[g].members[1])]);
+                const double d = (c - centres[static_cast<std::size_t>(alone)]).squaredNorm();
+                if (d < bestDistance) {
+                    best = static_cast<int>(g);
+                    bestDistance = d;
+                }
+            }
+            if (best >= 0) {
+                groups[static_cast<std::size_t>(best)].members[2] = alone;
+                groups[static_cast<std::size_t>(best)].size = 3;
+            }
+        }
+        promote();
+    }
+    for (std::size_t n = firstJoin; n < m_nodes.size(); ++n) {
+        m_nodes[n].connected = false;
+    }
+    storeDepthFirst(level.front());
+    refit(x, nullptr, 0.0);
+}
+
+void SurfaceBvh::storeDepthFirst(int root) {
+    const std::size_t nn = m_nodes.size();
+    std::vector<int> order; // pre-order, first child first
+    order.reserve(nn);
+    std::vector<int> stack{root};
+    while (!stack.empty()) {
+        const int n = stack.back();
+        stack.pop_back();
+        order.push_back(n);
+        const Node& node = m_nodes[static_cast<std::size_t>(n)];
+        for (int k = 2; k >= 0; --k) {
+            if (node.children[k] >= 0) {
+                stack.push_back(node.children[k]);
+            }
+        }
+    }
+    std::vector<int> newIndex(nn, -1);
+    for (std::size_t i = 0; i < nn; ++i) {
+        newIndex[static_cast<std::size_t>(order[i])] = static_cast<int>(i);
+    }
+    std::vector<Node> nodes(nn);
+    std::vector<int> boundary;
+    boundary.reserve(m_boundary.size());
+    for (std::size_t i = 0; i < nn; ++i) {
+        const Node& old = m_nodes[static_cast<std::size_t>(order[i])];
+        Node& node = nodes[i];
+        node = old;
+        for (int& c : node.children) {
+            c = c >= 0 ? newIndex[static_cast<std::size_t>(c)] : -1;
+        }
+        node.boundaryBegin = static_cast<int>(boundary.size());
+        boundary.insert(boundary.end(), m_boundary.begin() + old.boundaryBegin,
+                        m_boundary.begin() + old.boundaryEnd);
+        node.boundaryEnd = static_cast<int>(boundary.size());
+    }
+    m_nodes.swap(nodes);
+    m_boundary.swap(boundary);
+    m_root = 0;
+    // Subtree ends, children (later in pre-order) first.
+    m_subtreeEnd.assign(nn, 0);
+    for (std::size_t n = nn; n-- > 0;) {
+        int end = static_cast<int>(n) + 1;
+        for (const int c : m_nodes[n].children) {
+            if (c >= 0) {
+                end = std::max(end, m_subtreeEnd[static_cast<std::size_t>(c)]);
+            }
+        }
+        m_subtreeEnd[n] = end;
+    }
+}
+
+void SurfaceBvh::refit(const MatX3& x0, const MatX3* x1, double margin, int vertexOffset) {
+    if (empty()) {
+        return;
+    }
+    // Children come after their parent: a reverse scan of a subtree's range refits it.
+    const auto refitRange = [&](int first, int end) {
+        for (int n = end; n-- > first;) {
+            Node& node = m_nodes[static_cast<std::size_t>(n)];
+            if (node.isLeaf()) {
+                refitLeaf(node, m_triangles, x0, x1, margin, vertexOffset);
+                continue;
+            }
+            const Node& c0 = m_nodes[static_cast<std::size_t>(node.children[0])];
+            const Node& c1 = m_nodes[static_cast<std::size_t>(node.children[1])];
+            Aabb box = merged(c0.box, c1.box);
+            NormalCone cone = mergeConesInline(c0.cone, c1.cone);
+            if (node.children[2] >= 0) {
+                const Node& c2 = m_nodes[static_cast<std::size_t>(node.children[2])];
+                box.add(c2.box);
+                cone = mergeConesInline(cone, c2.cone);
+            }
+            node.box = box;
+            node.cone = cone;
+        }
+    };
+    const auto nodeCount = static_cast<std::int64_t>(m_nodes.size());
+    if (threadCount() <= 1 || nodeCount < PARALLEL_GRAIN) {
+        refitRange(0, static_cast<int>(nodeCount));
+        return;
+    }
+    // In parallel: disjoint subtrees of at most `limit` nodes, then, serially, the few nodes
+    // above them (which come before their subtrees, so a reverse scan sees them last).
+    const std::int64_t limit = std::max<std::int64_t>(256, nodeCount / (16 * threadCount()));
+    std::vector<int> subtrees;
+    std::vector<int> top;
+    std::vector<int> stack{m_root};
+    while (!stack.empty()) {
+        const int n = stack.back();
+        stack.pop_back();
+        if (m_subtreeEnd[static_cast<std::size_t>(n)] - n <= limit) {
+            subtrees.push_back(n);
+            continue;
+        }
+        top.push_back(n);
+        for (const int c : m_nodes[static_cast<std::size_t>(n)].children) {
+            if (c >= 0) {
+                stack.push_back(c);
+            }
+        }
+    }
+    const auto subtreeCount = static_cast<std::int64_t>(subtrees.size());
+    ATELIER_PARALLEL_FOR(nodeCount) // the if-clause counts nodes, the loop runs over subtrees
+    for (std::int64_t k = 0; k < subtreeCount; ++k) {
+        const int n = subtrees[static_cast<std::size_t>(k)];
+        refitRange(n, m_subtreeEnd[static_cast<std::size_t>(n)]);
+    }
+    std::sort(top.begin(), top.end());
+    for (auto it = top.rbegin(); it != top.rend(); ++it) {
+        refitRange(*it, *it + 1);
+    }
+}
+
+bool SurfaceBvh::adjacent(int a, int b) const {
+    if ((a <= b && b < m_subtreeEnd[static_cast<std::size_t>(a)]) ||
+        (b <= a && a < m_subtreeEnd[static_cast<std::size_t>(b)])) {
+        return true; // one patch contains the other
+    }
+    const Node& na = m_nodes[static_cast<std::size_t>(a)];
+    const Node& nb = m_nodes[static_cast<std::size_t>(b)];
+    const int* p = m_boundary.data() + na.boundaryBegin;
+    const int* pEnd = m_boundary.data() + na.boundaryEnd;
+    const int* q = m_boundary.data() + nb.boundaryBegin;
+    const int* qEnd = m_boundary.data() + nb.boundaryEnd;
+    while (p != pEnd && q != qEnd) {
+        if (*p < *q) {
+            ++p;
+        } else if (*q < *p) {
+            ++q;
+        } else {
+            return true;
+        }
+    }
+    return false;
+}
+
+void SurfaceBvh::overlaps(const SurfaceBvh& other, std::vector<std::pair<int, int>>& out) const {
+    if (empty() || other.empty() ||
+        !m_nodes[static_cast<std::size_t>(m_root)].box.overlaps(
+            other.m_nodes[static_cast<std::size_t>(other.m_root)].box)) {
+        return;
+    }
+    std::vector<std::pair<int, int>> stack;
+    stack.reserve(256);
+    stack.emplace_back(m_root, other.m_root);
+    while (!stack.empty()) {
+        const auto [i, j] = stack.back();
+        stack.pop_back();
+        const Node& a = m_nodes[static_cast<std::size_t>(i)];
+        const Node& b = other.m_nodes[static_cast<std::size_t>(j)];
+        if (a.isLeaf() && b.isLeaf()) {
+            out.emplace_back(a.triangle, b.triangle);
+            continue;
+        }
+        // Descend into the larger node (a leaf cannot be descended).
+        if (b.isLeaf() || (!a.isLeaf() && surfaceArea(a.box) >= surfaceArea(b.box))) {
+            for (const int c : a.children) {
+                if (c >= 0 && m_nodes[static_cast<std::size_t>(c)].box.overlaps(b.box)) {
+                    stack.emplace_back(c, j);
+                }
+            }
+        } else {
+            for (const int c : b.children) {
+                if (c >= 0 && other.m_nodes[static_cast<std::size_t>(c)].box.overlaps(a.box)) {
+                    stack.emplace_back(i, c);
+                }
+            }
+        }
+    }
+}
+
+void SurfaceBvh::selfOverlaps(std::vector<std::pair<int, int>>& out,
+                              const SelfQueryOptions& options) const {
+    if (empty()) {
+        return;
+    }
+    // Every cone has halfAngle <= π, so a threshold above π would cull everything: it means
+    // "no culling" instead (the documented brute-force setting).
+    const bool culling = options.cullingAngle <= PI;
+    const double cullingAngle = options.cullingAngle;
+    // A task is a node against itself (second = -1) or two disjoint nodes whose boxes overlap.
+    std::vector<std::pair<int, int>> stack;
+    stack.reserve(256);
+    stack.emplace_back(m_root, -1);
+    while (!stack.empty()) {
+        const auto [i, j] = stack.back();
+        stack.pop_back();
+        const Node& a = m_nodes[static_cast<std::size_t>(i)];
+        if (j < 0) {
+            if (a.isLeaf() || (culling && a.connected && a.cone.halfAngle < cullingAngle)) {
+                continue; // a flat enough patch cannot fold onto itself
+            }
+            for (int k = 0; k < 3 && a.children[k] >= 0; ++k) {
+                const int ck = a.children[k];
+                stack.emplace_back(ck, -1);
+                for (int l = k + 1; l < 3 && a.children[l] >= 0; ++l) {
+                    const int cl = a.children[l];
+                    if (m_nodes[static_cast<std::size_t>(ck)].box.overlaps(
+                            m_nodes[static_cast<std::size_t>(cl)].box)) {
+                        stack.emplace_back(ck, cl);
+                    }
+                }
+            }
+            continue;
+        }
+        const Node& b = m_nodes[static_cast<std::size_t>(j)];
+        // Cheapest tests first: the merged cone is at least as wide as either cone.
+        if (culling && a.cone.halfAngle < cullingAngle && b.cone.halfAngle < cullingAngle &&
+            adjacent(i, j) && mergeConesInline(a.cone, b.cone).halfAngle < cullingAngle) {
+            continue; // two adjacent patches forming a flat enough surface
+        }
+        if (a.isLeaf() && b.isLeaf()) {
+            out.emplace_back(std::min(a.triangle, b.triangle), std::max(a.triangle, b.triangle));
+            continue;
+        }
+        if (b.isLeaf() || (!a.isLeaf() && surfaceArea(a.box) >= surfaceArea(b.box))) {
+            for (const int c : a.children) {
+                if (c >= 0 && m_nodes[static_cast<std::size_t>(c)].box.overlaps(b.box)) {
+                    stack.emplace_back(c, j);
+                }
+            }
+        } else {
+            for (const int c : b.children) {
+                if (c >= 0 && m_nodes[static_cast<std::size_t>(c)].box.overlaps(a.box)) {
+                    stack.emplace_back(i, c);
+                }
+            }
+        }
+    }
+}
+
+std::pair<int, TrianglePoint> SurfaceBvh::closestTriangle(const MatX3& x, const Vec3& p,
+                                                          double maxDistance,
+                                                          int vertexOffset) const {
+    TrianglePoint none;
+    none.point = p;
+    none.distance = std::numeric_limits<double>::infinity();
+    std::pair<int, TrianglePoint> best{-1, none};
+    if (empty() || !(maxDistance >= 0)) {
+        return best;
+    }
+    double bestDistance = maxDistance;
+    double bestSquared = maxDistance * maxDistance;
+    // Min-heap of (squared box distance, node).
+    std::vector<std::pair<double, int>> heap;
+    heap.reserve(64);
+    const auto closer = [](const std::pair<double, int>& u, const std::pair<double, int>& v) {
+        return u.first > v.first;
+    };
+    const double rootSquared = m_nodes[static_cast<std::size_t>(m_root)].box.squaredDistance(p);
+    if (rootSquared <= bestSquared) {
+        heap.emplace_back(rootSquared, m_root);
+    }
+    while (!heap.empty()) {
+        std::pop_heap(heap.begin(), heap.end(), closer);
+        const auto [d2, n] = heap.back();
+        heap.pop_back();
+        if (d2 > bestSquared) {
+            break; // every remaining box is farther than the best triangle
+        }
+        const Node& node = m_nodes[static_cast<std::size_t>(n)];
+        if (node.isLeaf()) {
+            const int t = node.triangle;
+            const TrianglePoint tp =
+                closestPointOnTriangle(p, x.row(vertexOffset + m_triangles(t, 0)).transpose(),
+                                       x.row(vertexOffset + m_triangles(t, 1)).transpose(),
+                                       x.row(vertexOffset + m_triangles(t, 2)).transpose());
+            if (best.first < 0 ? tp.distance <= bestDistance : tp.distance < bestDistance) {
+                best = {t, tp};
+                bestDistance = tp.distance;
+                bestSquared = bestDistance * bestDistance;
+            }
+            continue;
+        }
+        for (const int c : node.children) {
+            if (c < 0) {
+                continue;
+            }
+            const double cd2 = m_nodes[static_cast<std::size_t>(c)].box.squaredDistance(p);
+            if (cd2 <= bestSquared) {
+                heap.emplace_back(cd2, c);
+                std::push_heap(heap.begin(), heap.end(), closer);
+            }
+        }
+    }
+    return best;
+}
+
+} // namespace atelier::sim

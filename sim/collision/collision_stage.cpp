@@ -1,0 +1,1064 @@
+#include "sim/collision/collision_stage.h"
+
+#include "sim/collision/geometry.h"
+#include "sim/collision/obstacle.h"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <limits>
+#include <numeric>
+
+namespace atelier::sim {
+
+namespace {
+
+constexpr double INF = std::numeric_limits<double>::infinity();
+/// Below this length [m] a direction is taken as undefined.
+constexpr double TINY = 1e-12;
+/// Contacts whose gap is within this fraction of the contact distance count as touching.
+constexpr double TOUCH = 0.01;
+/// Memory entries unseen for this many steps are forgotten.
+constexpr long MEMORY_STEPS = 200;
+
+std::uint64_t pairKey(int a, int b) {
+    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
+           static_cast<std::uint32_t>(b);
+}
+
+Vec3 row(const MatX3& x, int i) { return x.row(i).transpose(); }
+
+/// Whether the boxes swept by two groups of moving points (start/end pairs) come within d:
+/// a cheap test before the continuous ones.
+template <std::size_t N, std::size_t M>
+bool sweptBoxesNear(const std::array<const Vec3*, N>& a, const std::array<const Vec3*, M>& b,
+                    double d) {
+    Vec3 alo = *a[0], ahi = *a[0], blo = *b[0], bhi = *b[0];
+    for (const Vec3* p : a) {
+        alo = alo.cwiseMin(*p);
+        ahi = ahi.cwiseMax(*p);
+    }
+    for (const Vec3* p : b) {
+        blo = blo.cwiseMin(*p);
+        bhi = bhi.cwiseMax(*p);
+    }
+    return (alo.array() <= bhi.array() + d).all() && (blo.array() <= ahi.array() + d).all();
+}
+
+/// Whether a segment parameter is strictly inside (not at an end).
+bool interior(double s) { return s > 1e-9 && s < 1.0 - 1e-9; }
+
+double combine(double a, double b) { return std::sqrt(std::max(0.0, a) * std::max(0.0, b)); }
+
+signed char signOf(double v) { return v > 0 ? 1 : (v < 0 ? -1 : 0); }
+
+/// Σ w_k invMass_k w_k over the contact's cloth vertices.
+double effectiveInverseMass(const Contact& c, const VecX& invMass) {
+    double w = 0;
+    for (int k = 0; k < 4; ++k) {
+        if (c.vertex[k] >= 0) {
+            w += c.weight[k] * c.weight[k] * invMass[c.vertex[k]];
+        }
+    }
+    return w;
+}
+
+Vec3 combination(const Contact& c, const MatX3& x) {
+    Vec3 r = Vec3::Zero();
+    for (int k = 0; k < 4; ++k) {
+        if (c.vertex[k] >= 0) {
+            r += c.weight[k] * row(x, c.vertex[k]);
+        }
+    }
+    return r;
+}
+
+/// Adds `delta` to the contact's relative quantity, split by inverse mass:
+/// each vertex moves by w_k invMass_k / W · delta, so Σ w_k Δ_k = delta.
+void distribute(const Contact& c, const VecX& invMass, double w, const Vec3& delta, MatX3& y) {
+    for (int k = 0; k < 4; ++k) {
+        const int i = c.vertex[k];
+        if (i >= 0 && invMass[i] > 0) {
+            y.row(i) += (c.weight[k] * invMass[i] / w * delta).transpose();
+        }
+    }
+}
+
+/// The velocity-level contact and Coulomb friction of one contact on velocities v: raises the
+/// relative normal velocity to at least `minNormal` [m/s] (0: no approach), then, if
+/// `friction`, cancels the tangential velocity when it is within the static cone of that
+/// impulse, or reduces it by the kinetic friction.
+void velocityCorrection(const Contact& c, const VecX& invMass, MatX3& v, double minNormal,
+                        bool friction) {
+    const double w = effectiveInverseMass(c, invMass);
+    if (!(w > 0)) {
+        return;
+    }
+    const Vec3 u = combination(c, v) - c.obstacleVelocity;
+    const double un = c.normal.dot(u);
+    if (un >= minNormal) {
+        return;
+    }
+    const double jn = minNormal - un;
+    Vec3 delta = jn * c.normal;
+    if (friction) {
+        const Vec3 ut = u - un * c.normal;
+        const double utn = ut.norm();
+        if (utn <= c.staticFriction * jn) {
+            delta -= ut;
+        } else if (utn > 0) {
+            delta -= (c.kineticFriction * jn / utn) * ut;
+        }
+    }
+    distribute(c, invMass, w, delta, v);
+}
+
+/// Angle of triangle (a, b, c) at a [rad].
+double cornerAngle(const Vec3& a, const Vec3& b, const Vec3& c) {
+    const Vec3 u = b - a, w = c - a;
+    return std::atan2(u.cross(w).norm(), u.dot(w));
+}
+
+} // namespace
+
+bool CollisionStage::needed(const SceneSpec& scene) {
+    if (!scene.obstacles.empty()) {
+        return true;
+    }
+    return std::any_of(scene.cloths.begin(), scene.cloths.end(),
+                       [](const ClothSpec& c) { return c.selfCollision; });
+}
+
+CollisionStage::CollisionStage(const SceneSpec& scene, const std::vector<int>& offsets,
+                               const MatX3& x)
+    : m_scene(scene), m_offsets(offsets) {
+    const int n = offsets.back();
+    m_clothOf.assign(static_cast<std::size_t>(n), 0);
+    m_thickness.resize(n);
+    int triangleCount = 0, edgeCount = 0;
+    for (const ClothSpec& c : scene.cloths) {
+        triangleCount += c.mesh.triangleCount();
+        edgeCount += static_cast<int>(c.mesh.edges.rows());
+    }
+    m_triangles.resize(triangleCount, 3);
+    m_edges.resize(edgeCount, 2);
+    m_ownedVertices.assign(static_cast<std::size_t>(triangleCount), {});
+    m_ownedEdges.assign(static_cast<std::size_t>(triangleCount), {});
+    m_neighbours.assign(static_cast<std::size_t>(n), {});
+    std::vector<char> owned(static_cast<std::size_t>(n), 0);
+    int t0 = 0, e0 = 0;
+    for (std::size_t ci = 0; ci < scene.cloths.size(); ++ci) {
+        const ClothSpec& c = scene.cloths[ci];
+        const int off = offsets[ci];
+        m_selfCloth.push_back(c.selfCollision ? 1 : 0);
+        m_anySelf = m_anySelf || c.selfCollision;
+        m_maxThickness = std::max(m_maxThickness, c.thickness);
+        for (int i = 0; i < c.mesh.vertexCount(); ++i) {
+            m_clothOf[static_cast<std::size_t>(off + i)] = static_cast<int>(ci);
+            m_thickness[off + i] = c.thickness;
+        }
+        for (int t = 0; t < c.mesh.triangleCount(); ++t) {
+            m_triangleCloth.push_back(static_cast<int>(ci));
+            for (int k = 0; k < 3; ++k) {
+                const int v = c.mesh.triangles(t, k) + off;
+                m_triangles(t0 + t, k) = v;
+                if (!owned[static_cast<std::size_t>(v)]) {
+                    owned[static_cast<std::size_t>(v)] = 1;
+                    m_ownedVertices[static_cast<std::size_t>(t0 + t)].push_back(v);
+                }
+            }
+        }
+        for (int e = 0; e < c.mesh.edges.rows(); ++e) {
+            const int a = c.mesh.edges(e, 0) + off, b = c.mesh.edges(e, 1) + off;
+            m_edges(e0 + e, 0) = a;
+            m_edges(e0 + e, 1) = b;
+            m_ownedEdges[static_cast<std::size_t>(t0 + c.mesh.edgeTriangles(e, 0))].push_back(e0 + e);
+            m_neighbours[static_cast<std::size_t>(a)].push_back(b);
+            m_neighbours[static_cast<std::size_t>(b)].push_back(a);
+        }
+        t0 += c.mesh.triangleCount();
+        e0 += static_cast<int>(c.mesh.edges.rows());
+    }
+    m_clothBvh = SurfaceBvh(m_triangles, x);
+
+    for (const ObstacleSpec& spec : scene.obstacles) {
+        ObstacleData o;
+        o.spec = &spec;
+        o.moves = obstacleMoves(spec);
+        obstaclePositionsAt(spec, 0.0, o.x1);
+        o.x0 = o.x1;
+        const int nv = static_cast<int>(spec.vertices.rows());
+        const int nt = static_cast<int>(spec.triangles.rows());
+        o.vertexTriangles.assign(static_cast<std::size_t>(nv), {});
+        o.vertexOwner.assign(static_cast<std::size_t>(nv), -1);
+        o.ownedVertices.assign(static_cast<std::size_t>(nt), {});
+        o.ownedEdges.assign(static_cast<std::size_t>(nt), {});
+        std::vector<std::array<int, 2>> edges;
+        for (int t = 0; t < nt; ++t) {
+            for (int k = 0; k < 3; ++k) {
+                const int a = spec.triangles(t, k), b = spec.triangles(t, (k + 1) % 3);
+                o.vertexTriangles[static_cast<std::size_t>(a)].push_back(t);
+                if (o.vertexOwner[static_cast<std::size_t>(a)] < 0) {
+                    o.vertexOwner[static_cast<std::size_t>(a)] = t;
+                    o.ownedVertices[static_cast<std::size_t>(t)].push_back(a);
+                }
+                const std::uint64_t key = pairKey(std::min(a, b), std::max(a, b));
+                const auto [it, inserted] = o.edgeIndex.emplace(key, static_cast<int>(edges.size()));
+                if (inserted) {
+                    edges.push_back({std::min(a, b), std::max(a, b)});
+                    o.edgeTriangles.push_back({t, -1});
+                    o.ownedEdges[static_cast<std::size_t>(t)].push_back(it->second);
+                } else {
+                    o.edgeTriangles[static_cast<std::size_t>(it->second)][1] = t;
+                }
+            }
+        }
+        o.edges.resize(static_cast<Eigen::Index>(edges.size()), 2);
+        for (std::size_t e = 0; e < edges.size(); ++e) {
+            o.edges(static_cast<Eigen::Index>(e), 0) = edges[e][0];
+            o.edges(static_cast<Eigen::Index>(e), 1) = edges[e][1];
+        }
+        o.bvh = SurfaceBvh(spec.triangles, o.x1);
+        m_obstacles.push_back(std::move(o));
+    }
+    m_trapped.assign(static_cast<std::size_t>(n), -1);
+    m_openSide.assign(static_cast<std::size_t>(n) * m_obstacles.size(), 0);
+}
+
+double CollisionStage::signedDistance(std::size_t k, const MatX3& xo, const Vec3& p,
+                                      double maxDistance, Vec3* closest, Vec3* outward) const {
+    const ObstacleData& o = m_obstacles[k];
+    const auto [tri, cp] = o.bvh.closestTriangle(xo, p, maxDistance);
+    if (tri < 0) {
+        return INF;
+    }
+    const MatX3i& f = o.spec->triangles;
+    const int ids[3] = {f(tri, 0), f(tri, 1), f(tri, 2)};
+    auto faceNormal = [&](int t) {
+        return triangleNormal(row(xo, f(t, 0)), row(xo, f(t, 1)), row(xo, f(t, 2)));
+    };
+    // Angle-weighted pseudo-normal of the closest feature (Bærentzen & Aanæs 2005): its sign
+    // against p − closest tells inside from outside exactly for a closed oriented mesh.
+    int zeros = 0;
+    for (double b : cp.bary) {
+        zeros += b <= 1e-12 ? 1 : 0;
+    }
+    Vec3 pseudo = faceNormal(tri);
+    if (zeros == 2) {
+        int v = ids[0];
+        for (int i = 0; i < 3; ++i) {
+            if (cp.bary[static_cast<std::size_t>(i)] > 1e-12) {
+                v = ids[i];
+            }
+        }
+        pseudo.setZero();
+        for (int t : o.vertexTriangles[static_cast<std::size_t>(v)]) {
+            int corner = 0;
+            for (int i = 0; i < 3; ++i) {
+                corner = f(t, i) == v ? i : corner;
+            }
+            const double angle = cornerAngle(row(xo, f(t, corner)), row(xo, f(t, (corner + 1) % 3)),
+                                             row(xo, f(t, (corner + 2) % 3)));
+            pseudo += angle * faceNormal(t);
+        }
+    } else if (zeros == 1) {
+        int a = -1, b = -1;
+        for (int i = 0; i < 3; ++i) {
+            if (cp.bary[static_cast<std::size_t>(i)] > 1e-12) {
+                (a < 0 ? a : b) = ids[i];
+            }
+        }
+        const auto it = o.edgeIndex.find(pairKey(std::min(a, b), std::max(a, b)));
+        if (it != o.edgeIndex.end()) {
+            const auto& et = o.edgeTriangles[static_cast<std::size_t>(it->second)];
+            pseudo = faceNormal(et[0]) + (et[1] >= 0 ? faceNormal(et[1]) : Vec3::Zero());
+        }
+    }
+    const Vec3 d = p - cp.point;
+    const double sign = d.dot(pseudo) >= 0 ? 1.0 : -1.0;
+    if (closest != nullptr) {
+        *closest = cp.point;
+    }
+    if (outward != nullptr) {
+        *outward = cp.distance > TINY ? Vec3(sign * d / cp.distance)
+                                      : Vec3(pseudo.normalized());
+    }
+    return sign * cp.distance;
+}
+
+void CollisionStage::findTrapped(std::size_t k, const MatX3& x) {
+    const ObstacleData& o = m_obstacles[k];
+    if (!o.spec->closed || o.bvh.empty()) {
+        return;
+    }
+    const Aabb& box = o.bvh.nodes()[static_cast<std::size_t>(o.bvh.root())].box;
+    for (int p = 0; p < x.rows(); ++p) {
+        if (m_trapped[static_cast<std::size_t>(p)] >= 0 || box.squaredDistance(row(x, p)) > 0) {
+            continue;
+        }
+        const double reach = (m_thickness[p] + o.spec->thickness) *
+                             (1.0 + m_scene.collision.proximityFactor);
+        if (signedDistance(k, o.x1, row(x, p), INF) < -reach) {
+            m_trapped[static_cast<std::size_t>(p)] = static_cast<int>(k);
+        }
+    }
+}
+
+void CollisionStage::extractTrapped(std::size_t k, double h, MatX3& xe, MatX3& ve) {
+    const ObstacleData& o = m_obstacles[k];
+    const int ki = static_cast<int>(k);
+    std::vector<int> trapped;
+    for (int p = 0; p < xe.rows(); ++p) {
+        if (m_trapped[static_cast<std::size_t>(p)] != ki) {
+            continue;
+        }
+        const double reach = (m_thickness[p] + o.spec->thickness) *
+                             (1.0 + m_scene.collision.proximityFactor);
+        if (signedDistance(k, o.x1, row(xe, p), INF) >= -reach) {
+            m_trapped[static_cast<std::size_t>(p)] = -1; // near the surface: contacts take over
+        } else {
+            trapped.push_back(p);
+        }
+    }
+    if (trapped.empty() || !(h > 0)) {
+        return;
+    }
+    // Each trapped vertex is carried toward where the cloth around it enters the obstacle:
+    // the surface point nearest the first free vertex found by a breadth-first walk over the
+    // cloth (the side it came from), not the nearest surface, which for a deep vertex may be
+    // on the far side.
+    std::unordered_map<int, Vec3> target;
+    std::deque<int> queue;
+    for (int p : trapped) {
+        for (int f : m_neighbours[static_cast<std::size_t>(p)]) {
+            if (m_trapped[static_cast<std::size_t>(f)] != ki) {
+                Vec3 closest, outward;
+                const double sd = signedDistance(k, o.x1, row(xe, f), INF, &closest, &outward);
+                if (std::isfinite(sd)) {
+                    const double d0 = m_thickness[p] + o.spec->thickness;
+                    target[p] = closest + 1.5 * d0 * outward;
+                    queue.push_back(p);
+                    break;
+                }
+            }
+        }
+    }
+    while (!queue.empty()) {
+        const int p = queue.front();
+        queue.pop_front();
+        for (int q : m_neighbours[static_cast<std::size_t>(p)]) {
+            if (m_trapped[static_cast<std::size_t>(q)] == ki && target.find(q) == target.end()) {
+                target[q] = target[p];
+                queue.push_back(q);
+            }
+        }
+    }
+    const double maxMove = m_scene.collision.extractionSpeed * h;
+    for (int p : trapped) {
+        auto it = target.find(p);
+        if (it == target.end()) {
+            Vec3 closest, outward;
+            signedDistance(k, o.x1, row(xe, p), INF, &closest, &outward);
+            it = target.emplace(p, closest + 1.5 * (m_thickness[p] + o.spec->thickness) * outward).first;
+        }
+        Vec3 delta = it->second - row(xe, p);
+        const double len = delta.norm();
+        if (len > maxMove) {
+            delta *= maxMove / len;
+        }
+        xe.row(p) += delta.transpose();
+        ve.row(p).setZero();
+    }
+}
+
+void CollisionStage::detectObstacle(std::size_t k, double h, const MatX3& xs, const MatX3& xe) {
+    ObstacleData& o = m_obstacles[k];
+    const ObstacleSpec& spec = *o.spec;
+    const int ki = static_cast<int>(k);
+    const double factor = 1.0 + m_scene.collision.proximityFactor;
+    const bool swept = m_scene.collision.continuous && h > 0;
+    const MatX3i& f = spec.triangles;
+    const std::size_t n = static_cast<std::size_t>(xe.rows());
+    m_pairs.clear();
+    m_clothBvh.overlaps(o.bvh, m_pairs);
+    m_figures.candidatePairs += static_cast<long>(m_pairs.size());
+    auto obstacleVelocity = [&](int v) -> Vec3 {
+        return (o.moves && h > 0) ? Vec3((row(o.x1, v) - row(o.x0, v)) / h) : Vec3::Zero();
+    };
+    auto trapped = [&](int v) { return m_trapped[static_cast<std::size_t>(v)] == ki; };
+    auto friction = [&](Contact& c, int clothVertex) {
+        const Material& m = m_scene.cloths[static_cast<std::size_t>(m_clothOf[static_cast<std::size_t>(clothVertex)])].material;
+        c.staticFriction = combine(m.staticFriction, spec.staticFriction);
+        c.kineticFriction = combine(m.kineticFriction, spec.kineticFriction);
+        c.obstacle = ki;
+    };
+    for (const auto& [a, b] : m_pairs) {
+        const int ob[3] = {f(b, 0), f(b, 1), f(b, 2)};
+        const Vec3 b0[3] = {row(o.x0, ob[0]), row(o.x0, ob[1]), row(o.x0, ob[2])};
+        const Vec3 b1[3] = {row(o.x1, ob[0]), row(o.x1, ob[1]), row(o.x1, ob[2])};
+        const Vec3 nb1 = triangleNormal(b1[0], b1[1], b1[2]);
+        const Vec3 nb0 = triangleNormal(b0[0], b0[1], b0[2]);
+        // Cloth vertices against the obstacle's face.
+        for (int p : m_ownedVertices[static_cast<std::size_t>(a)]) {
+            if (trapped(p)) {
+                continue;
+            }
+            const double d0 = m_thickness[p] + spec.thickness;
+            const Vec3 pe = row(xe, p), ps = row(xs, p);
+            signed char& open = m_openSide[k * n + static_cast<std::size_t>(p)];
+            signed char side = 1;
+            if (!spec.closed) {
+                if (open == 0) {
+                    const TrianglePoint cs = closestPointOnTriangle(ps, b0[0], b0[1], b0[2]);
+                    open = signOf(nb0.dot(ps - cs.point));
+                    open = open == 0 ? 1 : open;
+                }
+                side = open;
+            }
+            const Vec3 faceSide = side * nb1;
+            const TrianglePoint cp = closestPointOnTriangle(pe, b1[0], b1[1], b1[2]);
+            Contact c;
+            c.kind = Contact::Kind::VertexFace;
+            c.vertex[0] = p;
+            c.weight[0] = 1.0;
+            c.distance = d0;
+            if (cp.distance < d0 * factor) {
+                const Vec3 d = pe - cp.point;
+                c.normal = (d.dot(faceSide) > 0 && cp.distance > TINY) ? Vec3(d / cp.distance) : faceSide;
+                c.obstaclePoint = cp.point;
+                c.obstacleVelocity = cp.bary[0] * obstacleVelocity(ob[0]) +
+                                     cp.bary[1] * obstacleVelocity(ob[1]) +
+                                     cp.bary[2] * obstacleVelocity(ob[2]);
+            } else if (swept && (o.moves || ps != pe)) {
+                if (!sweptBoxesNear<2, 6>({&ps, &pe}, {&b0[0], &b0[1], &b0[2], &b1[0], &b1[1], &b1[2]}, d0)) {
+                    continue;
+                }
+                const auto hit = sweptVertexTriangle(ps, pe, b0[0], b1[0], b0[1], b1[1], b0[2], b1[2], d0);
+                if (!hit) {
+                    continue;
+                }
+                ++m_figures.continuousHits;
+                c.normal = faceSide;
+                c.obstaclePoint = hit->coords[0] * b1[0] + hit->coords[1] * b1[1] + hit->coords[2] * b1[2];
+                c.obstacleVelocity = hit->coords[0] * obstacleVelocity(ob[0]) +
+                                     hit->coords[1] * obstacleVelocity(ob[1]) +
+                                     hit->coords[2] * obstacleVelocity(ob[2]);
+            } else {
+                continue;
+            }
+            friction(c, p);
+            m_contacts.push_back(c);
+        }
+        const int ca[3] = {m_triangles(a, 0), m_triangles(a, 1), m_triangles(a, 2)};
+        if (trapped(ca[0]) || trapped(ca[1]) || trapped(ca[2])) {
+            continue;
+        }
+        const Vec3 as[3] = {row(xs, ca[0]), row(xs, ca[1]), row(xs, ca[2])};
+        const Vec3 ae[3] = {row(xe, ca[0]), row(xe, ca[1]), row(xe, ca[2])};
+        const double clothThickness = std::max({m_thickness[ca[0]], m_thickness[ca[1]], m_thickness[ca[2]]});
+        const double d0 = clothThickness + spec.thickness;
+        // Obstacle vertices against the cloth's face (a box corner poking the cloth).
+        for (int q : o.ownedVertices[static_cast<std::size_t>(b)]) {
+            const Vec3 q0 = row(o.x0, q), q1 = row(o.x1, q);
+            const TrianglePoint cp = closestPointOnTriangle(q1, ae[0], ae[1], ae[2]);
+            const bool near = cp.distance < d0 * factor;
+            std::optional<SweptHit> hit;
+            if (!near) {
+                if (!swept) {
+                    continue;
+                }
+                if (!sweptBoxesNear<2, 6>({&q0, &q1}, {&as[0], &as[1], &as[2], &ae[0], &ae[1], &ae[2]}, d0)) {
+                    continue;
+                }
+                hit = sweptVertexTriangle(q0, q1, as[0], ae[0], as[1], ae[1], as[2], ae[2], d0);
+                if (!hit) {
+                    continue;
+                }
+                ++m_figures.continuousHits;
+            }
+            // The cloth stays on the side of the obstacle vertex where it was at the start.
+            const Vec3 nas = triangleNormal(as[0], as[1], as[2]);
+            const TrianglePoint cs = closestPointOnTriangle(q0, as[0], as[1], as[2]);
+            double sA = nas.dot(q0 - cs.point) >= 0 ? 1.0 : -1.0;
+            if (spec.closed) {
+                // Trust the obstacle's outside: the cloth point should be outside q's faces.
+                Vec3 outward = Vec3::Zero();
+                for (int t : o.vertexTriangles[static_cast<std::size_t>(q)]) {
+                    outward += triangleNormal(row(o.x1, f(t, 0)), row(o.x1, f(t, 1)), row(o.x1, f(t, 2)));
+                }
+                const Vec3 nae = triangleNormal(ae[0], ae[1], ae[2]);
+                if (outward.squaredNorm() > 0 && std::abs(outward.normalized().dot(nae)) > 0.5) {
+                    sA = outward.dot(nae) > 0 ? -1.0 : 1.0;
+                }
+            }
+            const Vec3 away = -sA * triangleNormal(ae[0], ae[1], ae[2]);
+            Contact c;
+            c.kind = Contact::Kind::FaceVertex;
+            c.distance = d0;
+            const std::array<double, 3> bary = near ? cp.bary : hit->coords;
+            for (int i = 0; i < 3; ++i) {
+                c.vertex[i] = ca[i];
+                c.weight[i] = bary[static_cast<std::size_t>(i)];
+            }
+            const Vec3 d = cp.point - q1;
+            c.normal = (near && d.dot(away) > 0 && cp.distance > TINY) ? Vec3(d / cp.distance) : away;
+            if (c.normal.squaredNorm() == 0) {
+                continue;
+            }
+            c.obstaclePoint = q1;
+            c.obstacleVelocity = obstacleVelocity(q);
+            friction(c, ca[0]);
+            m_contacts.push_back(c);
+        }
+        // Cloth edges against obstacle edges.
+        for (int e : m_ownedEdges[static_cast<std::size_t>(a)]) {
+            const int e0 = m_edges(e, 0), e1 = m_edges(e, 1);
+            const double de0 = std::max(m_thickness[e0], m_thickness[e1]) + spec.thickness;
+            for (int g : o.ownedEdges[static_cast<std::size_t>(b)]) {
+                const int g0 = o.edges(g, 0), g1 = o.edges(g, 1);
+                {
+                    const Vec3 p0 = row(xs, e0), p1 = row(xe, e0), p2 = row(xs, e1), p3 = row(xe, e1);
+                    const Vec3 q0 = row(o.x0, g0), q1 = row(o.x1, g0), q2 = row(o.x0, g1), q3 = row(o.x1, g1);
+                    if (!sweptBoxesNear<4, 4>({&p0, &p1, &p2, &p3}, {&q0, &q1, &q2, &q3}, de0 * factor)) {
+                        continue;
+                    }
+                }
+                const SegmentPoints sp =
+                    closestPointsOfSegments(row(xe, e0), row(xe, e1), row(o.x1, g0), row(o.x1, g1));
+                double s = sp.s, t = sp.t;
+                // Edge–edge proximity only between interior points: when a closest point is an
+                // end, the vertex–face tests cover it, and the direction between the points is
+                // not a surface normal (it may be sideways).
+                const bool near = sp.distance < de0 * factor && interior(s) && interior(t);
+                if (!near) {
+                    if (!swept) {
+                        continue;
+                    }
+                    const auto hit = sweptEdgeEdge(row(xs, e0), row(xe, e0), row(xs, e1), row(xe, e1),
+                                                   row(o.x0, g0), row(o.x1, g0), row(o.x0, g1),
+                                                   row(o.x1, g1), de0);
+                    if (!hit || !interior(hit->coords[0]) || !interior(hit->coords[1])) {
+                        continue;
+                    }
+                    ++m_figures.continuousHits;
+                    s = hit->coords[0];
+                    t = hit->coords[1];
+                }
+                const Vec3 pe = (1 - s) * row(xe, e0) + s * row(xe, e1);
+                const Vec3 qe = (1 - t) * row(o.x1, g0) + t * row(o.x1, g1);
+                const Vec3 ds = ((1 - s) * row(xs, e0) + s * row(xs, e1)) -
+                                ((1 - t) * row(o.x0, g0) + t * row(o.x0, g1));
+                Vec3 de = pe - qe;
+                Vec3 normal;
+                if (near && de.dot(ds) > 0 && de.norm() > TINY) {
+                    normal = de.normalized();
+                } else if (ds.norm() > TINY) {
+                    normal = ds.normalized();
+                } else {
+                    const auto& et = o.edgeTriangles[static_cast<std::size_t>(g)];
+                    normal = triangleNormal(row(o.x1, f(et[0], 0)), row(o.x1, f(et[0], 1)), row(o.x1, f(et[0], 2)));
+                    if (et[1] >= 0) {
+                        normal += triangleNormal(row(o.x1, f(et[1], 0)), row(o.x1, f(et[1], 1)), row(o.x1, f(et[1], 2)));
+                    }
+                    if (normal.norm() < TINY) {
+                        continue;
+                    }
+                    normal.normalize();
+                }
+                Contact c;
+                c.kind = Contact::Kind::EdgeEdge;
+                c.vertex[0] = e0;
+                c.vertex[1] = e1;
+                c.weight[0] = 1 - s;
+                c.weight[1] = s;
+                c.distance = de0;
+                c.normal = normal;
+                c.obstaclePoint = qe;
+                c.obstacleVelocity = (1 - t) * obstacleVelocity(g0) + t * obstacleVelocity(g1);
+                friction(c, e0);
+                m_contacts.push_back(c);
+            }
+        }
+    }
+}
+
+void CollisionStage::detectSelf(const MatX3& xs, const MatX3& xe) {
+    const double factor = 1.0 + m_scene.collision.proximityFactor;
+    const bool swept = m_scene.collision.continuous && &xs != &xe;
+    m_pairs.clear();
+    m_clothBvh.selfOverlaps(m_pairs);
+    m_figures.candidatePairs += static_cast<long>(m_pairs.size());
+    auto material = [&](int v) -> const Material& {
+        return m_scene.cloths[static_cast<std::size_t>(m_clothOf[static_cast<std::size_t>(v)])].material;
+    };
+    for (const auto& [ta, tb] : m_pairs) {
+        if (!m_selfCloth[static_cast<std::size_t>(m_triangleCloth[static_cast<std::size_t>(ta)])] ||
+            !m_selfCloth[static_cast<std::size_t>(m_triangleCloth[static_cast<std::size_t>(tb)])]) {
+            continue;
+        }
+        for (int dir = 0; dir < 2; ++dir) {
+            const int a = dir == 0 ? ta : tb;
+            const int b = dir == 0 ? tb : ta;
+            const int fb[3] = {m_triangles(b, 0), m_triangles(b, 1), m_triangles(b, 2)};
+            const Vec3 bs[3] = {row(xs, fb[0]), row(xs, fb[1]), row(xs, fb[2])};
+            const Vec3 be[3] = {row(xe, fb[0]), row(xe, fb[1]), row(xe, fb[2])};
+            const double tb0 = std::max({m_thickness[fb[0]], m_thickness[fb[1]], m_thickness[fb[2]]});
+            for (int p : m_ownedVertices[static_cast<std::size_t>(a)]) {
+                if (p == fb[0] || p == fb[1] || p == fb[2]) {
+                    continue;
+                }
+                const double d0 = m_thickness[p] + tb0;
+                const Vec3 pe = row(xe, p);
+                const TrianglePoint cp = closestPointOnTriangle(pe, be[0], be[1], be[2]);
+                std::array<double, 3> bary = cp.bary;
+                if (!(cp.distance < d0 * factor)) {
+                    if (!swept) {
+                        continue;
+                    }
+                    const Vec3 ps = row(xs, p);
+                    if (!sweptBoxesNear<2, 6>({&ps, &pe}, {&bs[0], &bs[1], &bs[2], &be[0], &be[1], &be[2]}, d0)) {
+                        continue;
+                    }
+                    const auto hit = sweptVertexTriangle(ps, pe, bs[0], be[0], bs[1], be[1], bs[2], be[2], d0);
+                    if (!hit) {
+                        continue;
+                    }
+                    ++m_figures.continuousHits;
+                    bary = hit->coords;
+                }
+                // Side: remembered, else where the vertex was at the step's start.
+                const std::uint64_t key = pairKey(p, b);
+                signed char side = 0;
+                const auto mem = m_memory.find(key);
+                if (mem != m_memory.end()) {
+                    side = mem->second.side;
+                } else {
+                    const Vec3 ps = row(xs, p);
+                    const Vec3 onB = bary[0] * bs[0] + bary[1] * bs[1] + bary[2] * bs[2];
+                    side = signOf(triangleNormal(bs[0], bs[1], bs[2]).dot(ps - onB));
+                    side = side == 0 ? 1 : side;
+                }
+                const Vec3 nb = triangleNormal(be[0], be[1], be[2]);
+                if (nb.squaredNorm() == 0) {
+                    continue;
+                }
+                Contact c;
+                c.kind = Contact::Kind::SelfVertexFace;
+                c.vertex[0] = p;
+                c.weight[0] = 1.0;
+                for (int i = 0; i < 3; ++i) {
+                    c.vertex[i + 1] = fb[i];
+                    c.weight[i + 1] = -bary[static_cast<std::size_t>(i)];
+                }
+                c.distance = d0;
+                c.normal = side * nb;
+                c.staticFriction = combine(material(p).staticFriction, material(fb[0]).staticFriction);
+                c.kineticFriction = combine(material(p).kineticFriction, material(fb[0]).kineticFriction);
+                m_contacts.push_back(c);
+                m_contactKey.resize(m_contacts.size(), 0);
+                m_contactSide.resize(m_contacts.size(), 0);
+                m_contactKey.back() = key;
+                m_contactSide.back() = side;
+            }
+        }
+        // Edge–edge, each unordered pair of owned edges once.
+        for (int e : m_ownedEdges[static_cast<std::size_t>(ta)]) {
+            const int e0 = m_edges(e, 0), e1 = m_edges(e, 1);
+            for (int g : m_ownedEdges[static_cast<std::size_t>(tb)]) {
+                const int g0 = m_edges(g, 0), g1 = m_edges(g, 1);
+                if (e0 == g0 || e0 == g1 || e1 == g0 || e1 == g1) {
+                    continue;
+                }
+                const double d0 = std::max(m_thickness[e0], m_thickness[e1]) +
+                                  std::max(m_thickness[g0], m_thickness[g1]);
+                {
+                    const Vec3 p0 = row(xs, e0), p1 = row(xe, e0), p2 = row(xs, e1), p3 = row(xe, e1);
+                    const Vec3 q0 = row(xs, g0), q1 = row(xe, g0), q2 = row(xs, g1), q3 = row(xe, g1);
+                    if (!sweptBoxesNear<4, 4>({&p0, &p1, &p2, &p3}, {&q0, &q1, &q2, &q3}, d0 * factor)) {
+                        continue;
+                    }
+                }
+                const SegmentPoints sp = closestPointsOfSegments(row(xe, e0), row(xe, e1), row(xe, g0), row(xe, g1));
+                double s = sp.s, t = sp.t;
+                const bool near = sp.distance < d0 * factor && interior(s) && interior(t);
+                if (!near) {
+                    if (!swept) {
+                        continue;
+                    }
+                    const auto hit = sweptEdgeEdge(row(xs, e0), row(xe, e0), row(xs, e1), row(xe, e1),
+                                                   row(xs, g0), row(xe, g0), row(xs, g1), row(xe, g1), d0);
+                    if (!hit || !interior(hit->coords[0]) || !interior(hit->coords[1])) {
+                        continue;
+                    }
+                    ++m_figures.continuousHits;
+                    s = hit->coords[0];
+                    t = hit->coords[1];
+                }
+                const Vec3 de = ((1 - s) * row(xe, e0) + s * row(xe, e1)) - ((1 - t) * row(xe, g0) + t * row(xe, g1));
+                const Vec3 ds = ((1 - s) * row(xs, e0) + s * row(xs, e1)) - ((1 - t) * row(xs, g0) + t * row(xs, g1));
+                Vec3 normal;
+                if (near && de.dot(ds) > 0 && de.norm() > TINY) {
+                    normal = de.normalized();
+                } else if (ds.norm() > TINY) {
+                    normal = ds.normalized();
+                } else {
+                    continue;
+                }
+                Contact c;
+                c.kind = Contact::Kind::SelfEdgeEdge;
+                c.vertex[0] = e0;
+                c.vertex[1] = e1;
+                c.vertex[2] = g0;
+                c.vertex[3] = g1;
+                c.weight[0] = 1 - s;
+                c.weight[1] = s;
+                c.weight[2] = -(1 - t);
+                c.weight[3] = -t;
+                c.distance = d0;
+                c.normal = normal;
+                c.staticFriction = combine(material(e0).staticFriction, material(g0).staticFriction);
+                c.kineticFriction = combine(material(e0).kineticFriction, material(g0).kineticFriction);
+                m_contacts.push_back(c);
+            }
+        }
+    }
+    m_contactKey.resize(m_contacts.size(), 0);
+    m_contactSide.resize(m_contacts.size(), 0);
+}
+
+void CollisionStage::voteRegions(const MatX3& xe) {
+    (void)xe;
+    // Contact regions (§5.2): self vertex–face contacts whose vertices are equal or adjacent
+    // and whose faces share a vertex belong to one region; the region takes the side most of
+    // its members hold, and every member is given it.
+    std::vector<int> members;
+    for (std::size_t i = 0; i < m_contacts.size(); ++i) {
+        if (m_contacts[i].kind == Contact::Kind::SelfVertexFace) {
+            members.push_back(static_cast<int>(i));
+        }
+    }
+    if (members.empty()) {
+        return;
+    }
+    std::vector<int> parent(m_contacts.size());
+    std::iota(parent.begin(), parent.end(), 0);
+    auto find = [&](int i) {
+        while (parent[static_cast<std::size_t>(i)] != i) {
+            parent[static_cast<std::size_t>(i)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(i)])];
+            i = parent[static_cast<std::size_t>(i)];
+        }
+        return i;
+    };
+    std::unordered_map<int, std::vector<int>> byVertex;
+    for (int i : members) {
+        byVertex[m_contacts[static_cast<std::size_t>(i)].vertex[0]].push_back(i);
+    }
+    auto faceOf = [&](int i) {
+        const Contact& c = m_contacts[static_cast<std::size_t>(i)];
+        return std::array<int, 3>{c.vertex[1], c.vertex[2], c.vertex[3]};
+    };
+    auto shareVertex = [](const std::array<int, 3>& a, const std::array<int, 3>& b) {
+        for (int u : a) {
+            for (int w : b) {
+                if (u == w) {
+                    return true;
+                }
+            }
+        }
+        return false;
+    };
+    for (int i : members) {
+        const int p = m_contacts[static_cast<std::size_t>(i)].vertex[0];
+        const auto fi = faceOf(i);
+        auto visit = [&](int q) {
+            const auto it = byVertex.find(q);
+            if (it == byVertex.end()) {
+                return;
+            }
+            for (int j : it->second) {
+                if (j != i && shareVertex(fi, faceOf(j))) {
+                    parent[static_cast<std::size_t>(find(i))] = find(j);
+                }
+            }
+        };
+        visit(p);
+        for (int q : m_neighbours[static_cast<std::size_t>(p)]) {
+            visit(q);
+        }
+    }
+    m_flippedFrom = m_contactSide;
+    std::unordered_map<int, long> vote;
+    for (int i : members) {
+        vote[find(i)] += m_contactSide[static_cast<std::size_t>(i)];
+    }
+    for (int i : members) {
+        const long v = vote[find(i)];
+        signed char& side = m_contactSide[static_cast<std::size_t>(i)];
+        const signed char regionSide = v > 0 ? 1 : (v < 0 ? -1 : side);
+        if (regionSide != side) {
+            ++m_figures.regionFlips;
+            m_contacts[static_cast<std::size_t>(i)].normal *= -1.0;
+            side = regionSide;
+        }
+        Memory& m = m_memory[m_contactKey[static_cast<std::size_t>(i)]];
+        m.side = side;
+        m.lastStep = m_step;
+    }
+    // Edge–edge contacts take their side from the step's start; where the vote found that start
+    // tangled, that side is wrong, so edge–edge contacts touching a flipped region are dropped
+    // and the vertex–face contacts alone pull the layers apart.
+    std::vector<char> flipped;
+    for (int i : members) {
+        const Contact& c = m_contacts[static_cast<std::size_t>(i)];
+        if (m_contactSide[static_cast<std::size_t>(i)] != m_flippedFrom[static_cast<std::size_t>(i)]) {
+            if (flipped.empty()) {
+                flipped.assign(m_neighbours.size(), 0);
+            }
+            for (int k = 0; k < 4; ++k) {
+                flipped[static_cast<std::size_t>(c.vertex[k])] = 1;
+            }
+        }
+    }
+    if (!flipped.empty()) {
+        std::size_t out = 0;
+        for (std::size_t i = 0; i < m_contacts.size(); ++i) {
+            const Contact& c = m_contacts[i];
+            const bool drop = c.kind == Contact::Kind::SelfEdgeEdge &&
+                              (flipped[static_cast<std::size_t>(c.vertex[0])] || flipped[static_cast<std::size_t>(c.vertex[1])] ||
+                               flipped[static_cast<std::size_t>(c.vertex[2])] || flipped[static_cast<std::size_t>(c.vertex[3])]);
+            if (!drop) {
+                m_contacts[out] = c;
+                m_contactKey[out] = m_contactKey[i];
+                m_contactSide[out] = m_contactSide[i];
+                ++out;
+            }
+        }
+        m_contacts.resize(out);
+        m_contactKey.resize(out);
+        m_contactSide.resize(out);
+    }
+}
+
+void CollisionStage::project(MatX3& xe, MatX3& ve, const VecX& invMass, double h) {
+    for (Contact& c : m_contacts) {
+        c.active = false;
+    }
+    const int iterations = std::max(1, m_scene.collision.iterations);
+    for (int it = 0; it < iterations; ++it) {
+        bool moved = false;
+        for (Contact& c : m_contacts) {
+            const double w = effectiveInverseMass(c, invMass);
+            if (!(w > 0)) {
+                continue;
+            }
+            const double gap = c.normal.dot(combination(c, xe) - c.obstaclePoint);
+            const double violation = c.distance - gap;
+            if (violation > 0) {
+                distribute(c, invMass, w, violation * c.normal, xe);
+                c.active = true; // it pushed: it is a touching contact
+                moved = true;
+            }
+        }
+        if (!moved) {
+            break;
+        }
+    }
+    long active = 0;
+    for (Contact& c : m_contacts) {
+        const double gap = c.normal.dot(combination(c, xe) - c.obstaclePoint);
+        c.active = c.active || gap <= c.distance * (1.0 + TOUCH) + TINY;
+        active += c.active ? 1 : 0;
+    }
+    // Velocities: touching contacts stop approaching, with friction; contacts still apart may
+    // approach only as fast as closes their gap within a step of the same length, so the next
+    // step does not carry them into each other (no friction until they touch).
+    for (int pass = 0; pass < 2; ++pass) {
+        for (const Contact& c : m_contacts) {
+            if (c.active) {
+                velocityCorrection(c, invMass, ve, 0.0, true);
+            } else if (h > 0) {
+                const double gap = c.normal.dot(combination(c, xe) - c.obstaclePoint);
+                velocityCorrection(c, invMass, ve, -(gap - c.distance) / h, false);
+            }
+        }
+    }
+    m_figures.contacts = active;
+}
+
+void CollisionStage::update(double t0, double t1, const MatX3& xs, MatX3& xe, MatX3& ve,
+                            const VecX& invMass) {
+    const double h = t1 - t0;
+    ++m_step;
+    const double factor = 1.0 + m_scene.collision.proximityFactor;
+    m_contacts.clear();
+    m_contactKey.clear();
+    m_contactSide.clear();
+    const bool swept = &xs != &xe && h > 0;
+    m_clothBvh.refit(xs, swept ? &xe : nullptr, m_maxThickness * factor);
+    const bool insideCheck = t1 - m_lastInsideCheck >= 1.0 / 30.0 - 1e-12;
+    for (std::size_t k = 0; k < m_obstacles.size(); ++k) {
+        ObstacleData& o = m_obstacles[k];
+        if (o.moves) {
+            obstaclePositionsAt(*o.spec, t0, o.x0);
+            obstaclePositionsAt(*o.spec, t1, o.x1);
+        }
+        o.bvh.refit(o.x0, o.moves && h > 0 ? &o.x1 : nullptr, o.spec->thickness * factor);
+        if (insideCheck) {
+            findTrapped(k, xe);
+        }
+        extractTrapped(k, h, xe, ve);
+        detectObstacle(k, h, xs, xe);
+    }
+    if (insideCheck) {
+        m_lastInsideCheck = t1;
+    }
+    if (m_anySelf) {
+        detectSelf(xs, xe);
+        voteRegions(xe);
+        if (m_step % 64 == 0) {
+            for (auto it = m_memory.begin(); it != m_memory.end();) {
+                it = m_step - it->second.lastStep > MEMORY_STEPS ? m_memory.erase(it) : std::next(it);
+            }
+        }
+    }
+    project(xe, ve, invMass, h);
+    long trapped = 0;
+    for (int v : m_trapped) {
+        trapped += v >= 0 ? 1 : 0;
+    }
+    m_figures.trappedVertices = trapped;
+}
+
+double CollisionStage::correctAccelerations(const MatX3& vs, MatX3& a, const VecX& mass,
+                                            const VecX& invMass, double h) const {
+    double power = 0;
+    for (const Contact& c : m_contacts) {
+        if (!c.active) {
+            continue;
+        }
+        const double w = effectiveInverseMass(c, invMass);
+        if (!(w > 0)) {
+            continue;
+        }
+        const Vec3 arel = combination(c, a);
+        const double an = c.normal.dot(arel);
+        if (an >= 0) {
+            continue; // separating: the contact does not pull
+        }
+        const double pressure = -an; // normal acceleration the contact must supply [m/s²]
+        Vec3 delta = pressure * c.normal;
+        const Vec3 u = combination(c, vs) - c.obstacleVelocity;
+        const Vec3 ut = u - c.normal.dot(u) * c.normal;
+        const double utn = ut.norm();
+        if (utn > c.kineticFriction * pressure * h && utn > 0) {
+            // Sliding: kinetic friction against the relative tangential velocity.
+            delta -= (c.kineticFriction * pressure / utn) * ut;
+        } else {
+            // At rest (or stopping within this step): cancel the tangential acceleration and the
+            // remaining slip if the static cone allows, else kinetic friction against it.
+            const Vec3 at = arel - an * c.normal;
+            const Vec3 need = -(at + (h > 0 ? Vec3(ut / h) : Vec3::Zero()));
+            const double needN = need.norm();
+            if (needN <= c.staticFriction * pressure) {
+                delta += need;
+            } else if (needN > 0) {
+                delta += (c.kineticFriction * pressure / needN) * need;
+            }
+        }
+        for (int k = 0; k < 4; ++k) {
+            const int i = c.vertex[k];
+            if (i >= 0 && invMass[i] > 0) {
+                const Vec3 dai = c.weight[k] * invMass[i] / w * delta;
+                a.row(i) += dai.transpose();
+                power += mass[i] * dai.dot(row(vs, i));
+            }
+        }
+    }
+    return power;
+}
+
+void CollisionStage::correctVelocities(MatX3& v, const VecX& invMass) const {
+    for (int pass = 0; pass < 2; ++pass) {
+        for (const Contact& c : m_contacts) {
+            if (c.active) {
+                velocityCorrection(c, invMass, v, 0.0, true);
+            }
+        }
+    }
+}
+
+double CollisionStage::penetration(const MatX3& x) {
+    double worst = 0;
+    const std::size_t n = static_cast<std::size_t>(x.rows());
+    for (std::size_t k = 0; k < m_obstacles.size(); ++k) {
+        ObstacleData& o = m_obstacles[k];
+        const double th = o.spec->thickness;
+        o.bvh.refit(o.x1, nullptr, th);
+        const Aabb& box = o.bvh.nodes()[static_cast<std::size_t>(o.bvh.root())].box;
+        for (int p = 0; p < x.rows(); ++p) {
+            const Vec3 xp = row(x, p);
+            if (box.squaredDistance(xp) > 0) {
+                continue;
+            }
+            double sd;
+            if (o.spec->closed) {
+                sd = signedDistance(k, o.x1, xp, INF);
+            } else {
+                const auto [tri, cp] = o.bvh.closestTriangle(o.x1, xp, th);
+                if (tri < 0) {
+                    continue;
+                }
+                const MatX3i& f = o.spec->triangles;
+                const Vec3 nf = triangleNormal(row(o.x1, f(tri, 0)), row(o.x1, f(tri, 1)), row(o.x1, f(tri, 2)));
+                const signed char side = m_openSide[k * n + static_cast<std::size_t>(p)];
+                const double along = nf.dot(xp - cp.point);
+                sd = side == 0 ? cp.distance : (along * side >= 0 ? cp.distance : -cp.distance);
+            }
+            worst = std::max(worst, th - sd);
+        }
+    }
+    return worst;
+}
+
+long CollisionStage::intersectingTrianglePairs(const MatX3& x, long* clothObstacle) {
+    long count = 0;
+    m_clothBvh.refit(x, nullptr, 0.0);
+    m_pairs.clear();
+    SelfQueryOptions all;
+    all.cullingAngle = 4.0; // no culling: the count must be exact
+    m_clothBvh.selfOverlaps(m_pairs, all);
+    for (const auto& [a, b] : m_pairs) {
+        bool shared = false;
+        for (int i = 0; i < 3; ++i) {
+            for (int j = 0; j < 3; ++j) {
+                shared = shared || m_triangles(a, i) == m_triangles(b, j);
+            }
+        }
+        if (!shared && trianglesIntersect(row(x, m_triangles(a, 0)), row(x, m_triangles(a, 1)),
+                                          row(x, m_triangles(a, 2)), row(x, m_triangles(b, 0)),
+                                          row(x, m_triangles(b, 1)), row(x, m_triangles(b, 2)))) {
+            ++count;
+        }
+    }
+    long obstacleCount = 0;
+    for (ObstacleData& o : m_obstacles) {
+        o.bvh.refit(o.x1, nullptr, 0.0);
+        m_pairs.clear();
+        m_clothBvh.overlaps(o.bvh, m_pairs);
+        const MatX3i& f = o.spec->triangles;
+        for (const auto& [a, b] : m_pairs) {
+            if (trianglesIntersect(row(x, m_triangles(a, 0)), row(x, m_triangles(a, 1)),
+                                   row(x, m_triangles(a, 2)), row(o.x1, f(b, 0)), row(o.x1, f(b, 1)),
+                                   row(o.x1, f(b, 2)))) {
+                ++count;
+                ++obstacleCount;
+            }
+        }
+    }
+    if (clothObstacle != nullptr) {
+        *clothObstacle = obstacleCount;
+    }
+    return count;
+}
+
+} // namespace atelier::sim

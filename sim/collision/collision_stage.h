@@ -1,0 +1,139 @@
+#pragma once
+/// The collision stage of the step loop (Volino & Magnenat-Thalmann 1997 §4–6): detection on
+/// refitted hierarchies (cloth–obstacle, cloth–cloth with curvature culling), proximity and
+/// continuous narrow phase, contact regions with a consistent orientation, and the response
+/// as kinematic corrections: positions and velocities (A) after each step, accelerations (B)
+/// during the next, with Coulomb friction.
+
+#include "sim/collision/bvh.h"
+#include "sim/scene.h"
+
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+namespace atelier::sim {
+
+/// One contact: the constraint n · r ≥ distance on the relative position
+/// \f$ r = \sum_k w_k x_k - q \f$ of cloth vertices (up to four, weights w) and an obstacle
+/// point q (zero for cloth–cloth).
+struct Contact {
+    enum class Kind : std::uint8_t { VertexFace, FaceVertex, EdgeEdge, SelfVertexFace, SelfEdgeEdge };
+    Kind kind = Kind::VertexFace;
+    int vertex[4] = {-1, -1, -1, -1}; ///< global cloth vertices (-1 unused)
+    double weight[4] = {0, 0, 0, 0};
+    Vec3 obstaclePoint = Vec3::Zero();    ///< q at the end of the step [m]
+    Vec3 obstacleVelocity = Vec3::Zero(); ///< dq/dt over the step [m/s]
+    Vec3 normal = Vec3::UnitY();          ///< unit direction in which r must stay
+    double distance = 0;                  ///< contact distance (sum of thicknesses) [m]
+    double staticFriction = 0;
+    double kineticFriction = 0;
+    bool active = false; ///< touching after the position correction (B acts on it)
+    int obstacle = -1;   ///< obstacle index, or -1 for cloth–cloth
+};
+
+/// Figures of the collision stage.
+struct CollisionFigures {
+    long contacts = 0;           ///< active contacts after the last step
+    long candidatePairs = 0;     ///< triangle pairs from the hierarchies in the last step
+    long continuousHits = 0;     ///< contacts found only by the swept test, in total
+    long trappedVertices = 0;    ///< cloth vertices inside a closed obstacle now
+    long regionFlips = 0;        ///< contacts whose side the region vote changed, in total
+};
+
+class CollisionStage {
+  public:
+    /// `offsets`: first global vertex of each cloth plus the total; `x` the initial positions.
+    CollisionStage(const SceneSpec& scene, const std::vector<int>& offsets, const MatX3& x);
+
+    /// Whether the scene needs the stage at all (obstacles, or a cloth with self-collision).
+    static bool needed(const SceneSpec& scene);
+    bool selfCollision() const { return m_anySelf; }
+
+    /// After a step from (xs at t0) to (xe, ve at t1): detects contacts (proximity at the end,
+    /// swept over the step) and corrects xe and ve (A). Vertices with invMass 0 do not move.
+    /// Also used at the start with t0 == t1 and xs == xe.
+    void update(double t0, double t1, const MatX3& xs, MatX3& xe, MatX3& ve, const VecX& invMass);
+
+    /// B: corrects the accelerations `a` at stage velocities `vs` so active contacts do not
+    /// re-approach, with Coulomb friction (stick below the static threshold, kinetic above).
+    /// `h` is the step. Returns the power of the corrections on the cloth Σ m Δa·v [W].
+    double correctAccelerations(const MatX3& vs, MatX3& a, const VecX& mass, const VecX& invMass,
+                                double h) const;
+    /// Implicit integrators: the same constraint and friction on end-of-step velocities.
+    void correctVelocities(MatX3& v, const VecX& invMass) const;
+
+    /// Deepest cloth vertex inside an obstacle beyond the obstacle's thickness at positions x
+    /// and the obstacles' positions of the last update: max over vertices and obstacles of max(0, thickness − signed distance)
+    /// [m]. Exact up to floating point (closest points, angle-weighted pseudo-normals).
+    double penetration(const MatX3& x);
+    /// Exact count of intersecting triangle pairs at positions x and the obstacles' positions of
+    /// the last update: cloth–cloth
+    /// (pairs sharing a vertex excluded) and cloth–obstacle.
+    /// `clothObstacle`, if given, receives the cloth–obstacle part of the count.
+    long intersectingTrianglePairs(const MatX3& x, long* clothObstacle = nullptr);
+
+    const std::vector<Contact>& contacts() const { return m_contacts; }
+    const CollisionFigures& figures() const { return m_figures; }
+    /// World positions of obstacle k at the last update (|V_k|×3).
+    const MatX3& obstaclePositions(int k) const { return m_obstacles[static_cast<std::size_t>(k)].x1; }
+
+  private:
+    struct ObstacleData {
+        const ObstacleSpec* spec = nullptr;
+        SurfaceBvh bvh;
+        MatX3 x0, x1;              ///< positions at the step's start and end
+        MatX2i edges;              ///< unique edges
+        std::vector<int> edgeOwner; ///< per edge: the triangle that tests it
+        std::vector<int> vertexOwner; ///< per vertex: the triangle that tests it
+        std::vector<std::vector<int>> vertexTriangles;
+        std::vector<std::array<int, 2>> edgeTriangles; ///< per edge: its two triangles
+        std::unordered_map<std::uint64_t, int> edgeIndex;
+        std::vector<std::vector<int>> ownedVertices, ownedEdges; ///< per triangle
+        bool moves = false;
+    };
+    struct Memory {
+        signed char side = 0;
+        long lastStep = 0;
+    };
+
+    void detectObstacle(std::size_t k, double h, const MatX3& xs, const MatX3& xe);
+    void detectSelf(const MatX3& xs, const MatX3& xe);
+    void voteRegions(const MatX3& xe);
+    void extractTrapped(std::size_t k, double h, MatX3& xe, MatX3& ve);
+    void findTrapped(std::size_t k, const MatX3& x);
+    void project(MatX3& xe, MatX3& ve, const VecX& invMass, double h);
+    /// Signed distance of p to closed obstacle k at its current positions (negative inside),
+    /// searching up to `maxDistance` (+inf: everywhere); +inf when farther.
+    double signedDistance(std::size_t k, const MatX3& xo, const Vec3& p, double maxDistance,
+                          Vec3* closest = nullptr, Vec3* outward = nullptr) const;
+
+    const SceneSpec& m_scene;
+    std::vector<int> m_offsets;
+    std::vector<int> m_clothOf;       ///< per global vertex
+    VecX m_thickness;                 ///< per global vertex [m]
+    MatX3i m_triangles;               ///< all cloth triangles, global vertex indices
+    std::vector<int> m_triangleCloth; ///< per triangle
+    MatX2i m_edges;                   ///< all cloth edges, global
+    std::vector<std::vector<int>> m_ownedVertices, m_ownedEdges; ///< per cloth triangle
+    std::vector<std::vector<int>> m_neighbours; ///< per vertex: adjacent vertices
+    SurfaceBvh m_clothBvh;
+    std::vector<ObstacleData> m_obstacles;
+    std::vector<char> m_selfCloth;   ///< per cloth: self-collision on
+    bool m_anySelf = false;
+    double m_maxThickness = 0;
+
+    std::vector<Contact> m_contacts;
+    std::vector<std::uint64_t> m_contactKey; ///< per contact: memory key (self contacts), else 0
+    std::vector<signed char> m_contactSide;  ///< per self vertex–face contact: side of its face
+    std::vector<signed char> m_flippedFrom;  ///< sides before the region vote
+    std::unordered_map<std::uint64_t, Memory> m_memory;
+    std::vector<int> m_trapped;       ///< per vertex: obstacle it is inside, or -1
+    std::vector<signed char> m_openSide; ///< per (obstacle, vertex): side of an open obstacle
+    std::vector<std::pair<int, int>> m_pairs;
+    long m_step = 0;
+    double m_lastInsideCheck = -1e300;
+    CollisionFigures m_figures;
+};
+
+} // namespace atelier::sim

@@ -1,0 +1,307 @@
+// The collision stage in the step loop: only when needed, no penetration on obstacles, Coulomb
+// friction against its closed form, continuous detection against tunnelling, and the contact
+// region vote putting pushed-through vertices back.
+
+#include "sim/collision/collision_stage.h"
+#include "sim/collision/obstacle.h"
+#include "sim/simulation.h"
+#include "sim/test_scenes.h"
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace atelier {
+namespace {
+
+using sim::Vec3;
+
+sim::ObstacleSpec sphereObstacle(double radius, const Vec3& centre, double thickness = 0.003) {
+    sim::ObstacleSpec o;
+    o.name = "sphere";
+    sim::makeSphereMesh(radius, 3, o.vertices, o.triangles);
+    o.closed = true;
+    o.keys.push_back(sim::ObstacleKey{0.0, centre, Vec3::Zero()});
+    o.thickness = thickness;
+    return o;
+}
+
+sim::ObstacleSpec planeObstacle(double size, const Vec3& position, const Vec3& rotation,
+                                double friction) {
+    sim::ObstacleSpec o;
+    o.name = "plane";
+    sim::makePlaneMesh(size, 1, o.vertices, o.triangles);
+    o.keys.push_back(sim::ObstacleKey{0.0, position, rotation});
+    o.thickness = 0.002;
+    o.staticFriction = friction;
+    o.kineticFriction = friction;
+    return o;
+}
+
+/// A horizontal sheet (y = height) of `size` centred over the origin.
+sim::SceneSpec sheetAbove(double size, int cells, double height) {
+    sim::SceneSpec s = test::smallSheet(sim::StretchModel::Fem, cells, size, false, true);
+    for (int i = 0; i < s.cloths[0].position.rows(); ++i) {
+        s.cloths[0].position.row(i) += Vec3(-size / 2, height, size / 2).transpose();
+    }
+    s.cloths[0].thickness = 0.002;
+    s.integrator.kind = sim::IntegratorKind::ImplicitEuler;
+    s.integrator.dt = 1.0 / 240;
+    s.integrator.maxDt = 1.0 / 240;
+    return s;
+}
+
+TEST(CollisionStage, OnlyInThePipelineWhenTheSceneNeedsIt) {
+    sim::SceneSpec plain = sheetAbove(0.5, 4, 1.0);
+    sim::Simulation a(plain);
+    const auto stagesA = a.activeStages();
+    EXPECT_EQ(a.collision(), nullptr);
+    EXPECT_TRUE(std::none_of(stagesA.begin(), stagesA.end(),
+                             [](const std::string& s) { return s.rfind("collision", 0) == 0; }));
+
+    sim::SceneSpec withBall = plain;
+    withBall.obstacles.push_back(sphereObstacle(0.2, Vec3(0, 0.5, 0)));
+    sim::Simulation b(withBall);
+    const auto stagesB = b.activeStages();
+    ASSERT_NE(b.collision(), nullptr);
+    EXPECT_NE(std::find(stagesB.begin(), stagesB.end(), "collision.obstacles"), stagesB.end());
+    EXPECT_EQ(std::find(stagesB.begin(), stagesB.end(), "collision.self"), stagesB.end());
+
+    sim::SceneSpec selfOnly = plain;
+    selfOnly.cloths[0].selfCollision = true;
+    sim::Simulation c(selfOnly);
+    const auto stagesC = c.activeStages();
+    EXPECT_NE(std::find(stagesC.begin(), stagesC.end(), "collision.self"), stagesC.end());
+    EXPECT_EQ(std::find(stagesC.begin(), stagesC.end(), "collision.obstacles"), stagesC.end());
+}
+
+class SheetOnSphere : public ::testing::TestWithParam<sim::IntegratorKind> {};
+
+TEST_P(SheetOnSphere, NeverPenetratesBeyondTenPercentOfThickness) {
+    sim::SceneSpec s = sheetAbove(0.8, 16, 0.55);
+    s.cloths[0].selfCollision = true; // the draped skirt folds onto itself
+    s.obstacles.push_back(sphereObstacle(0.25, Vec3(0, 0.25, 0)));
+    s.integrator.kind = GetParam();
+    if (GetParam() == sim::IntegratorKind::Rk45) {
+        s.integrator.dt = 1e-4;
+        s.integrator.tolerance = 1e-3;
+        s.integrator.maxDt = 1.0 / 120;
+    }
+    sim::Simulation simulation(s);
+    ASSERT_TRUE(simulation.error().empty()) << simulation.error();
+    double worst = 0;
+    const double until = GetParam() == sim::IntegratorKind::Rk45 ? 0.4 : 0.8;
+    const auto status = simulation.run(until, [&](int, double) {
+        worst = std::max(worst, simulation.penetration());
+    });
+    ASSERT_EQ(status, sim::RunStatus::Finished) << simulation.stats().error;
+    EXPECT_TRUE(simulation.stats().finite);
+    EXPECT_LE(worst, 0.1 * 0.003);
+    EXPECT_LE(simulation.stats().maxPenetration, 0.1 * 0.003);
+    EXPECT_GT(simulation.stats().contacts, 3); // it rests on the sphere
+    long withObstacle = -1;
+    const long all = const_cast<sim::CollisionStage*>(simulation.collision())
+                         ->intersectingTrianglePairs(simulation.positions(), &withObstacle);
+    EXPECT_EQ(all, 0);
+    EXPECT_EQ(withObstacle, 0);
+    // The centre vertex sits on top of the sphere at the contact distance, or a little above
+    // where the 5 cm cloth triangles bridge over the faceted sphere's vertices.
+    const int centre = 8 * 17 + 8;
+    const double top = simulation.positions()(centre, 1);
+    EXPECT_GE(top, 0.5 + 0.005 - 0.0003);
+    EXPECT_LE(top, 0.5 + 0.005 + 0.006);
+}
+
+INSTANTIATE_TEST_SUITE_P(Integrators, SheetOnSphere,
+                         ::testing::Values(sim::IntegratorKind::ImplicitEuler,
+                                           sim::IntegratorKind::Rk45),
+                         [](const auto& info) {
+                             return info.param == sim::IntegratorKind::Rk45 ? std::string("rk45")
+                                                                            : std::string("implicit");
+                         });
+
+/// Mean position of the cloth's vertices.
+Vec3 centroid(const sim::MatX3& x) { return x.colwise().mean().transpose(); }
+
+struct SlopeCase {
+    double friction;
+    sim::IntegratorKind integrator;
+};
+
+class SlopeFriction : public ::testing::TestWithParam<SlopeCase> {};
+
+/// A sheet resting on a plane tilted by 20°: displacement along the slope after `t` seconds.
+double slideOnSlope(double friction, sim::IntegratorKind kind, double t, double* accel) {
+    const double theta = 20.0 * M_PI / 180.0;
+    const Vec3 normal(-std::sin(theta), std::cos(theta), 0);
+    const Vec3 downhill = -Vec3(std::cos(theta), std::sin(theta), 0);
+    sim::SceneSpec s = test::smallSheet(sim::StretchModel::Fem, 6, 0.3, false, true);
+    sim::ClothSpec& c = s.cloths[0];
+    c.thickness = 0.002;
+    c.material.staticFriction = friction;
+    c.material.kineticFriction = friction;
+    // Lay the sheet on the slope at the contact distance: pattern x along the slope.
+    for (int i = 0; i < c.position.rows(); ++i) {
+        const double u = c.mesh.rest(i, 0) - 0.15, w = c.mesh.rest(i, 1) - 0.15;
+        const Vec3 p = -u * downhill + Vec3(0, 0, -w) + 0.004 * normal;
+        c.position.row(i) = p.transpose();
+    }
+    s.obstacles.push_back(planeObstacle(3.0, Vec3::Zero(), Vec3(0, 0, theta), friction));
+    s.integrator.kind = kind;
+    s.integrator.dt = kind == sim::IntegratorKind::Rk45 ? 1e-4 : 1.0 / 480;
+    s.integrator.maxDt = kind == sim::IntegratorKind::Rk45 ? 1.0 / 240 : 1.0 / 480;
+    s.integrator.tolerance = 1e-4;
+    sim::Simulation simulation(s);
+    EXPECT_TRUE(simulation.error().empty()) << simulation.error();
+    const Vec3 start = centroid(simulation.positions());
+    // Let the contact settle for a short while, then measure the acceleration from the
+    // displacement between two times (constant acceleration: d = v0 t + a t²/2).
+    const double t1 = 0.1;
+    EXPECT_EQ(simulation.run(t1), sim::RunStatus::Finished) << simulation.stats().error;
+    const double d1 = (centroid(simulation.positions()) - start).dot(downhill);
+    const double v1 = centroid(simulation.velocities()).dot(downhill);
+    EXPECT_EQ(simulation.run(t1 + t), sim::RunStatus::Finished) << simulation.stats().error;
+    const double d2 = (centroid(simulation.positions()) - start).dot(downhill);
+    if (accel != nullptr) {
+        *accel = 2.0 * ((d2 - d1) - v1 * t) / (t * t);
+    }
+    EXPECT_LE(simulation.stats().maxPenetration, 0.0002);
+    return d2;
+}
+
+TEST_P(SlopeFriction, HoldsAboveTheThresholdAndSlidesAtTheCoulombRateBelow) {
+    const SlopeCase c = GetParam();
+    double accel = 0;
+    const double moved = slideOnSlope(c.friction, c.integrator, 0.4, &accel);
+    const double theta = 20.0 * M_PI / 180.0;
+    if (c.friction > std::tan(theta)) {
+        EXPECT_LT(std::abs(moved), 1e-3) << "the sheet should stick";
+    } else {
+        const double expected = sim::STANDARD_GRAVITY * (std::sin(theta) - c.friction * std::cos(theta));
+        EXPECT_NEAR(accel, expected, 0.05 * expected);
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, SlopeFriction,
+    ::testing::Values(SlopeCase{0.5, sim::IntegratorKind::ImplicitEuler},
+                      SlopeCase{0.2, sim::IntegratorKind::ImplicitEuler},
+                      SlopeCase{0.5, sim::IntegratorKind::Rk45},
+                      SlopeCase{0.2, sim::IntegratorKind::Rk45}),
+    [](const auto& info) {
+        return std::string(info.param.integrator == sim::IntegratorKind::Rk45 ? "rk45" : "implicit") +
+               (info.param.friction > 0.3 ? "_sticks" : "_slides");
+    });
+
+TEST(ContinuousDetection, AFastSheetDoesNotTunnelThroughAThinPlaneAtALargeStep) {
+    // 20 m/s toward a plane with one step of 1/60 s: 33 cm per step, a hundred times the
+    // thickness. Without the swept test the sheet would pass through in one step.
+    sim::SceneSpec s = sheetAbove(0.4, 6, 0.2);
+    s.cloths[0].velocity = sim::MatX3::Zero(s.cloths[0].position.rows(), 3);
+    s.cloths[0].velocity.col(1).setConstant(-20.0);
+    s.gravity = false;
+    s.obstacles.push_back(planeObstacle(2.0, Vec3::Zero(), Vec3::Zero(), 0.3));
+    s.integrator.dt = 1.0 / 60;
+    s.integrator.maxDt = 1.0 / 60;
+    sim::Simulation simulation(s);
+    ASSERT_TRUE(simulation.error().empty()) << simulation.error();
+    ASSERT_EQ(simulation.run(0.1), sim::RunStatus::Finished) << simulation.stats().error;
+    EXPECT_GT(simulation.positions().col(1).minCoeff(), 0.0);
+    EXPECT_LE(simulation.stats().maxPenetration, 0.0002);
+    EXPECT_EQ(simulation.intersectingTrianglePairs(), 0);
+    EXPECT_GT(simulation.collision()->figures().continuousHits, 0);
+
+    sim::SceneSpec off = s;
+    off.collision.continuous = false;
+    sim::Simulation tunnel(off);
+    ASSERT_EQ(tunnel.run(0.1), sim::RunStatus::Finished);
+    EXPECT_LT(tunnel.positions().col(1).maxCoeff(), 0.0) << "without the swept test it tunnels";
+}
+
+TEST(ContactRegions, VerticesPushedThroughALayerGoBackToTheMajoritySide) {
+    // Two parallel sheets 4 mm apart (contact distance 4 mm), self-collision on. A few vertices of
+    // the upper sheet are moved 1 mm below the lower sheet in one jump (no history, no swept
+    // crossing to tell which side they came from). The contact region they belong to votes
+    // "above" and puts them back there.
+    sim::SceneSpec s = sheetAbove(0.3, 10, 0.0);
+    s.gravity = false;
+    sim::ClothSpec upper = s.cloths[0];
+    for (int i = 0; i < upper.position.rows(); ++i) {
+        upper.position(i, 1) = 0.0035;
+        upper.position(i, 0) += 0.3 / 20; // offset half a cell so vertices lie over faces
+        upper.position(i, 2) -= 0.3 / 20;
+    }
+    upper.name = "upper";
+    s.cloths[0].selfCollision = true;
+    upper.selfCollision = true;
+    s.cloths.push_back(upper);
+    const int n0 = s.cloths[0].mesh.vertexCount();
+    const std::vector<int> pushed = {n0 + 5 * 11 + 5, n0 + 5 * 11 + 4, n0 + 4 * 11 + 5};
+    for (int p : pushed) {
+        s.cloths[1].position(p - n0, 1) = -0.001;
+    }
+    sim::Simulation simulation(s);
+    ASSERT_TRUE(simulation.error().empty()) << simulation.error();
+    // The start state has been resolved by the constructor.
+    for (int p : pushed) {
+        EXPECT_GT(simulation.positions()(p, 1), simulation.positions()(5 * 11 + 5, 1) + 0.0035)
+            << "vertex " << p;
+    }
+    EXPECT_GT(simulation.collision()->figures().regionFlips, 0);
+    ASSERT_EQ(simulation.advance(0.05), sim::RunStatus::Finished) << simulation.stats().error;
+    EXPECT_EQ(simulation.intersectingTrianglePairs(), 0);
+    for (int p : pushed) {
+        EXPECT_GT(simulation.positions()(p, 1), simulation.positions()(5 * 11 + 5, 1)) << "vertex " << p;
+    }
+}
+
+TEST(Obstacles, GeneratedShapesAreClosedAndOriented) {
+    sim::MatX3 v;
+    sim::MatX3i f;
+    sim::makeSphereMesh(1.0, 3, v, f);
+    EXPECT_TRUE(sim::isClosedOriented(f, static_cast<int>(v.rows())));
+    // Outward: the signed volume is positive.
+    auto volume = [&]() {
+        double vol = 0;
+        for (int t = 0; t < f.rows(); ++t) {
+            vol += v.row(f(t, 0)).dot(v.row(f(t, 1)).cross(v.row(f(t, 2)))) / 6.0;
+        }
+        return vol;
+    };
+    EXPECT_NEAR(volume(), 4.0 / 3.0 * M_PI, 0.05);
+    sim::makeBoxMesh(Vec3(1, 2, 3), 2, v, f);
+    EXPECT_TRUE(sim::isClosedOriented(f, static_cast<int>(v.rows())));
+    EXPECT_NEAR(volume(), 6.0, 1e-12);
+    sim::makeCapsuleMesh(0.5, 1.0, 24, v, f);
+    EXPECT_TRUE(sim::isClosedOriented(f, static_cast<int>(v.rows())));
+    EXPECT_NEAR(volume(), M_PI * 0.25 * 1.0 + 4.0 / 3.0 * M_PI * 0.125, 0.05);
+    EXPECT_GT(volume(), 0);
+    sim::makePlaneMesh(2.0, 3, v, f);
+    EXPECT_FALSE(sim::isClosedOriented(f, static_cast<int>(v.rows())));
+    for (int t = 0; t < f.rows(); ++t) {
+        const Vec3 n = (v.row(f(t, 1)) - v.row(f(t, 0))).cross(v.row(f(t, 2)) - v.row(f(t, 0))).transpose();
+        EXPECT_GT(n.y(), 0) << "plane normals face +Y";
+    }
+}
+
+TEST(Obstacles, RigidKeysInterpolateTranslationAndManyTurns) {
+    sim::ObstacleSpec o;
+    o.vertices.resize(1, 3);
+    o.vertices.row(0) << 1, 0, 0;
+    o.triangles.resize(0, 3);
+    o.keys.push_back(sim::ObstacleKey{0.0, Vec3(0, 1, 0), Vec3::Zero()});
+    o.keys.push_back(sim::ObstacleKey{2.0, Vec3(0, 1, 0), Vec3(0, 4 * M_PI, 0)});
+    sim::MatX3 x;
+    sim::obstaclePositionsAt(o, 0.25, x); // a quarter turn about +Y: x → −z
+    EXPECT_NEAR(x(0, 0), 0.0, 1e-12);
+    EXPECT_NEAR(x(0, 1), 1.0, 1e-12);
+    EXPECT_NEAR(x(0, 2), -1.0, 1e-12);
+    sim::obstaclePositionsAt(o, 1.0, x); // two full turns
+    EXPECT_NEAR(x(0, 0), 1.0, 1e-12);
+    EXPECT_TRUE(sim::obstacleMoves(o));
+}
+
+} // namespace
+} // namespace atelier
