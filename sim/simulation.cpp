@@ -489,7 +489,10 @@ bool Simulation::Impl::implicitStep(double h) {
     if (collision) {
         // Contacts on the end-of-step velocities (the implicit form of B), with friction.
         StageTimer timer(*timerCollision);
+        const double before = 0.5 * (mass.array() * vNew.rowwise().squaredNorm().array()).sum();
         collision->correctVelocities(vNew, invMass);
+        const double after = 0.5 * (mass.array() * vNew.rowwise().squaredNorm().array()).sum();
+        collisionPower = std::max(0.0, after - before) / h; // moving obstacles put energy in
     }
     xNew = x + h * vNew;
     return xNew.allFinite() && vNew.allFinite();
@@ -545,8 +548,11 @@ bool Simulation::Impl::step(double maxH) {
                 work = 0.5 * h * (p0 + constraintPower(force, accEnd, vNew));
             }
             const double ke = 0.5 * (mass.array() * vNew.rowwise().squaredNorm().array()).sum();
-            ok = ke <= opt.divergenceEnergyFactor * (energyBound(xNew) + std::max(0.0, work)) +
-                           1e-12;
+            // Contacts with moving obstacles do work too (B, or the implicit velocity pass).
+            const double contactWork = std::max(0.0, collisionPower * h);
+            ok = ke <= opt.divergenceEnergyFactor *
+                               (energyBound(xNew) + std::max(0.0, work) + contactWork) +
+                           1e-6 * mass.sum(); // below ~1 mm/s of motion: never a divergence
             energyRejected = !ok;
             keRejected = ke;
         }
@@ -560,6 +566,7 @@ bool Simulation::Impl::step(double maxH) {
             collision->update(t, t + h, x, xNew, vNew, invMass);
             const double after = 0.5 * (mass.array() * vNew.rowwise().squaredNorm().array()).sum();
             work += std::max(0.0, after - before) + std::max(0.0, collisionPower * h);
+            collisionPower = 0;
             stats.contacts = collision->figures().contacts;
         }
         if (!accept) {

@@ -18,8 +18,6 @@ constexpr double INF = std::numeric_limits<double>::infinity();
 constexpr double TINY = 1e-12;
 /// Contacts whose gap is within this fraction of the contact distance count as touching.
 constexpr double TOUCH = 0.01;
-/// Memory entries unseen for this many steps are forgotten.
-constexpr long MEMORY_STEPS = 200;
 
 std::uint64_t pairKey(int a, int b) {
     return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
@@ -146,6 +144,7 @@ CollisionStage::CollisionStage(const SceneSpec& scene, const std::vector<int>& o
     m_ownedEdges.assign(static_cast<std::size_t>(triangleCount), {});
     m_neighbours.assign(static_cast<std::size_t>(n), {});
     std::vector<char> owned(static_cast<std::size_t>(n), 0);
+    m_vertexTriangle.assign(static_cast<std::size_t>(n), 0);
     int t0 = 0, e0 = 0;
     for (std::size_t ci = 0; ci < scene.cloths.size(); ++ci) {
         const ClothSpec& c = scene.cloths[ci];
@@ -164,6 +163,7 @@ CollisionStage::CollisionStage(const SceneSpec& scene, const std::vector<int>& o
                 m_triangles(t0 + t, k) = v;
                 if (!owned[static_cast<std::size_t>(v)]) {
                     owned[static_cast<std::size_t>(v)] = 1;
+                    m_vertexTriangle[static_cast<std::size_t>(v)] = t0 + t;
                     m_ownedVertices[static_cast<std::size_t>(t0 + t)].push_back(v);
                 }
             }
@@ -430,10 +430,12 @@ void CollisionStage::detectObstacle(std::size_t k, double h, const MatX3& xs, co
                                      cp.bary[1] * obstacleVelocity(ob[1]) +
                                      cp.bary[2] * obstacleVelocity(ob[2]);
             } else if (swept && (o.moves || ps != pe)) {
+                // The swept tests look for crossings (distance 0): a pair that ends near is the
+                // proximity test's; one that crossed during the step and ended apart is this one's.
                 if (!sweptBoxesNear<2, 6>({&ps, &pe}, {&b0[0], &b0[1], &b0[2], &b1[0], &b1[1], &b1[2]}, d0)) {
                     continue;
                 }
-                const auto hit = sweptVertexTriangle(ps, pe, b0[0], b1[0], b0[1], b1[1], b0[2], b1[2], d0);
+                const auto hit = sweptVertexTriangle(ps, pe, b0[0], b1[0], b0[1], b1[1], b0[2], b1[2], 0.0);
                 if (!hit) {
                     continue;
                 }
@@ -470,7 +472,7 @@ void CollisionStage::detectObstacle(std::size_t k, double h, const MatX3& xs, co
                 if (!sweptBoxesNear<2, 6>({&q0, &q1}, {&as[0], &as[1], &as[2], &ae[0], &ae[1], &ae[2]}, d0)) {
                     continue;
                 }
-                hit = sweptVertexTriangle(q0, q1, as[0], ae[0], as[1], ae[1], as[2], ae[2], d0);
+                hit = sweptVertexTriangle(q0, q1, as[0], ae[0], as[1], ae[1], as[2], ae[2], 0.0);
                 if (!hit) {
                     continue;
                 }
@@ -536,7 +538,7 @@ void CollisionStage::detectObstacle(std::size_t k, double h, const MatX3& xs, co
                     }
                     const auto hit = sweptEdgeEdge(row(xs, e0), row(xe, e0), row(xs, e1), row(xe, e1),
                                                    row(o.x0, g0), row(o.x1, g0), row(o.x0, g1),
-                                                   row(o.x1, g1), de0);
+                                                   row(o.x1, g1), 0.0);
                     if (!hit || !interior(hit->coords[0]) || !interior(hit->coords[1])) {
                         continue;
                     }
@@ -619,7 +621,7 @@ void CollisionStage::detectSelf(const MatX3& xs, const MatX3& xe) {
                     if (!sweptBoxesNear<2, 6>({&ps, &pe}, {&bs[0], &bs[1], &bs[2], &be[0], &be[1], &be[2]}, d0)) {
                         continue;
                     }
-                    const auto hit = sweptVertexTriangle(ps, pe, bs[0], be[0], bs[1], be[1], bs[2], be[2], d0);
+                    const auto hit = sweptVertexTriangle(ps, pe, bs[0], be[0], bs[1], be[1], bs[2], be[2], 0.0);
                     if (!hit) {
                         continue;
                     }
@@ -630,8 +632,13 @@ void CollisionStage::detectSelf(const MatX3& xs, const MatX3& xe) {
                 const std::uint64_t key = pairKey(p, b);
                 signed char side = 0;
                 const auto mem = m_memory.find(key);
+                // The side is certain when remembered from the last step or when the swept test
+                // saw the vertex arrive; otherwise it comes from a state that may be tangled and
+                // the region vote may overrule it.
+                bool reliable = !(cp.distance < d0 * factor);
                 if (mem != m_memory.end()) {
                     side = mem->second.side;
+                    reliable = true;
                 } else {
                     const Vec3 ps = row(xs, p);
                     const Vec3 onB = bary[0] * bs[0] + bary[1] * bs[1] + bary[2] * bs[2];
@@ -659,6 +666,8 @@ void CollisionStage::detectSelf(const MatX3& xs, const MatX3& xe) {
                 m_contactSide.resize(m_contacts.size(), 0);
                 m_contactKey.back() = key;
                 m_contactSide.back() = side;
+                m_contactReliable.resize(m_contacts.size(), 0);
+                m_contactReliable.back() = reliable ? 1 : 0;
             }
         }
         // Edge–edge, each unordered pair of owned edges once.
@@ -686,7 +695,7 @@ void CollisionStage::detectSelf(const MatX3& xs, const MatX3& xe) {
                         continue;
                     }
                     const auto hit = sweptEdgeEdge(row(xs, e0), row(xe, e0), row(xs, e1), row(xe, e1),
-                                                   row(xs, g0), row(xe, g0), row(xs, g1), row(xe, g1), d0);
+                                                   row(xs, g0), row(xe, g0), row(xs, g1), row(xe, g1), 0.0);
                     if (!hit || !interior(hit->coords[0]) || !interior(hit->coords[1])) {
                         continue;
                     }
@@ -724,6 +733,7 @@ void CollisionStage::detectSelf(const MatX3& xs, const MatX3& xe) {
     }
     m_contactKey.resize(m_contacts.size(), 0);
     m_contactSide.resize(m_contacts.size(), 0);
+    m_contactReliable.resize(m_contacts.size(), 1);
 }
 
 void CollisionStage::voteRegions(const MatX3& xe) {
@@ -738,6 +748,7 @@ void CollisionStage::voteRegions(const MatX3& xe) {
         }
     }
     if (members.empty()) {
+        m_memory.clear();
         return;
     }
     std::vector<int> parent(m_contacts.size());
@@ -756,6 +767,17 @@ void CollisionStage::voteRegions(const MatX3& xe) {
     auto faceOf = [&](int i) {
         const Contact& c = m_contacts[static_cast<std::size_t>(i)];
         return std::array<int, 3>{c.vertex[1], c.vertex[2], c.vertex[3]};
+    };
+    // Members of one region lie on one smooth layer pair: faces of a crease (normals apart)
+    // are not grouped, their sides are not comparable.
+    auto faceNormal = [&](int i) {
+        const auto f = faceOf(i);
+        return triangleNormal(row(xe, f[0]), row(xe, f[1]), row(xe, f[2]));
+    };
+    auto vertexNormal = [&](int v) {
+        const int t = m_vertexTriangle[static_cast<std::size_t>(v)];
+        return triangleNormal(row(xe, m_triangles(t, 0)), row(xe, m_triangles(t, 1)),
+                              row(xe, m_triangles(t, 2)));
     };
     auto shareVertex = [](const std::array<int, 3>& a, const std::array<int, 3>& b) {
         for (int u : a) {
@@ -776,7 +798,9 @@ void CollisionStage::voteRegions(const MatX3& xe) {
                 return;
             }
             for (int j : it->second) {
-                if (j != i && shareVertex(fi, faceOf(j))) {
+                if (j != i && shareVertex(fi, faceOf(j)) &&
+                    faceNormal(i).dot(faceNormal(j)) > 0.7 &&
+                    vertexNormal(p).dot(vertexNormal(q)) > 0.7) {
                     parent[static_cast<std::size_t>(find(i))] = find(j);
                 }
             }
@@ -787,21 +811,33 @@ void CollisionStage::voteRegions(const MatX3& xe) {
         }
     }
     m_flippedFrom = m_contactSide;
-    std::unordered_map<int, long> vote;
+    // The vote: members whose side is certain decide; a region with none of them (a tangled
+    // start) is decided by all its members.
+    std::unordered_map<int, long> vote, voteAll;
     for (int i : members) {
-        vote[find(i)] += m_contactSide[static_cast<std::size_t>(i)];
+        const int side = m_contactSide[static_cast<std::size_t>(i)];
+        voteAll[find(i)] += side;
+        if (m_contactReliable[static_cast<std::size_t>(i)]) {
+            vote[find(i)] += side;
+        }
     }
     for (int i : members) {
-        const long v = vote[find(i)];
+        const auto decided = vote.find(find(i));
+        const long v = decided != vote.end() ? decided->second : voteAll[find(i)];
         signed char& side = m_contactSide[static_cast<std::size_t>(i)];
         const signed char regionSide = v > 0 ? 1 : (v < 0 ? -1 : side);
-        if (regionSide != side) {
+        if (regionSide != side && !m_contactReliable[static_cast<std::size_t>(i)]) {
             ++m_figures.regionFlips;
             m_contacts[static_cast<std::size_t>(i)].normal *= -1.0;
             side = regionSide;
         }
+    }
+    // Remember the sides of the pairs in contact now; a pair that leaves proximity is forgotten
+    // (a vertex may come back around a border from the other side).
+    m_memory.clear();
+    for (int i : members) {
         Memory& m = m_memory[m_contactKey[static_cast<std::size_t>(i)]];
-        m.side = side;
+        m.side = m_contactSide[static_cast<std::size_t>(i)];
         m.lastStep = m_step;
     }
     // Edge–edge contacts take their side from the step's start; where the vote found that start
@@ -830,12 +866,14 @@ void CollisionStage::voteRegions(const MatX3& xe) {
                 m_contacts[out] = c;
                 m_contactKey[out] = m_contactKey[i];
                 m_contactSide[out] = m_contactSide[i];
+                m_contactReliable[out] = m_contactReliable[i];
                 ++out;
             }
         }
         m_contacts.resize(out);
         m_contactKey.resize(out);
         m_contactSide.resize(out);
+        m_contactReliable.resize(out);
     }
 }
 
@@ -893,6 +931,7 @@ void CollisionStage::update(double t0, double t1, const MatX3& xs, MatX3& xe, Ma
     m_contacts.clear();
     m_contactKey.clear();
     m_contactSide.clear();
+    m_contactReliable.clear();
     const bool swept = &xs != &xe && h > 0;
     m_clothBvh.refit(xs, swept ? &xe : nullptr, m_maxThickness * factor);
     const bool insideCheck = t1 - m_lastInsideCheck >= 1.0 / 30.0 - 1e-12;
@@ -902,7 +941,12 @@ void CollisionStage::update(double t0, double t1, const MatX3& xs, MatX3& xe, Ma
             obstaclePositionsAt(*o.spec, t0, o.x0);
             obstaclePositionsAt(*o.spec, t1, o.x1);
         }
-        o.bvh.refit(o.x0, o.moves && h > 0 ? &o.x1 : nullptr, o.spec->thickness * factor);
+        // A static obstacle's hierarchy is refitted once (its boxes do not change).
+        const double margin = o.spec->thickness * factor;
+        if (o.moves || o.fittedMargin != margin) {
+            o.bvh.refit(o.x0, o.moves && h > 0 ? &o.x1 : nullptr, margin);
+            o.fittedMargin = o.moves ? -1.0 : margin;
+        }
         if (insideCheck) {
             findTrapped(k, xe);
         }
@@ -915,11 +959,6 @@ void CollisionStage::update(double t0, double t1, const MatX3& xs, MatX3& xe, Ma
     if (m_anySelf) {
         detectSelf(xs, xe);
         voteRegions(xe);
-        if (m_step % 64 == 0) {
-            for (auto it = m_memory.begin(); it != m_memory.end();) {
-                it = m_step - it->second.lastStep > MEMORY_STEPS ? m_memory.erase(it) : std::next(it);
-            }
-        }
     }
     project(xe, ve, invMass, h);
     long trapped = 0;
@@ -994,6 +1033,7 @@ double CollisionStage::penetration(const MatX3& x) {
         ObstacleData& o = m_obstacles[k];
         const double th = o.spec->thickness;
         o.bvh.refit(o.x1, nullptr, th);
+        o.fittedMargin = o.moves ? -1.0 : th;
         const Aabb& box = o.bvh.nodes()[static_cast<std::size_t>(o.bvh.root())].box;
         for (int p = 0; p < x.rows(); ++p) {
             const Vec3 xp = row(x, p);
@@ -1043,6 +1083,7 @@ long CollisionStage::intersectingTrianglePairs(const MatX3& x, long* clothObstac
     long obstacleCount = 0;
     for (ObstacleData& o : m_obstacles) {
         o.bvh.refit(o.x1, nullptr, 0.0);
+        o.fittedMargin = o.moves ? -1.0 : 0.0;
         m_pairs.clear();
         m_clothBvh.overlaps(o.bvh, m_pairs);
         const MatX3i& f = o.spec->triangles;

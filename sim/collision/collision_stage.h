@@ -91,6 +91,7 @@ class CollisionStage {
         std::unordered_map<std::uint64_t, int> edgeIndex;
         std::vector<std::vector<int>> ownedVertices, ownedEdges; ///< per triangle
         bool moves = false;
+        double fittedMargin = -1; ///< margin of the last refit of a static obstacle (-1: none)
     };
     struct Memory {
         signed char side = 0;
@@ -117,6 +118,7 @@ class CollisionStage {
     MatX2i m_edges;                   ///< all cloth edges, global
     std::vector<std::vector<int>> m_ownedVertices, m_ownedEdges; ///< per cloth triangle
     std::vector<std::vector<int>> m_neighbours; ///< per vertex: adjacent vertices
+    std::vector<int> m_vertexTriangle;          ///< per vertex: one triangle holding it
     SurfaceBvh m_clothBvh;
     std::vector<ObstacleData> m_obstacles;
     std::vector<char> m_selfCloth;   ///< per cloth: self-collision on
@@ -127,6 +129,7 @@ class CollisionStage {
     std::vector<std::uint64_t> m_contactKey; ///< per contact: memory key (self contacts), else 0
     std::vector<signed char> m_contactSide;  ///< per self vertex–face contact: side of its face
     std::vector<signed char> m_flippedFrom;  ///< sides before the region vote
+    std::vector<char> m_contactReliable;     ///< side remembered or seen arriving (swept)
     std::unordered_map<std::uint64_t, Memory> m_memory;
     std::vector<int> m_trapped;       ///< per vertex: obstacle it is inside, or -1
     std::vector<signed char> m_openSide; ///< per (obstacle, vertex): side of an open obstacle

@@ -45,10 +45,11 @@ struct SweptHit {
 
 /// Continuous vertex–triangle test: vertex p moves p0→p1, triangle vertices a0→a1, b0→b1,
 /// c0→c1 linearly over the step. Returns the earliest time at which the distance of p to the
-/// triangle is <= `distance` [m] (distance 0: exact crossing), or nullopt. Conservative: it
-/// never misses a crossing of the triangle's plane inside the triangle (the coplanarity cubic
-/// is solved with all its roots in [0, 1], tested with `distance` plus a small relative
-/// tolerance), and also reports a proximity at the step's start or end.
+/// triangle is <= `distance` [m] (0: an exact crossing), or nullopt. Guarantees (see the .cpp):
+/// no miss — if the distance reaches `distance` at τ, a hit at a time <= τ is returned; before
+/// the returned time the distance stays above `distance` + 1e-9·scale. Distance 0 solves the
+/// coplanarity cubic with all its roots in [0, 1]; distance > 0 uses a conservative forward
+/// search that also finds near passes without a plane crossing. Never NaN.
 std::optional<SweptHit> sweptVertexTriangle(const Vec3& p0, const Vec3& p1, const Vec3& a0,
                                             const Vec3& a1, const Vec3& b0, const Vec3& b1,
                                             const Vec3& c0, const Vec3& c1, double distance);
