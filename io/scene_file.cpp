@@ -877,6 +877,7 @@ class SceneParser {
         o.iterations = static_cast<int>(iterations);
         o.proximityFactor = r.nonNegative("proximity_factor", o.proximityFactor);
         o.extractionSpeed = r.positive("extraction_speed", o.extractionSpeed);
+        o.failSafe = r.boolean("fail_safe", o.failSafe);
         r.finish();
     }
 

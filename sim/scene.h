@@ -83,6 +83,11 @@ struct CollisionOptions {
     /// Largest speed at which a vertex found inside a closed obstacle is carried out along
     /// the cloth toward where it entered [m/s].
     double extractionSpeed = 1.0;
+    /// Self-collision fail-safe: after the corrections, cloth–cloth pairs still crossing over
+    /// the step (tested exactly, without curvature culling) have their vertices put back at
+    /// the step's start, which was free of those crossings. No new self-intersection can
+    /// appear, at the cost of one swept test per nearby primitive pair.
+    bool failSafe = true;
 };
 
 /// A vertex moved along a path: position keyframes, linearly interpolated in time.

@@ -371,12 +371,13 @@ void CollisionStage::extractTrapped(std::size_t k, double h, MatX3& xe, MatX3& v
     }
 }
 
-void CollisionStage::detectObstacle(std::size_t k, double h, const MatX3& xs, const MatX3& xe) {
+void CollisionStage::detectObstacle(std::size_t k, double h, const MatX3& xs, const MatX3& xe,
+                                    bool allowSwept) {
     ObstacleData& o = m_obstacles[k];
     const ObstacleSpec& spec = *o.spec;
     const int ki = static_cast<int>(k);
     const double factor = 1.0 + m_scene.collision.proximityFactor;
-    const bool swept = m_scene.collision.continuous && h > 0;
+    const bool swept = allowSwept && m_scene.collision.continuous && h > 0;
     const MatX3i& f = spec.triangles;
     const std::size_t n = static_cast<std::size_t>(xe.rows());
     m_pairs.clear();
@@ -890,7 +891,13 @@ void CollisionStage::project(MatX3& xe, MatX3& ve, const VecX& invMass, double h
                 continue;
             }
             const double gap = c.normal.dot(combination(c, xe) - c.obstaclePoint);
-            const double violation = c.distance - gap;
+            double violation = c.distance - gap;
+            if (c.obstacle < 0) {
+                // Cloth–cloth pushes are bounded per pass: a large one means a side decided
+                // wrongly, and pushing a layer far (through an obstacle behind it) is worse than
+                // letting the fail-safe hold the vertices back.
+                violation = std::min(violation, c.distance);
+            }
             if (violation > 0) {
                 distribute(c, invMass, w, violation * c.normal, xe);
                 c.active = true; // it pushed: it is a touching contact
@@ -899,6 +906,19 @@ void CollisionStage::project(MatX3& xe, MatX3& ve, const VecX& invMass, double h
         }
         if (!moved) {
             break;
+        }
+    }
+    // Obstacles are hard: a last pass over their contacts, so a cloth–cloth correction made after
+    // them cannot leave a vertex inside an obstacle (where the proximity test would lose it).
+    for (Contact& c : m_contacts) {
+        if (c.obstacle < 0) {
+            continue;
+        }
+        const double w = effectiveInverseMass(c, invMass);
+        const double violation = c.distance - c.normal.dot(combination(c, xe) - c.obstaclePoint);
+        if (w > 0 && violation > 0) {
+            distribute(c, invMass, w, violation * c.normal, xe);
+            c.active = true;
         }
     }
     long active = 0;
@@ -921,6 +941,69 @@ void CollisionStage::project(MatX3& xe, MatX3& ve, const VecX& invMass, double h
         }
     }
     m_figures.contacts = active;
+}
+
+void CollisionStage::rollBackCrossings(const MatX3& xs, MatX3& xe, MatX3& ve,
+                                       const VecX& invMass) {
+    std::vector<char> back(static_cast<std::size_t>(xe.rows()), 0);
+    std::vector<int> marked;
+    for (int round = 0; round < 32; ++round) {
+        m_clothBvh.refit(xs, &xe, 0.0);
+        m_pairs.clear();
+        SelfQueryOptions noCulling;
+        noCulling.cullingAngle = 4.0; // exact: the cone test is only a heuristic (see README)
+        m_clothBvh.selfOverlaps(m_pairs, noCulling);
+        marked.clear();
+        auto mark = [&](std::initializer_list<int> vs) {
+            for (int v : vs) {
+                if (!back[static_cast<std::size_t>(v)] && invMass[v] > 0) {
+                    back[static_cast<std::size_t>(v)] = 1;
+                    marked.push_back(v);
+                }
+            }
+        };
+        for (const auto& [ta, tb] : m_pairs) {
+            if (!m_selfCloth[static_cast<std::size_t>(m_triangleCloth[static_cast<std::size_t>(ta)])] ||
+                !m_selfCloth[static_cast<std::size_t>(m_triangleCloth[static_cast<std::size_t>(tb)])]) {
+                continue;
+            }
+            for (int dir = 0; dir < 2; ++dir) {
+                const int a = dir == 0 ? ta : tb;
+                const int b = dir == 0 ? tb : ta;
+                const int f0 = m_triangles(b, 0), f1 = m_triangles(b, 1), f2 = m_triangles(b, 2);
+                for (int p : m_ownedVertices[static_cast<std::size_t>(a)]) {
+                    if (p == f0 || p == f1 || p == f2) {
+                        continue;
+                    }
+                    if (sweptVertexTriangle(row(xs, p), row(xe, p), row(xs, f0), row(xe, f0), row(xs, f1),
+                                            row(xe, f1), row(xs, f2), row(xe, f2), 0.0)) {
+                        mark({p, f0, f1, f2});
+                    }
+                }
+            }
+            for (int e : m_ownedEdges[static_cast<std::size_t>(ta)]) {
+                const int e0 = m_edges(e, 0), e1 = m_edges(e, 1);
+                for (int g : m_ownedEdges[static_cast<std::size_t>(tb)]) {
+                    const int g0 = m_edges(g, 0), g1 = m_edges(g, 1);
+                    if (e0 == g0 || e0 == g1 || e1 == g0 || e1 == g1) {
+                        continue;
+                    }
+                    if (sweptEdgeEdge(row(xs, e0), row(xe, e0), row(xs, e1), row(xe, e1), row(xs, g0),
+                                      row(xe, g0), row(xs, g1), row(xe, g1), 0.0)) {
+                        mark({e0, e1, g0, g1});
+                    }
+                }
+            }
+        }
+        if (marked.empty()) {
+            break;
+        }
+        for (int v : marked) {
+            xe.row(v) = xs.row(v);
+            ve.row(v).setZero();
+        }
+        m_figures.rolledBack += static_cast<long>(marked.size());
+    }
 }
 
 void CollisionStage::update(double t0, double t1, const MatX3& xs, MatX3& xe, MatX3& ve,
@@ -947,20 +1030,58 @@ void CollisionStage::update(double t0, double t1, const MatX3& xs, MatX3& xe, Ma
             o.bvh.refit(o.x0, o.moves && h > 0 ? &o.x1 : nullptr, margin);
             o.fittedMargin = o.moves ? -1.0 : margin;
         }
-        if (insideCheck) {
-            findTrapped(k, xe);
+        if (insideCheck && !(h > 0)) {
+            findTrapped(k, xe); // the start: trapped vertices must not get ordinary contacts
         }
         extractTrapped(k, h, xe, ve);
         detectObstacle(k, h, xs, xe);
-    }
-    if (insideCheck) {
-        m_lastInsideCheck = t1;
     }
     if (m_anySelf) {
         detectSelf(xs, xe);
         voteRegions(xe);
     }
     project(xe, ve, invMass, h);
+    if (m_anySelf && !m_obstacles.empty()) {
+        // Cloth–cloth corrections may have carried vertices toward an obstacle from farther
+        // than its proximity margin: detect against obstacles again where the cloth is now and
+        // correct with those contacts (obstacles win).
+        const std::size_t first = m_contacts.size();
+        for (std::size_t k = 0; k < m_obstacles.size(); ++k) {
+            detectObstacle(k, h, xe, xe, false);
+        }
+        m_contactKey.resize(m_contacts.size(), 0);
+        m_contactSide.resize(m_contacts.size(), 0);
+        m_contactReliable.resize(m_contacts.size(), 1);
+        for (std::size_t i = first; i < m_contacts.size(); ++i) {
+            Contact& c = m_contacts[i];
+            const double w = effectiveInverseMass(c, invMass);
+            const double violation = c.distance - c.normal.dot(combination(c, xe) - c.obstaclePoint);
+            if (w > 0 && violation > 0) {
+                distribute(c, invMass, w, violation * c.normal, xe);
+            }
+            c.active = c.distance - c.normal.dot(combination(c, xe) - c.obstaclePoint) >=
+                       -c.distance * TOUCH - TINY;
+            if (c.active) {
+                velocityCorrection(c, invMass, ve, 0.0, true);
+                ++m_figures.contacts;
+            }
+        }
+    }
+    // Last: nothing after the fail-safe may move the cloth (the start was free of crossings,
+    // and so is every vertex put back there).
+    if (m_anySelf && swept && m_scene.collision.failSafe) {
+        rollBackCrossings(xs, xe, ve, invMass);
+    }
+    if (insideCheck) {
+        // After the corrections: a vertex that crossed during the step is back outside by now;
+        // one still deep inside is trapped and is carried out from the next step on.
+        if (h > 0) {
+            for (std::size_t k = 0; k < m_obstacles.size(); ++k) {
+                findTrapped(k, xe);
+            }
+        }
+        m_lastInsideCheck = t1;
+    }
     long trapped = 0;
     for (int v : m_trapped) {
         trapped += v >= 0 ? 1 : 0;

@@ -39,6 +39,7 @@ struct CollisionFigures {
     long continuousHits = 0;     ///< contacts found only by the swept test, in total
     long trappedVertices = 0;    ///< cloth vertices inside a closed obstacle now
     long regionFlips = 0;        ///< contacts whose side the region vote changed, in total
+    long rolledBack = 0;         ///< vertex-steps sent back to their start by the fail-safe, in total
 };
 
 class CollisionStage {
@@ -98,12 +99,17 @@ class CollisionStage {
         long lastStep = 0;
     };
 
-    void detectObstacle(std::size_t k, double h, const MatX3& xs, const MatX3& xe);
+    void detectObstacle(std::size_t k, double h, const MatX3& xs, const MatX3& xe,
+                        bool allowSwept = true);
     void detectSelf(const MatX3& xs, const MatX3& xe);
     void voteRegions(const MatX3& xe);
     void extractTrapped(std::size_t k, double h, MatX3& xe, MatX3& ve);
     void findTrapped(std::size_t k, const MatX3& x);
     void project(MatX3& xe, MatX3& ve, const VecX& invMass, double h);
+    /// Fail-safe after the corrections: vertices of cloth primitives that still cross each other
+    /// over the step are put back at their start (which was free of those crossings) and
+    /// stopped, repeatedly, until no crossing is left.
+    void rollBackCrossings(const MatX3& xs, MatX3& xe, MatX3& ve, const VecX& invMass);
     /// Signed distance of p to closed obstacle k at its current positions (negative inside),
     /// searching up to `maxDistance` (+inf: everywhere); +inf when farther.
     double signedDistance(std::size_t k, const MatX3& xo, const Vec3& p, double maxDistance,

@@ -142,6 +142,7 @@ template <bool Crumpled> void selfSheet(benchmark::State& state) {
     sim::setThreadCount(1);
     const int cells = static_cast<int>(state.range(0));
     sim::SceneSpec s;
+    s.collision.failSafe = state.range(1) != 0;
     sim::ClothSpec c = flatSheet(cells);
     c.selfCollision = true;
     if (Crumpled) {
@@ -198,9 +199,11 @@ BENCHMARK(dome)->Name("collision/dome")->ArgName("cells")->Arg(22)->Arg(71)->Arg
 BENCHMARK(contacts)->Name("collision/contacts")->ArgNames({"cells", "touching"})
     ->Args({22, 50})->Args({71, 0})->Args({71, 25})->Args({71, 50})->Args({71, 100})
     ->Unit(benchmark::kMillisecond);
-BENCHMARK(selfSheet<false>)->Name("collision/self-flat")->ArgName("cells")->Arg(22)->Arg(71)->Arg(224)->Arg(316)
+BENCHMARK(selfSheet<false>)->Name("collision/self-flat")->ArgNames({"cells", "failsafe"})
+    ->Args({22, 0})->Args({71, 0})->Args({224, 0})->Args({316, 0})->Args({22, 1})->Args({71, 1})->Args({224, 1})
     ->Unit(benchmark::kMillisecond);
-BENCHMARK(selfSheet<true>)->Name("collision/self-wavy")->ArgName("cells")->Arg(22)->Arg(71)->Arg(224)
+BENCHMARK(selfSheet<true>)->Name("collision/self-wavy")->ArgNames({"cells", "failsafe"})
+    ->Args({22, 0})->Args({71, 0})->Args({224, 0})
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(drapeStep)->Name("collision/drape-step")->ArgName("cells")->Arg(71)
     ->Unit(benchmark::kMillisecond)->Iterations(40);

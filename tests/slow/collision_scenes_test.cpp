@@ -57,6 +57,7 @@ TEST_P(RestingScene, PenetrationStaysWithinTenPercentOfThicknessAtEveryFrame) {
     EXPECT_LE(worst, limit);
     EXPECT_LE(simulation.stats().maxPenetration, limit);
     EXPECT_EQ(obstacleIntersections(simulation), 0);
+    EXPECT_EQ(simulation.intersectingTrianglePairs(), 0);
     EXPECT_GT(simulation.stats().contacts, 0);
 }
 
@@ -92,6 +93,7 @@ TEST(FastRotatingSphere, FrictionCarriesTheSheetAroundWithoutTunnelling) {
     EXPECT_GT(omega, 0.25 * 1.5 * M_PI) << "the sheet should be carried along by friction";
     EXPECT_LE(worst, 0.1 * smallestObstacleThickness(scene));
     EXPECT_EQ(obstacleIntersections(simulation), 0);
+    EXPECT_EQ(simulation.intersectingTrianglePairs(), 0);
     // Nothing fell through: every vertex is outside the sphere.
     for (int i = 0; i < x.rows(); ++i) {
         EXPECT_GT((x.row(i) - sim::Vec3(0, 0.3, 0).transpose()).norm(), 0.3) << i;
@@ -106,14 +108,14 @@ TEST(ThroughBody, TrappedClothComesOutTheSideItEnteredWithinOneSecond) {
     ASSERT_EQ(simulation.run(1.0), sim::RunStatus::Finished) << simulation.stats().error;
     EXPECT_EQ(simulation.collision()->figures().trappedVertices, 0);
     EXPECT_LE(simulation.penetration(), 0.1 * smallestObstacleThickness(scene));
-    EXPECT_EQ(obstacleIntersections(simulation), 0);
+    EXPECT_EQ(obstacleIntersections(simulation), 0); // self-collision is off in this scene
     // The side it entered from is +x (the sheet's free part): nothing ends at x < −0.15 (beyond
     // the torso's far side).
     EXPECT_GT(simulation.positions().col(0).minCoeff(), -0.15);
 }
 
-// Open (issue 3): self-collision does not yet keep this fold free of intersections, and the
-// scene takes two minutes; disabled so the tier stays green and fast, visible in ctest's output.
+// Open (issue 3): the fail-safe holds the curtain back while the drive pulls the corner through
+// it (max edge strain ~10, 25 intersecting pairs); run with --gtest_also_run_disabled_tests.
 TEST(PulledThroughSelf, DISABLED_TheFoldStaysOnItsSideAndIsFreeOfIntersectionsOneSecondAfterRelease) {
     const sim::SceneSpec scene = load("hard/pulled-through-self.json");
     sim::Simulation simulation(scene);
