@@ -975,8 +975,10 @@ void CollisionStage::rollBackCrossings(const MatX3& xs, MatX3& xe, MatX3& ve,
                     if (p == f0 || p == f1 || p == f2) {
                         continue;
                     }
-                    if (sweptVertexTriangle(row(xs, p), row(xe, p), row(xs, f0), row(xe, f0), row(xs, f1),
-                                            row(xe, f1), row(xs, f2), row(xe, f2), 0.0)) {
+                    const Vec3 p0 = row(xs, p), p1 = row(xe, p), a0 = row(xs, f0), a1 = row(xe, f0),
+                               b0 = row(xs, f1), b1 = row(xe, f1), c0 = row(xs, f2), c1 = row(xe, f2);
+                    if (sweptBoxesNear<2, 6>({&p0, &p1}, {&a0, &a1, &b0, &b1, &c0, &c1}, 0.0) &&
+                        sweptVertexTriangle(p0, p1, a0, a1, b0, b1, c0, c1, 0.0)) {
                         mark({p, f0, f1, f2});
                     }
                 }
@@ -988,8 +990,10 @@ void CollisionStage::rollBackCrossings(const MatX3& xs, MatX3& xe, MatX3& ve,
                     if (e0 == g0 || e0 == g1 || e1 == g0 || e1 == g1) {
                         continue;
                     }
-                    if (sweptEdgeEdge(row(xs, e0), row(xe, e0), row(xs, e1), row(xe, e1), row(xs, g0),
-                                      row(xe, g0), row(xs, g1), row(xe, g1), 0.0)) {
+                    const Vec3 p0 = row(xs, e0), p1 = row(xe, e0), p2 = row(xs, e1), p3 = row(xe, e1),
+                               q0 = row(xs, g0), q1 = row(xe, g0), q2 = row(xs, g1), q3 = row(xe, g1);
+                    if (sweptBoxesNear<4, 4>({&p0, &p1, &p2, &p3}, {&q0, &q1, &q2, &q3}, 0.0) &&
+                        sweptEdgeEdge(p0, p1, p2, p3, q0, q1, q2, q3, 0.0)) {
                         mark({e0, e1, g0, g1});
                     }
                 }
