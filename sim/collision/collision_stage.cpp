@@ -638,7 +638,7 @@ void CollisionStage::detectSelf(const MatX3& xs, const MatX3& xe) {
                 // the region vote may overrule it.
                 bool reliable = !(cp.distance < d0 * factor);
                 if (mem != m_memory.end()) {
-                    side = mem->second.side;
+                    side = mem->second;
                     reliable = true;
                 } else {
                     const Vec3 ps = row(xs, p);
@@ -738,7 +738,6 @@ void CollisionStage::detectSelf(const MatX3& xs, const MatX3& xe) {
 }
 
 void CollisionStage::voteRegions(const MatX3& xe) {
-    (void)xe;
     // Contact regions (§5.2): self vertex–face contacts whose vertices are equal or adjacent
     // and whose faces share a vertex belong to one region; the region takes the side most of
     // its members hold, and every member is given it.
@@ -837,9 +836,7 @@ void CollisionStage::voteRegions(const MatX3& xe) {
     // (a vertex may come back around a border from the other side).
     m_memory.clear();
     for (int i : members) {
-        Memory& m = m_memory[m_contactKey[static_cast<std::size_t>(i)]];
-        m.side = m_contactSide[static_cast<std::size_t>(i)];
-        m.lastStep = m_step;
+        m_memory[m_contactKey[static_cast<std::size_t>(i)]] = m_contactSide[static_cast<std::size_t>(i)];
     }
     // Edge–edge contacts take their side from the step's start; where the vote found that start
     // tangled, that side is wrong, so edge–edge contacts touching a flipped region are dropped
@@ -945,8 +942,10 @@ void CollisionStage::project(MatX3& xe, MatX3& ve, const VecX& invMass, double h
 
 void CollisionStage::rollBackCrossings(const MatX3& xs, MatX3& xe, MatX3& ve,
                                        const VecX& invMass) {
-    std::vector<char> back(static_cast<std::size_t>(xe.rows()), 0);
-    std::vector<int> marked;
+    std::vector<char>& back = m_putBack;
+    std::vector<int>& marked = m_putBackList;
+    back.resize(static_cast<std::size_t>(xe.rows()), 0);
+    std::vector<int> all; // every vertex put back this step, to clear the flags at the end
     for (int round = 0; round < 32; ++round) {
         m_clothBvh.refit(xs, &xe, 0.0);
         m_pairs.clear();
@@ -1006,14 +1005,17 @@ void CollisionStage::rollBackCrossings(const MatX3& xs, MatX3& xe, MatX3& ve,
             xe.row(v) = xs.row(v);
             ve.row(v).setZero();
         }
+        all.insert(all.end(), marked.begin(), marked.end());
         m_figures.rolledBack += static_cast<long>(marked.size());
+    }
+    for (int v : all) {
+        back[static_cast<std::size_t>(v)] = 0;
     }
 }
 
 void CollisionStage::update(double t0, double t1, const MatX3& xs, MatX3& xe, MatX3& ve,
                             const VecX& invMass) {
     const double h = t1 - t0;
-    ++m_step;
     const double factor = 1.0 + m_scene.collision.proximityFactor;
     m_contacts.clear();
     m_contactKey.clear();

@@ -94,10 +94,6 @@ class CollisionStage {
         bool moves = false;
         double fittedMargin = -1; ///< margin of the last refit of a static obstacle (-1: none)
     };
-    struct Memory {
-        signed char side = 0;
-        long lastStep = 0;
-    };
 
     void detectObstacle(std::size_t k, double h, const MatX3& xs, const MatX3& xe,
                         bool allowSwept = true);
@@ -136,11 +132,12 @@ class CollisionStage {
     std::vector<signed char> m_contactSide;  ///< per self vertex–face contact: side of its face
     std::vector<signed char> m_flippedFrom;  ///< sides before the region vote
     std::vector<char> m_contactReliable;     ///< side remembered or seen arriving (swept)
-    std::unordered_map<std::uint64_t, Memory> m_memory;
+    std::unordered_map<std::uint64_t, signed char> m_memory; ///< side of each self pair in contact
     std::vector<int> m_trapped;       ///< per vertex: obstacle it is inside, or -1
     std::vector<signed char> m_openSide; ///< per (obstacle, vertex): side of an open obstacle
     std::vector<std::pair<int, int>> m_pairs;
-    long m_step = 0;
+    std::vector<char> m_putBack;    ///< fail-safe: per vertex, put back this step (all 0 between steps)
+    std::vector<int> m_putBackList; ///< fail-safe: the vertices put back in the current round
     double m_lastInsideCheck = -1e300;
     CollisionFigures m_figures;
 };
