@@ -7,6 +7,7 @@ PACKAGES=(
   cmake g++ ninja-build pkg-config ccache git
   libeigen3-dev nlohmann-json3-dev libassimp-dev libcli11-dev
   qt6-base-dev libqt6opengl6-dev libepoxy-dev libegl-mesa0 libgl1-mesa-dri xvfb xauth
+  libcgal-dev libgmp-dev libmpfr-dev libboost-dev
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 

@@ -1,0 +1,49 @@
+#pragma once
+/// The body a garment is draped on: a closed triangle mesh and its arrangement slots.
+
+#include "sim/core/types.h"
+
+#include <string>
+#include <vector>
+
+namespace atelier::patterns {
+
+/// A named surface around a part of the body on which panels are placed (like the
+/// arrangement points of commercial garment tools): a cylinder around `axis` through
+/// `origin`, enclosing the body part within [alongMin, alongMax] with `radius`.
+///
+/// A panel point (u, v) — u around, v along, both arc lengths [m] — maps to
+/// origin + v·axis + r·(cos(u/r)·facing + sin(u/r)·right), right = axis × facing, r = radius
+/// + clearance. A counter-clockwise panel drawn with +y "up" (toward +axis) then has its
+/// front (normal +z of the pattern plane) facing away from the body.
+struct ArrangementSlot {
+    std::string name;
+    sim::Vec3 origin = sim::Vec3::Zero();  ///< point on the axis where v = 0 [m]
+    sim::Vec3 axis = sim::Vec3::UnitY();   ///< unit; pattern +y maps to +axis ("up" of the panel)
+    sim::Vec3 facing = sim::Vec3::UnitZ(); ///< unit, ⟂ axis: where u = 0 looks from the axis
+    double radius = 0.2;   ///< smallest cylinder radius enclosing the body part in range [m]
+    double alongMin = -0.3; ///< extent of the body part along the axis from origin [m]
+    double alongMax = 0.3;  ///< [m]
+
+    sim::Vec3 right() const { return axis.cross(facing); }
+};
+
+/// A body mesh with its slots. Outward normals (counter-clockwise seen from outside), Y up,
+/// feet at y = 0, facing +z, metres.
+struct Body {
+    sim::MatX3 vertices;   ///< (|V|×3) [m]
+    sim::MatX3i triangles; ///< (|F|×3)
+    std::vector<ArrangementSlot> slots;
+
+    /// The slot with this name, or nullptr.
+    const ArrangementSlot* slot(const std::string& name) const {
+        for (const ArrangementSlot& s : slots) {
+            if (s.name == name) {
+                return &s;
+            }
+        }
+        return nullptr;
+    }
+};
+
+} // namespace atelier::patterns

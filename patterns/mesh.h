@@ -1,0 +1,69 @@
+#pragma once
+/// Meshing a garment: each panel triangulated at a particle distance into good triangles,
+/// with the vertices along every seam placed so that both sides match one to one.
+
+#include "patterns/garment.h"
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace atelier::patterns {
+
+struct MeshOptions {
+    double particleDistance = 0.01; ///< target edge length [m] (typically 0.005–0.02)
+    double minAngleDeg = 25;        ///< smallest triangle angle asked of the mesher [deg]
+};
+
+/// One panel's triangle mesh.
+struct PanelMesh {
+    /// (|V|×2) pattern coordinates as drawn [m]: the UVs of the exported mesh.
+    sim::MatX2 pattern;
+    /// (|V|×2) rest coordinates in the material frame [m]: the pattern mirrored for a Back
+    /// panel and rotated so that the grain line (warp) is +y. The rest shape of the cloth.
+    sim::MatX2 rest;
+    sim::MatX3i triangles; ///< (|F|×3) counter-clockwise in `rest`
+    /// Edges lying on internal lines, with the rest fold angle of their line [rad].
+    std::vector<std::array<int, 2>> lineEdges;
+    std::vector<double> lineFoldAngles;
+    std::vector<int> notchVertices; ///< one vertex per notch, in the panel's notch order
+};
+
+/// A vertex of one panel's mesh.
+struct VertexRef {
+    int panel = 0;
+    int vertex = 0;
+    bool operator==(const VertexRef&) const = default;
+};
+
+struct GarmentMesh {
+    std::vector<PanelMesh> panels; ///< in the garment's panel order
+    /// Vertex pairs sewn together (seams, then darts), one to one along each seam.
+    std::vector<std::array<VertexRef, 2>> seamPairs;
+    std::vector<int> seamOfPair; ///< (|pairs|) seam index; darts: −1 − panel index
+    std::vector<std::string> warnings; ///< ease beyond tolerance, naming the seam and lengths
+    double minAngleDeg = 0;  ///< smallest triangle angle over all panels [deg]
+    long triangleCount = 0;
+    double seconds = 0;      ///< wall time of the meshing [s]
+};
+
+/// A problem with the garment, at a JSON-pointer-like place (`/panels/2/outline/3`).
+struct GarmentIssue {
+    std::string where;
+    std::string message;
+};
+
+/// Checks the garment's geometry and references: zero-length segments, outlines that
+/// intersect themselves, holes and internal lines outside their panel, seams naming missing
+/// panels or segments, darts out of range, parameters not finite. Empty when it is fine.
+std::vector<GarmentIssue> validateGarment(const Garment& garment);
+
+/// Meshes every panel. Returns what went wrong (naming the panel) or nullopt.
+std::optional<std::string> meshGarment(const Garment& garment, const MeshOptions& options,
+                                       GarmentMesh& out);
+
+/// Smallest interior angle over the triangles of a 2D mesh [deg].
+double minTriangleAngleDeg(const sim::MatX2& points, const sim::MatX3i& triangles);
+
+} // namespace atelier::patterns
