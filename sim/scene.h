@@ -104,6 +104,16 @@ struct Drive {
     double followTimeConstant = 0.0;
 };
 
+/// How seam pairs are pulled together.
+enum class SeamMode {
+    /// A force (C) of a critically damped spring with the time constant: closing competes
+    /// with the load, so a heavy panel hanging from a seam holds it open by ~a·τ².
+    Elastic,
+    /// The same law imposed on the pair's relative acceleration (B), whatever the other
+    /// forces: every gap closes like (1 + t/τ)e^{−t/τ} under any load (garment sewing).
+    Imposed,
+};
+
 /// A seam elastic pulling two vertices together.
 struct SeamPair {
     int a = 0;
@@ -149,6 +159,11 @@ struct SceneSpec {
     std::vector<Drive> drives;
     std::vector<SeamPair> seams;
     double seamTimeConstant = 0.05; ///< time constant of every seam elastic [s]
+    SeamMode seamMode = SeamMode::Elastic;
+    /// A seam pair whose gap closes below this distance is welded for good: from then on its
+    /// vertices move as one (positions and velocities merged by mass, A; accelerations shared,
+    /// B), so a closed seam stays closed under any tension [m]. 0 = elastics only.
+    double seamWeldDistance = 0.0;
     /// High damping: purely dissipative velocity damping (A) of every vertex toward the mean
     /// velocity of its neighbours, time constant [s]; 0 = off.
     double highDampingTimeConstant = 0.0;

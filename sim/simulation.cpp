@@ -18,6 +18,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <sstream>
 
 namespace atelier::sim {
@@ -140,7 +141,36 @@ struct Simulation::Impl {
     double* timerIntegrator = nullptr;
     double* timerSolve = nullptr;
 
+    /// Seam welding: union-find over welded pairs, and the groups of ≥ 2 vertices.
+    std::vector<int> weldParent;
+    std::vector<char> pairWelded;
+    std::vector<std::vector<int>> weldGroups;
+
     explicit Impl(SceneSpec s) : scene(std::move(s)) {}
+
+    int weldRoot(int v) {
+        while (weldParent[static_cast<std::size_t>(v)] != v) {
+            v = weldParent[static_cast<std::size_t>(v)] =
+                weldParent[static_cast<std::size_t>(weldParent[static_cast<std::size_t>(v)])];
+        }
+        return v;
+    }
+    /// Welds the seam pairs that have closed; returns whether any did.
+    bool weldClosedSeams();
+    /// A: each welded group takes its mass-weighted mean position and velocity (a held member
+    /// imposes its own). Momentum-conserving and dissipative.
+    void mergeWelds(MatX3* xs, MatX3& vs) const;
+    /// B: each welded group shares its mass-weighted mean acceleration.
+    void shareWeldAccelerations(MatX3& a) const;
+    /// Imposed seams (B): each open pair's relative acceleration becomes
+    /// \f$ -r/\tau^2 - 2\dot r/\tau \f$, split by mass (momentum conserved). Returns the
+    /// power of the corrections [W].
+    double imposeSeamAccelerations(const MatX3& xs, const MatX3& vs, MatX3& a) const;
+    /// Imposed seams in implicit Euler: the same law integrated implicitly on the end-of-step
+    /// relative velocities.
+    void imposeSeamVelocities(double h, MatX3& vEnd) const;
+    bool pairOpen(std::size_t k) const { return pairWelded.empty() || !pairWelded[k]; }
+    double seamPower = 0; ///< power of the imposed seam corrections at the step's start [W]
 
     bool hasDrives() const { return !scene.drives.empty(); }
 
@@ -209,7 +239,7 @@ void Simulation::Impl::build() {
             models.push_back(std::make_unique<AirDrag>(c.mesh, off, scene.air));
         }
     }
-    if (!scene.seams.empty()) {
+    if (!scene.seams.empty() && scene.seamMode == SeamMode::Elastic) {
         models.push_back(std::make_unique<SeamElastics>(scene.seams, mass, scene.seamTimeConstant));
     }
     pinned.assign(static_cast<std::size_t>(n), 0);
@@ -232,6 +262,12 @@ void Simulation::Impl::build() {
     }
     if (scene.highDampingTimeConstant > 0) {
         stages.emplace_back("constraints.high-damping");
+    }
+    if (!scene.seams.empty() && scene.seamMode == SeamMode::Imposed) {
+        stages.emplace_back("constraints.seams");
+    }
+    if (!scene.seams.empty() && scene.seamWeldDistance > 0) {
+        stages.emplace_back("constraints.seam-welds");
     }
     for (const auto& m : models) {
         stages.emplace_back(m->name());
@@ -348,6 +384,18 @@ void Simulation::Impl::accelerations(double time, const MatX3& xs, const MatX3& 
                     2.0 * (vs.row(i).transpose() - p.velocity) / tau)
                        .transpose();
     }
+    if (scene.seamMode == SeamMode::Imposed && !scene.seams.empty() &&
+        scene.integrator.kind != IntegratorKind::ImplicitEuler) {
+        const double power = imposeSeamAccelerations(xs, vs, a);
+        if (&xs == &x) {
+            seamPower = power;
+        }
+    }
+    if (scene.integrator.kind != IntegratorKind::ImplicitEuler) {
+        // Implicit Euler merges welded velocities after its solve instead: sharing stiff
+        // forces across the weld explicitly in its right-hand side would be unstable.
+        shareWeldAccelerations(a);
+    }
     if (collision && scene.integrator.kind != IntegratorKind::ImplicitEuler) {
         // B: contacts hold (no re-approach) with Coulomb friction.
         StageTimer timer(*timerCollision);
@@ -423,6 +471,157 @@ void Simulation::Impl::applyCorrectionsA(double h) {
     if (scene.highDampingTimeConstant > 0) {
         applyHighDamping(allEdges, invMass, h, scene.highDampingTimeConstant, v);
     }
+    mergeWelds(&x, v);
+}
+
+bool Simulation::Impl::weldClosedSeams() {
+    if (!(scene.seamWeldDistance > 0)) {
+        return false;
+    }
+    if (weldParent.empty()) {
+        weldParent.resize(static_cast<std::size_t>(n));
+        std::iota(weldParent.begin(), weldParent.end(), 0);
+        pairWelded.assign(scene.seams.size(), 0);
+    }
+    const double d2 = scene.seamWeldDistance * scene.seamWeldDistance;
+    bool changed = false;
+    for (std::size_t k = 0; k < scene.seams.size(); ++k) {
+        const SeamPair& p = scene.seams[k];
+        if (pairWelded[k] || (x.row(p.a) - x.row(p.b)).squaredNorm() > d2) {
+            continue;
+        }
+        pairWelded[k] = 1;
+        ++stats.weldedSeamPairs;
+        const int ra = weldRoot(p.a), rb = weldRoot(p.b);
+        if (ra != rb) {
+            weldParent[static_cast<std::size_t>(std::max(ra, rb))] = std::min(ra, rb);
+            changed = true;
+        }
+    }
+    if (changed) {
+        std::map<int, std::vector<int>> groups;
+        for (const SeamPair& p : scene.seams) {
+            for (int v : {p.a, p.b}) {
+                groups[weldRoot(v)].push_back(v);
+            }
+        }
+        weldGroups.clear();
+        for (auto& [root, members] : groups) {
+            std::sort(members.begin(), members.end());
+            members.erase(std::unique(members.begin(), members.end()), members.end());
+            if (members.size() >= 2) {
+                weldGroups.push_back(std::move(members));
+            }
+        }
+    }
+    return changed;
+}
+
+void Simulation::Impl::mergeWelds(MatX3* xs, MatX3& vs) const {
+    for (const std::vector<int>& g : weldGroups) {
+        double m = 0;
+        Vec3 px = Vec3::Zero(), pv = Vec3::Zero();
+        int heldVertex = -1;
+        for (int i : g) {
+            if (invMass[i] == 0) {
+                heldVertex = i;
+            }
+            m += mass[i];
+            if (xs != nullptr) {
+                px += mass[i] * xs->row(i).transpose();
+            }
+            pv += mass[i] * vs.row(i).transpose();
+        }
+        if (heldVertex >= 0) {
+            if (xs != nullptr) {
+                px = xs->row(heldVertex).transpose();
+            }
+            pv = vs.row(heldVertex).transpose();
+        } else if (m > 0) {
+            px /= m;
+            pv /= m;
+        } else {
+            continue;
+        }
+        for (int i : g) {
+            if (xs != nullptr) {
+                xs->row(i) = px.transpose();
+            }
+            vs.row(i) = pv.transpose();
+        }
+    }
+}
+
+void Simulation::Impl::shareWeldAccelerations(MatX3& a) const {
+    for (const std::vector<int>& g : weldGroups) {
+        double m = 0;
+        Vec3 pa = Vec3::Zero();
+        int heldVertex = -1;
+        for (int i : g) {
+            if (invMass[i] == 0) {
+                heldVertex = i;
+            }
+            m += mass[i];
+            pa += mass[i] * a.row(i).transpose();
+        }
+        if (heldVertex >= 0) {
+            pa = a.row(heldVertex).transpose();
+        } else if (m > 0) {
+            pa /= m;
+        } else {
+            continue;
+        }
+        for (int i : g) {
+            a.row(i) = pa.transpose();
+        }
+    }
+}
+
+double Simulation::Impl::imposeSeamAccelerations(const MatX3& xs, const MatX3& vs,
+                                                MatX3& a) const {
+    const double tau = scene.seamTimeConstant;
+    double power = 0;
+    for (std::size_t k = 0; k < scene.seams.size(); ++k) {
+        if (!pairOpen(k)) {
+            continue;
+        }
+        const int ia = scene.seams[k].a, ib = scene.seams[k].b;
+        const double wa = invMass[ia], wb = invMass[ib];
+        if (wa + wb == 0) {
+            continue;
+        }
+        const Vec3 r = xs.row(ia) - xs.row(ib);
+        const Vec3 rv = vs.row(ia) - vs.row(ib);
+        const Vec3 want = -r / (tau * tau) - 2.0 * rv / tau;
+        const Vec3 delta = want - (a.row(ia) - a.row(ib)).transpose();
+        // Split by inverse mass: the pair's reaction forces are equal and opposite.
+        a.row(ia) += (wa / (wa + wb)) * delta.transpose();
+        a.row(ib) -= (wb / (wa + wb)) * delta.transpose();
+        power += delta.dot(rv) / (wa + wb);
+    }
+    return power;
+}
+
+void Simulation::Impl::imposeSeamVelocities(double h, MatX3& vEnd) const {
+    const double tau = scene.seamTimeConstant;
+    const double denominator = 1.0 + 2.0 * h / tau + h * h / (tau * tau);
+    for (std::size_t k = 0; k < scene.seams.size(); ++k) {
+        if (!pairOpen(k)) {
+            continue;
+        }
+        const int ia = scene.seams[k].a, ib = scene.seams[k].b;
+        const double wa = invMass[ia], wb = invMass[ib];
+        if (wa + wb == 0) {
+            continue;
+        }
+        const Vec3 r = x.row(ia) - x.row(ib);
+        const Vec3 rv0 = v.row(ia) - v.row(ib);
+        // Backward Euler of r'' = −r/τ² − 2r'/τ over the step.
+        const Vec3 want = (rv0 - h * r / (tau * tau)) / denominator;
+        const Vec3 delta = want - (vEnd.row(ia) - vEnd.row(ib)).transpose();
+        vEnd.row(ia) += (wa / (wa + wb)) * delta.transpose();
+        vEnd.row(ib) -= (wb / (wa + wb)) * delta.transpose();
+    }
 }
 
 bool Simulation::Impl::explicitStep(double h, double& errorRatio) {
@@ -486,6 +685,13 @@ bool Simulation::Impl::implicitStep(double h) {
     }
     stats.cgIterations += r.iterations;
     vNew = v + dv;
+    if (scene.seamMode == SeamMode::Imposed && !scene.seams.empty()) {
+        const double before = 0.5 * (mass.array() * vNew.rowwise().squaredNorm().array()).sum();
+        imposeSeamVelocities(h, vNew);
+        const double after = 0.5 * (mass.array() * vNew.rowwise().squaredNorm().array()).sum();
+        seamPower = std::max(0.0, after - before) / h;
+    }
+    mergeWelds(nullptr, vNew); // welded pairs keep one velocity (positions follow below)
     if (collision) {
         // Contacts on the end-of-step velocities (the implicit form of B), with friction.
         StageTimer timer(*timerCollision);
@@ -526,6 +732,7 @@ bool Simulation::Impl::step(double maxH) {
         const auto start = Clock::now();
         hStep = h;
         collisionPower = 0;
+        seamPower = 0;
         xSave = x; // members: no allocation after the first step
         vSave = v;
         applyCorrectionsA(h);
@@ -549,7 +756,8 @@ bool Simulation::Impl::step(double maxH) {
             }
             const double ke = 0.5 * (mass.array() * vNew.rowwise().squaredNorm().array()).sum();
             // Contacts with moving obstacles do work too (B, or the implicit velocity pass).
-            const double contactWork = std::max(0.0, collisionPower * h);
+            const double contactWork =
+                std::max(0.0, collisionPower * h) + std::max(0.0, seamPower * h);
             ok = ke <= opt.divergenceEnergyFactor *
                                (energyBound(xNew) + std::max(0.0, work) + contactWork) +
                            1e-6 * mass.sum(); // below ~1 mm/s of motion: never a divergence
@@ -568,6 +776,10 @@ bool Simulation::Impl::step(double maxH) {
             work += std::max(0.0, after - before) + std::max(0.0, collisionPower * h);
             collisionPower = 0;
             stats.contacts = collision->figures().contacts;
+        }
+        if (accept) {
+            work += std::max(0.0, seamPower * h);
+            seamPower = 0;
         }
         if (!accept) {
             std::ostringstream why;
@@ -601,6 +813,10 @@ bool Simulation::Impl::step(double maxH) {
         t += h;
         for (const auto& m : models) {
             m->acceptStep(x, h);
+        }
+        if (weldClosedSeams()) {
+            StageTimer timer(*timerConstraints);
+            mergeWelds(&x, v);
         }
         ++stats.steps;
         stats.minDt = stats.steps == 1 ? h : std::min(stats.minDt, h);
@@ -717,6 +933,9 @@ std::optional<std::string> Simulation::validate(const SceneSpec& s) {
         if (p.a < 0 || p.a >= total || p.b < 0 || p.b >= total || p.a == p.b) {
             return "seam " + std::to_string(k) + ": vertices must be two different vertices in range";
         }
+    }
+    if (!(s.seamWeldDistance >= 0)) {
+        return std::string("seam weld distance must be zero or positive");
     }
     if (!s.seams.empty() && !(s.seamTimeConstant > 0)) {
         return std::string("seam time constant must be positive");

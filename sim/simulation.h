@@ -35,6 +35,7 @@ struct RunStats {
     /// (and the start) [m]; 0 without obstacles.
     double maxPenetration = 0;
     long contacts = 0; ///< active contacts after the last step
+    long weldedSeamPairs = 0; ///< seam pairs welded so far (see SceneSpec::seamWeldDistance)
 };
 
 class CollisionStage;

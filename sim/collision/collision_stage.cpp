@@ -131,6 +131,24 @@ CollisionStage::CollisionStage(const SceneSpec& scene, const std::vector<int>& o
                                const MatX3& x)
     : m_scene(scene), m_offsets(offsets) {
     const int n = offsets.back();
+    // Sewn vertices are one vertex for adjacency: their triangles touch by design.
+    m_alias.resize(static_cast<std::size_t>(n));
+    std::iota(m_alias.begin(), m_alias.end(), 0);
+    auto root = [&](int v) {
+        while (m_alias[static_cast<std::size_t>(v)] != v) {
+            v = m_alias[static_cast<std::size_t>(v)];
+        }
+        return v;
+    };
+    for (const SeamPair& sp : scene.seams) {
+        const int ra = root(sp.a), rb = root(sp.b);
+        if (ra != rb) {
+            m_alias[static_cast<std::size_t>(std::max(ra, rb))] = std::min(ra, rb);
+        }
+    }
+    for (int v = 0; v < n; ++v) {
+        m_alias[static_cast<std::size_t>(v)] = root(v);
+    }
     m_clothOf.assign(static_cast<std::size_t>(n), 0);
     m_thickness.resize(n);
     int triangleCount = 0, edgeCount = 0;
@@ -607,7 +625,7 @@ void CollisionStage::detectSelf(const MatX3& xs, const MatX3& xe) {
             const Vec3 be[3] = {row(xe, fb[0]), row(xe, fb[1]), row(xe, fb[2])};
             const double tb0 = std::max({m_thickness[fb[0]], m_thickness[fb[1]], m_thickness[fb[2]]});
             for (int p : m_ownedVertices[static_cast<std::size_t>(a)]) {
-                if (p == fb[0] || p == fb[1] || p == fb[2]) {
+                if (same(p, fb[0]) || same(p, fb[1]) || same(p, fb[2])) {
                     continue;
                 }
                 const double d0 = m_thickness[p] + tb0;
@@ -676,7 +694,7 @@ void CollisionStage::detectSelf(const MatX3& xs, const MatX3& xe) {
             const int e0 = m_edges(e, 0), e1 = m_edges(e, 1);
             for (int g : m_ownedEdges[static_cast<std::size_t>(tb)]) {
                 const int g0 = m_edges(g, 0), g1 = m_edges(g, 1);
-                if (e0 == g0 || e0 == g1 || e1 == g0 || e1 == g1) {
+                if (same(e0, g0) || same(e0, g1) || same(e1, g0) || same(e1, g1)) {
                     continue;
                 }
                 const double d0 = std::max(m_thickness[e0], m_thickness[e1]) +
@@ -971,7 +989,7 @@ void CollisionStage::rollBackCrossings(const MatX3& xs, MatX3& xe, MatX3& ve,
                 const int b = dir == 0 ? tb : ta;
                 const int f0 = m_triangles(b, 0), f1 = m_triangles(b, 1), f2 = m_triangles(b, 2);
                 for (int p : m_ownedVertices[static_cast<std::size_t>(a)]) {
-                    if (p == f0 || p == f1 || p == f2) {
+                    if (same(p, f0) || same(p, f1) || same(p, f2)) {
                         continue;
                     }
                     const Vec3 p0 = row(xs, p), p1 = row(xe, p), a0 = row(xs, f0), a1 = row(xe, f0),
@@ -986,7 +1004,7 @@ void CollisionStage::rollBackCrossings(const MatX3& xs, MatX3& xe, MatX3& ve,
                 const int e0 = m_edges(e, 0), e1 = m_edges(e, 1);
                 for (int g : m_ownedEdges[static_cast<std::size_t>(tb)]) {
                     const int g0 = m_edges(g, 0), g1 = m_edges(g, 1);
-                    if (e0 == g0 || e0 == g1 || e1 == g0 || e1 == g1) {
+                    if (same(e0, g0) || same(e0, g1) || same(e1, g0) || same(e1, g1)) {
                         continue;
                     }
                     const Vec3 p0 = row(xs, e0), p1 = row(xe, e0), p2 = row(xs, e1), p3 = row(xe, e1),
@@ -1198,7 +1216,7 @@ long CollisionStage::intersectingTrianglePairs(const MatX3& x, long* clothObstac
         bool shared = false;
         for (int i = 0; i < 3; ++i) {
             for (int j = 0; j < 3; ++j) {
-                shared = shared || m_triangles(a, i) == m_triangles(b, j);
+                shared = shared || same(m_triangles(a, i), m_triangles(b, j));
             }
         }
         if (!shared && trianglesIntersect(row(x, m_triangles(a, 0)), row(x, m_triangles(a, 1)),

@@ -80,6 +80,13 @@ class CollisionStage {
     const MatX3& obstaclePositions(int k) const { return m_obstacles[static_cast<std::size_t>(k)].x1; }
 
   private:
+    /// Whether two cloth vertices are the same vertex or sewn together (scene seams, chained
+    /// through corners): such vertices count as shared for adjacency, so the triangles on
+    /// both sides of a seam are never taken as colliding or intersecting.
+    bool same(int a, int b) const {
+        return m_alias[static_cast<std::size_t>(a)] == m_alias[static_cast<std::size_t>(b)];
+    }
+
     struct ObstacleData {
         const ObstacleSpec* spec = nullptr;
         SurfaceBvh bvh;
@@ -140,6 +147,7 @@ class CollisionStage {
     std::vector<int> m_putBackList; ///< fail-safe: the vertices put back in the current round
     double m_lastInsideCheck = -1e300;
     CollisionFigures m_figures;
+    std::vector<int> m_alias; ///< (|V|) representative of each vertex's sewn group
 };
 
 } // namespace atelier::sim

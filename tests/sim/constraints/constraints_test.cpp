@@ -117,6 +117,46 @@ TEST(Constraints, SeamElasticsCloseWithTheirTimeConstant) {
     EXPECT_LT(momentum.norm(), 1e-9);
 }
 
+TEST(Constraints, ClosedSeamsWeldAndStayClosedUnderLoad) {
+    // Sheet B hangs from sheet A by a seam along their facing edges, started 2 cm apart. The
+    // elastics close the gap; once below the weld distance each pair moves as one vertex, so
+    // B's weight cannot reopen the seam. Imposed seams close whatever the load (elastic ones
+    // would be held open by B's weight, ~g·τ²·m_B/μ).
+    const int cells = 4;
+    SceneSpec scene = test::smallSheet(StretchModel::Fem, cells, 0.2, true);
+    ClothSpec b = scene.cloths[0];
+    b.name = "b";
+    b.position.col(0).array() += 0.22;
+    b.selfCollision = true;
+    scene.cloths[0].selfCollision = true;
+    scene.cloths.push_back(b);
+    scene.pins = {cells * (cells + 1)}; // A's top-left corner only: the seam carries B
+    const int nA = (cells + 1) * (cells + 1);
+    for (int j = 0; j <= cells; ++j) {
+        scene.seams.push_back({j * (cells + 1) + cells, nA + j * (cells + 1)});
+    }
+    scene.seamTimeConstant = 0.02;
+    scene.seamMode = SeamMode::Imposed;
+    scene.seamWeldDistance = 1e-3;
+    for (IntegratorKind kind : {IntegratorKind::Rk45, IntegratorKind::ImplicitEuler}) {
+        SCOPED_TRACE(std::string(integratorName(kind)));
+        scene.integrator.kind = kind;
+        scene.integrator.dt = kind == IntegratorKind::ImplicitEuler ? 2e-3 : 1e-4;
+        Simulation sim(scene);
+        ASSERT_TRUE(hasStage(sim, "constraints.seams"));
+        ASSERT_TRUE(hasStage(sim, "constraints.seam-welds"));
+        ASSERT_EQ(sim.advance(1.0), RunStatus::Finished) << sim.error();
+        EXPECT_EQ(sim.stats().weldedSeamPairs, cells + 1);
+        for (const SeamPair& p : scene.seams) {
+            EXPECT_EQ((sim.positions().row(p.a) - sim.positions().row(p.b)).norm(), 0.0);
+        }
+        // B hangs below A's pin; the triangles meeting at the seam are not taken as crossing.
+        EXPECT_LT(sim.positions().col(1).segment(nA, nA).maxCoeff(), 0.2 + 1e-9);
+        EXPECT_EQ(sim.intersectingTrianglePairs(), 0);
+        EXPECT_TRUE(sim.stats().finite);
+    }
+}
+
 TEST(Constraints, HighDampingIsPurelyDissipativeAndConservesMomentum) {
     std::mt19937 rng(3);
     std::normal_distribution<double> n01;
