@@ -1,0 +1,53 @@
+#pragma once
+/// A garment project: the body, the garment and how to drape it. What a `.atelier` file holds
+/// (io/project_file reads and writes it).
+
+#include "patterns/garment.h"
+
+#include "sim/scene.h"
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace atelier::patterns {
+
+/// Where the body comes from: the parametric mannequin (a base and measurements), or a mesh.
+struct BodySource {
+    std::string base = "female"; ///< mannequin base: "female" or "male"
+    /// Measurements overriding the base's defaults, by field name (`waist`, `hip`, ...) in
+    /// file order [m].
+    std::vector<std::pair<std::string, double>> measurements;
+    /// A body mesh (OBJ, metres, Y up, facing +z), relative to the project file; when set,
+    /// the mannequin is not used and the slots are computed from the mesh.
+    std::string meshPath;
+};
+
+/// How a garment is meshed, assembled and draped.
+struct DrapeSettings {
+    double particleDistance = 0.01; ///< target mesh edge length [m]
+    sim::StretchModel model = sim::StretchModel::Fem;
+    sim::IntegratorKind integrator = sim::IntegratorKind::ImplicitEuler;
+    double dt = 1.0 / 300;          ///< step (fixed, or first of rk45) [s]
+    double clothThickness = 0.002;  ///< collision thickness of the cloth [m]
+    bool selfCollision = true;      ///< garment against itself (layers, front vs back)
+    double bodyThickness = 0.002;   ///< collision thickness of the body surface [m]
+    double bodyStaticFriction = 0.5;
+    double bodyKineticFriction = 0.4;
+    double seamTimeConstant = 0.03; ///< seams close like (1 + t/τ)e^{−t/τ} [s]
+    double seamWeldDistance = 0.001; ///< a closed seam pair welds below this gap [m]
+    /// At rest when the mean kinetic energy per vertex stays below this [J] ...
+    double restKineticEnergy = 1e-8;
+    double restDuration = 0.2; ///< ... for this long [s] of simulated time
+    double timeLimit = 5.0;    ///< simulated time after which the drape stops anyway [s]
+};
+
+struct Project {
+    int version = 1;
+    std::string name;
+    BodySource body;
+    Garment garment;
+    DrapeSettings drape;
+};
+
+} // namespace atelier::patterns
