@@ -1,0 +1,135 @@
+#include "patterns/assemble.h"
+
+#include "patterns/placement.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <utility>
+
+namespace atelier::patterns {
+
+namespace {
+
+/// Per hinge of a built cloth mesh, the fold angle of the internal line its edge lies on.
+sim::VecX hingeRestAngles(const sim::ClothMesh& cloth, const PanelMesh& mesh) {
+    if (mesh.lineEdges.empty()) {
+        return {};
+    }
+    std::map<std::pair<int, int>, double> fold;
+    for (std::size_t k = 0; k < mesh.lineEdges.size(); ++k) {
+        const auto [a, b] = mesh.lineEdges[k];
+        fold[{std::min(a, b), std::max(a, b)}] =
+            k < mesh.lineFoldAngles.size() ? mesh.lineFoldAngles[k] : 0.0;
+    }
+    sim::VecX angles = sim::VecX::Zero(cloth.hinges.rows());
+    bool any = false;
+    for (int h = 0; h < cloth.hinges.rows(); ++h) {
+        const int a = cloth.hinges(h, 0), b = cloth.hinges(h, 1);
+        const auto it = fold.find({std::min(a, b), std::max(a, b)});
+        if (it != fold.end() && it->second != 0) {
+            angles[h] = it->second;
+            any = true;
+        }
+    }
+    return any ? angles : sim::VecX();
+}
+
+} // namespace
+
+std::optional<std::string> assembleGarment(const Garment& garment, const GarmentMesh& mesh,
+                                           const Body& body, const DrapeSettings& settings,
+                                           AssembledGarment& out) {
+    out = {};
+    if (mesh.panels.size() != garment.panels.size()) {
+        return std::string("the mesh does not match the garment's panels");
+    }
+    sim::SceneSpec& scene = out.scene;
+    out.panelOffsets.push_back(0);
+    for (std::size_t p = 0; p < garment.panels.size(); ++p) {
+        const Panel& panel = garment.panels[p];
+        const PanelMesh& pm = mesh.panels[p];
+        const std::string who = "panel \"" + panel.name + "\"";
+        const ArrangementSlot* slot = body.slot(panel.placement.slot);
+        if (slot == nullptr) {
+            std::string names;
+            for (const ArrangementSlot& s : body.slots) {
+                names += (names.empty() ? "" : ", ") + s.name;
+            }
+            return who + ": the body has no slot \"" + panel.placement.slot + "\" (it has: " +
+                   names + ")";
+        }
+        const auto material =
+            std::find_if(garment.materials.begin(), garment.materials.end(),
+                         [&](const GarmentMaterial& m) { return m.name == panel.material; });
+        if (material == garment.materials.end()) {
+            return who + ": no material \"" + panel.material + "\"";
+        }
+        sim::ClothSpec cloth;
+        cloth.name = panel.name;
+        if (auto err = sim::buildClothMesh(pm.rest, pm.triangles, cloth.mesh)) {
+            return who + ": " + *err;
+        }
+        cloth.position = wrapOnSlot(placementCoordinates(panel, pm), *slot,
+                                    panel.placement.clearance);
+        cloth.material = material->material;
+        cloth.model = settings.model;
+        cloth.restAngles = hingeRestAngles(cloth.mesh, pm);
+        cloth.thickness = settings.clothThickness;
+        cloth.selfCollision = settings.selfCollision;
+        scene.cloths.push_back(std::move(cloth));
+        out.panelOffsets.push_back(out.panelOffsets.back() + pm.pattern.rows());
+    }
+    for (const auto& pair : mesh.seamPairs) {
+        const int a = out.panelOffsets[static_cast<std::size_t>(pair[0].panel)] + pair[0].vertex;
+        const int b = out.panelOffsets[static_cast<std::size_t>(pair[1].panel)] + pair[1].vertex;
+        if (a != b) {
+            scene.seams.push_back({a, b});
+        }
+    }
+    scene.seamMode = sim::SeamMode::Imposed;
+    scene.seamTimeConstant = settings.seamTimeConstant;
+    scene.seamWeldDistance = settings.seamWeldDistance;
+
+    sim::ObstacleSpec obstacle;
+    obstacle.name = "body";
+    obstacle.vertices = body.vertices;
+    obstacle.triangles = body.triangles;
+    obstacle.closed = true;
+    obstacle.thickness = settings.bodyThickness;
+    obstacle.staticFriction = settings.bodyStaticFriction;
+    obstacle.kineticFriction = settings.bodyKineticFriction;
+    scene.obstacles.push_back(std::move(obstacle));
+
+    scene.gravity = true;
+    scene.integrator.kind = settings.integrator;
+    scene.integrator.dt = settings.dt;
+    scene.duration = settings.timeLimit;
+    return std::nullopt;
+}
+
+double seamGapMax(const AssembledGarment& assembled, const sim::MatX3& x) {
+    double gap = 0;
+    for (const sim::SeamPair& p : assembled.scene.seams) {
+        gap = std::max(gap, (x.row(p.a) - x.row(p.b)).norm());
+    }
+    return gap;
+}
+
+double areaRatio(const sim::SceneSpec& scene, const sim::MatX3& x) {
+    double area = 0, rest = 0;
+    int offset = 0;
+    for (const sim::ClothSpec& c : scene.cloths) {
+        for (int t = 0; t < c.mesh.triangleCount(); ++t) {
+            const sim::Vec3 a = x.row(offset + c.mesh.triangles(t, 0));
+            const sim::Vec3 b = x.row(offset + c.mesh.triangles(t, 1));
+            const sim::Vec3 d = x.row(offset + c.mesh.triangles(t, 2));
+            area += 0.5 * (b - a).cross(d - a).norm();
+        }
+        rest += c.mesh.restArea.sum();
+        offset += c.mesh.vertexCount();
+    }
+    return rest > 0 ? area / rest : 0.0;
+}
+
+} // namespace atelier::patterns

@@ -1,0 +1,37 @@
+#pragma once
+/// Assembly: garment + meshes + body → the engine's scene, with only the stages it needs.
+
+#include "patterns/body.h"
+#include "patterns/mesh.h"
+#include "patterns/project.h"
+
+#include "sim/scene.h"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace atelier::patterns {
+
+/// The scene of a drape and how its cloths map back to the garment.
+struct AssembledGarment {
+    sim::SceneSpec scene;
+    /// First global vertex of each panel's cloth, plus the total at the end (|panels|+1).
+    std::vector<int> panelOffsets;
+};
+
+/// Builds the scene: one cloth per panel (rest shape in its material frame, start positions
+/// wrapped on its slot, material by name, fold angles from internal lines), the seams and
+/// darts as imposed seam pairs that weld when closed, the body as a closed static obstacle.
+/// Returns what is wrong (a panel's slot missing on the body, a material missing) or nullopt.
+std::optional<std::string> assembleGarment(const Garment& garment, const GarmentMesh& mesh,
+                                           const Body& body, const DrapeSettings& settings,
+                                           AssembledGarment& out);
+
+/// Largest distance between sewn vertex pairs [m] at positions x (global, |V|×3).
+double seamGapMax(const AssembledGarment& assembled, const sim::MatX3& x);
+
+/// Total triangle area of the cloths at positions x over their total rest area [-].
+double areaRatio(const sim::SceneSpec& scene, const sim::MatX3& x);
+
+} // namespace atelier::patterns

@@ -1,0 +1,22 @@
+#pragma once
+/// Placing a panel around the body: its mesh wrapped onto the cylinder of an arrangement slot.
+
+#include "patterns/body.h"
+#include "patterns/garment.h"
+#include "patterns/mesh.h"
+
+namespace atelier::patterns {
+
+/// Panel-plane coordinates used for placement: the pattern as drawn, mirrored in x for a
+/// Back panel (so triangles keep their counter-clockwise order), centred on the middle of its
+/// bounding box, then rotated by `placement.rotation` and moved by `placement.offset` [m].
+sim::MatX2 placementCoordinates(const Panel& panel, const PanelMesh& mesh);
+
+/// 3D start positions of a panel (|V|×3) [m]: each placement point (u, v) goes to
+/// origin + v·axis + r·(cos(u/r)·facing + sin(u/r)·right) with r = slot.radius +
+/// placement.clearance, so the panel starts curved around the body part, outside the
+/// cylinder enclosing it, with its front facing out.
+sim::MatX3 wrapOnSlot(const sim::MatX2& coordinates, const ArrangementSlot& slot,
+                      double clearance);
+
+} // namespace atelier::patterns

@@ -1,0 +1,99 @@
+// Placement: a panel wrapped on an arrangement slot lies on the slot's cylinder at radius +
+// clearance, keeps its lengths along and around, and faces away from the body.
+
+#include "patterns/placement.h"
+
+#include "sim/mesh/cloth_mesh.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace atelier::patterns {
+namespace {
+
+/// A 0.3 × 0.2 m rectangle mesh (two triangles, counter-clockwise) drawn at (1, 2).
+PanelMesh rectangle() {
+    PanelMesh m;
+    m.pattern.resize(4, 2);
+    m.pattern << 1.0, 2.0, 1.3, 2.0, 1.3, 2.2, 1.0, 2.2;
+    m.rest = m.pattern;
+    m.triangles.resize(2, 3);
+    m.triangles << 0, 1, 2, 0, 2, 3;
+    return m;
+}
+
+ArrangementSlot tiltedSlot() {
+    ArrangementSlot s;
+    s.name = "arm";
+    s.origin = Vec3(0.3, 1.2, 0.05);
+    s.axis = Vec3(-0.5, std::sqrt(3.0) / 2, 0); // 30° from vertical
+    s.facing = Vec3(0, 0, 1);
+    s.radius = 0.2;
+    return s;
+}
+
+double distanceToAxis(const ArrangementSlot& s, const Vec3& p) {
+    const Vec3 d = p - s.origin;
+    return (d - d.dot(s.axis) * s.axis).norm();
+}
+
+TEST(Placement, CentredRotatedAndOffsetInThePanelPlane) {
+    Panel panel;
+    panel.placement.offset = Vec2(0.05, -0.1);
+    panel.placement.rotation = M_PI / 2;
+    const sim::MatX2 c = placementCoordinates(panel, rectangle());
+    // Corner (1, 2) is (−0.15, −0.1) from the centre; rotated 90°: (0.1, −0.15); then offset.
+    EXPECT_NEAR(c(0, 0), 0.1 + 0.05, 1e-12);
+    EXPECT_NEAR(c(0, 1), -0.15 - 0.1, 1e-12);
+}
+
+TEST(Placement, BackPanelsAreMirroredAndStayCounterClockwise) {
+    Panel panel;
+    panel.side = PanelSide::Back;
+    // The mesher gives a Back panel triangles that are counter-clockwise in its mirrored rest
+    // shape, i.e. clockwise as drawn.
+    PanelMesh m = rectangle();
+    m.triangles << 0, 2, 1, 0, 3, 2;
+    const sim::MatX2 c = placementCoordinates(panel, m);
+    EXPECT_NEAR(c(0, 0), 0.15, 1e-12); // the left corner went right
+    for (int t = 0; t < 2; ++t) {
+        EXPECT_GT(sim::signedArea(c.row(m.triangles(t, 0)).transpose(),
+                                  c.row(m.triangles(t, 1)).transpose(),
+                                  c.row(m.triangles(t, 2)).transpose()),
+                  0);
+    }
+}
+
+TEST(Placement, WrapsOnTheSlotCylinderAtRadiusPlusClearanceFacingOut) {
+    const ArrangementSlot slot = tiltedSlot();
+    Panel panel;
+    const PanelMesh m = rectangle();
+    const double clearance = 0.02;
+    const sim::MatX3 x = wrapOnSlot(placementCoordinates(panel, m), slot, clearance);
+    for (int i = 0; i < x.rows(); ++i) {
+        EXPECT_NEAR(distanceToAxis(slot, x.row(i).transpose()), slot.radius + clearance, 1e-12);
+    }
+    // Lengths along the axis are kept; around, the arc length is kept.
+    const Vec3 d01 = x.row(1) - x.row(0);
+    EXPECT_NEAR(d01.dot(slot.axis), 0.0, 1e-12);
+    const double r = slot.radius + clearance;
+    EXPECT_NEAR(d01.norm(), 2 * r * std::sin(0.3 / (2 * r)), 1e-12); // chord of a 0.3 m arc
+    EXPECT_NEAR((x.row(3) - x.row(0)).dot(slot.axis), 0.2, 1e-12);
+    // Each counter-clockwise triangle's normal points away from the axis.
+    for (int t = 0; t < m.triangles.rows(); ++t) {
+        const Vec3 a = x.row(m.triangles(t, 0)), b = x.row(m.triangles(t, 1)),
+                   c = x.row(m.triangles(t, 2));
+        const Vec3 n = (b - a).cross(c - a);
+        const Vec3 centre = (a + b + c) / 3.0;
+        Vec3 out = centre - slot.origin;
+        out -= out.dot(slot.axis) * slot.axis;
+        EXPECT_GT(n.dot(out), 0) << "triangle " << t;
+    }
+    // The panel's centre faces the slot's facing direction.
+    const Vec3 mid = 0.25 * (x.row(0) + x.row(1) + x.row(2) + x.row(3)).transpose();
+    EXPECT_GT((mid - slot.origin).normalized().dot(slot.facing), 0.9);
+}
+
+} // namespace
+} // namespace atelier::patterns
