@@ -814,7 +814,9 @@ bool Simulation::Impl::step(double maxH) {
         for (const auto& m : models) {
             m->acceptStep(x, h);
         }
-        if (weldClosedSeams()) {
+        if (weldClosedSeams() || !weldGroups.empty()) {
+            // Also after the collision corrections, which move vertices one by one: a welded
+            // group leaves every step as one point.
             StageTimer timer(*timerConstraints);
             mergeWelds(&x, v);
         }
