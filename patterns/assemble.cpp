@@ -102,6 +102,7 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
     scene.obstacles.push_back(std::move(obstacle));
 
     scene.gravity = true;
+    scene.gravityStartTime = settings.sewingTime;
     scene.integrator.kind = settings.integrator;
     scene.integrator.dt = settings.dt;
     scene.duration = settings.timeLimit;

@@ -17,7 +17,7 @@ DrapeOutcome drapeUntilRest(sim::Simulation& simulation, const DrapeSettings& se
         [&](int frame, double t) {
             const double ke = simulation.kineticEnergy() / vertices;
             out.kineticEnergyPerVertex = ke;
-            if (ke < settings.restKineticEnergy) {
+            if (t >= settings.sewingTime && ke < settings.restKineticEnergy) {
                 if (restSince < 0) {
                     restSince = t;
                 }

@@ -18,8 +18,8 @@ struct DrapeOutcome {
 };
 
 /// Runs until the mean kinetic energy per vertex has stayed below settings.restKineticEnergy
-/// for settings.restDuration of simulated time (checked at every output frame), or until
-/// settings.timeLimit. `onFrame(frame, time, kineticEnergyPerVertex)` is called per frame.
+/// for settings.restDuration of simulated time after the sewing phase (checked at every output
+/// frame), or until settings.timeLimit. `onFrame(frame, time, kineticEnergyPerVertex)` is called per frame.
 DrapeOutcome drapeUntilRest(sim::Simulation& simulation, const DrapeSettings& settings,
                             const std::function<void(int, double, double)>& onFrame = {});
 

@@ -36,6 +36,9 @@ struct DrapeSettings {
     double bodyKineticFriction = 0.4;
     double seamTimeConstant = 0.03; ///< seams close like (1 + t/τ)e^{−t/τ} [s]
     double seamWeldDistance = 0.001; ///< a closed seam pair welds below this gap [m]
+    /// Sewing phase: gravity starts after this time [s], so that the seams close around the
+    /// body before the garment can fall off it.
+    double sewingTime = 0.3;
     /// At rest when the mean kinetic energy per vertex stays below this [J] ...
     double restKineticEnergy = 1e-8;
     double restDuration = 0.2; ///< ... for this long [s] of simulated time

@@ -169,6 +169,9 @@ struct SceneSpec {
     double highDampingTimeConstant = 0.0;
     bool gravity = true;
     Vec3 gravityVector = Vec3(0, -STANDARD_GRAVITY, 0); ///< [m/s²]
+    /// Gravity acts from this time on [s]: a garment is sewn first (seams closing around the
+    /// body without falling off it), then draped.
+    double gravityStartTime = 0.0;
     AirOptions air;
     IntegratorOptions integrator;
     double duration = 1.0;   ///< simulated time [s]

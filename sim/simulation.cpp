@@ -173,6 +173,8 @@ struct Simulation::Impl {
     double seamPower = 0; ///< power of the imposed seam corrections at the step's start [W]
 
     bool hasDrives() const { return !scene.drives.empty(); }
+    /// Gravity acts in the step starting at t (steps stop at gravityStartTime).
+    bool gravityActive() const { return scene.gravity && t >= scene.gravityStartTime - 1e-12; }
 
     void build();
     void accelerations(double time, const MatX3& xs, const MatX3& vs, MatX3& a);
@@ -360,7 +362,7 @@ void Simulation::Impl::accelerations(double time, const MatX3& xs, const MatX3& 
     for (int i = 0; i < n; ++i) {
         a.row(i) = mass[i] > 0 ? Vec3(force.row(i).transpose() / mass[i]) : Vec3::Zero();
     }
-    if (scene.gravity) {
+    if (gravityActive()) {
         a.rowwise() += scene.gravityVector.transpose();
     }
     // B: held vertices get the acceleration of their constraint: zero for pins and exact drives
@@ -415,7 +417,7 @@ double Simulation::Impl::constraintPower(const MatX3& f, const MatX3& a,
         const int i = d.vertex;
         if (invMass[i] == 0 && mass[i] > 0) {
             Vec3 reaction = mass[i] * a.row(i).transpose() - f.row(i).transpose();
-            if (scene.gravity) {
+            if (gravityActive()) {
                 reaction -= mass[i] * scene.gravityVector;
             }
             p += reaction.dot(vel.row(i).transpose());
@@ -719,6 +721,9 @@ bool Simulation::Impl::step(double maxH) {
             h = ev - t;
         }
     }
+    if (scene.gravity && scene.gravityStartTime > t + 1e-12 && scene.gravityStartTime < t + h) {
+        h = scene.gravityStartTime - t;
+    }
     for (;;) {
         if (h < opt.minDt) {
             std::ostringstream s;
@@ -935,6 +940,9 @@ std::optional<std::string> Simulation::validate(const SceneSpec& s) {
         if (p.a < 0 || p.a >= total || p.b < 0 || p.b >= total || p.a == p.b) {
             return "seam " + std::to_string(k) + ": vertices must be two different vertices in range";
         }
+    }
+    if (!(s.gravityStartTime >= 0) || !std::isfinite(s.gravityStartTime)) {
+        return std::string("gravity start time must be zero or positive");
     }
     if (!(s.seamWeldDistance >= 0)) {
         return std::string("seam weld distance must be zero or positive");

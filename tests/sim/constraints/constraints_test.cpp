@@ -157,6 +157,24 @@ TEST(Constraints, ClosedSeamsWeldAndStayClosedUnderLoad) {
     }
 }
 
+TEST(Constraints, GravityStartsAtItsTime) {
+    // A free sheet stays put during the sewing phase, then falls with g from the start time.
+    SceneSpec scene = test::smallSheet(StretchModel::Fem, 2, 0.2, false);
+    scene.gravityStartTime = 0.1;
+    for (IntegratorKind kind : {IntegratorKind::Rk45, IntegratorKind::ImplicitEuler}) {
+        scene.integrator.kind = kind;
+        SCOPED_TRACE(std::string(integratorName(kind)));
+        scene.integrator.dt = 0.007; // not a divisor of the start time: steps must stop there
+        Simulation sim(scene);
+        ASSERT_EQ(sim.advance(0.1), RunStatus::Finished) << sim.error();
+        EXPECT_EQ(sim.velocities().norm(), 0.0);
+        ASSERT_EQ(sim.advance(0.05), RunStatus::Finished) << sim.error();
+        // Internal forces sum to zero: the momentum shows gravity alone, acting for 0.05 s.
+        const double meanVy = sim.masses().dot(sim.velocities().col(1)) / sim.masses().sum();
+        EXPECT_NEAR(meanVy, -STANDARD_GRAVITY * 0.05, 1e-9);
+    }
+}
+
 TEST(Constraints, HighDampingIsPurelyDissipativeAndConservesMomentum) {
     std::mt19937 rng(3);
     std::normal_distribution<double> n01;
