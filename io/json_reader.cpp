@@ -70,6 +70,13 @@ Result<json> parseJson(const std::string& text, const std::string& file) {
         }
         return Error{file, "line " + std::to_string(line) + ", column " + std::to_string(column),
                      "invalid JSON: " + message};
+    } catch (const json::out_of_range& e) {
+        // A number too large for a double ("1e999"): nlohmann gives no position.
+        std::string message = e.what();
+        if (const std::size_t s = message.find("] "); s != std::string::npos) {
+            message = message.substr(s + 2);
+        }
+        return Error{file, "", "invalid JSON: " + message};
     }
 }
 
