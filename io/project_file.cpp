@@ -25,8 +25,6 @@ using patterns::SegmentKind;
 using patterns::Vec2;
 
 constexpr double PI = 3.14159265358979323846;
-constexpr double M_PER_MM = 0.001;
-constexpr double RAD_PER_DEG = PI / 180.0;
 /// Body measurements above this are taken for a unit mistake (millimetres or centimetres).
 constexpr double MAX_MEASUREMENT_M = 3.0;
 /// Millimetre and degree values are rounded to 1 / STEPS_PER_UNIT on save.
@@ -77,6 +75,35 @@ bool sameParameters(const sim::Material& a, const sim::Material& b) {
 // ---------------------------------------------------------------------------------------------
 // Reading
 
+// Unit conversions, chosen so that whole values come out exact (10 mm → 0.01, 90° → π/2).
+double metresFromMm(double mm) { return mm / 1000.0; }
+double radiansFromDeg(double deg) { return deg / 180.0 * PI; }
+
+enum class Range { Any, NonNegative, Positive };
+
+/// A length `key` in millimetres, in metres; exactly `fallback` [m] when absent.
+double lengthMm(ObjectReader& r, std::string_view key, double fallback, Range range) {
+    if (!r.has(key)) {
+        r.find(key);
+        return fallback;
+    }
+    switch (range) {
+    case Range::Positive:
+        return metresFromMm(r.positive(key));
+    case Range::NonNegative:
+        return metresFromMm(r.nonNegative(key, 0));
+    case Range::Any:
+        break;
+    }
+    return metresFromMm(r.number(key));
+}
+
+/// An angle `key` in degrees, in radians; exactly `fallback` [rad] when absent.
+double angleDeg(ObjectReader& r, std::string_view key, double fallback) {
+    const auto deg = r.optionalNumber(key);
+    return deg ? radiansFromDeg(*deg) : fallback;
+}
+
 /// [x, y] in millimetres at `pointer`, in metres.
 Vec2 pointAt(const json& value, const std::string& pointer) {
     const auto finiteNumber = [](const json& v) {
@@ -86,7 +113,7 @@ Vec2 pointAt(const json& value, const std::string& pointer) {
         !finiteNumber(value[1])) {
         throw JsonError{pointer, "must be an array of two finite numbers"};
     }
-    return Vec2(value[0].get<double>() / 1000.0, value[1].get<double>() / 1000.0);
+    return Vec2(metresFromMm(value[0].get<double>()), metresFromMm(value[1].get<double>()));
 }
 
 Vec2 point(ObjectReader& r, std::string_view key) {
@@ -222,9 +249,9 @@ class ProjectParser {
                 readSeam((*seams)[i], detail::childPointer(ptr, i));
             }
         }
-        m_project.garment.easeTolerance =
-            r.nonNegative("ease_tolerance_mm", m_project.garment.easeTolerance / M_PER_MM) *
-            M_PER_MM;
+        m_project.garment.easeTolerance = lengthMm(r, "ease_tolerance_mm",
+                                                   m_project.garment.easeTolerance,
+                                                   Range::NonNegative);
         if (const json* simulation = r.find("simulation")) {
             readSimulation(*simulation, r.pointerOf("simulation"));
         }
@@ -338,7 +365,7 @@ class ProjectParser {
         } else {
             r.fail("side", "unknown side " + inQuotes(side) + " (expected \"front\" or \"back\")");
         }
-        panel.grainAngle = r.number("grain_deg", panel.grainAngle / RAD_PER_DEG) * RAD_PER_DEG;
+        panel.grainAngle = angleDeg(r, "grain_deg", panel.grainAngle);
         panel.outline = readLoop(r.require("outline"), r.pointerOf("outline"));
         if (const json* holes = r.find("holes")) {
             const std::string hp = r.pointerOf("holes");
@@ -351,7 +378,7 @@ class ProjectParser {
             for (std::size_t i = 0; i < detail::arrayAt(*lines, lp).size(); ++i) {
                 ObjectReader l((*lines)[i], detail::childPointer(lp, i));
                 patterns::InternalLine line;
-                line.foldAngle = l.number("fold_deg", 0) * RAD_PER_DEG;
+                line.foldAngle = angleDeg(l, "fold_deg", line.foldAngle);
                 const std::string sp = l.pointerOf("segments");
                 const json& segments = detail::arrayAt(l.require("segments"), sp);
                 if (segments.empty()) {
@@ -396,8 +423,8 @@ class ProjectParser {
             if (const json* offset = p.find("offset_mm")) {
                 out.offset = pointAt(*offset, p.pointerOf("offset_mm"));
             }
-            out.rotation = p.number("rotation_deg", out.rotation / RAD_PER_DEG) * RAD_PER_DEG;
-            out.clearance = p.nonNegative("clearance_mm", out.clearance / M_PER_MM) * M_PER_MM;
+            out.rotation = angleDeg(p, "rotation_deg", out.rotation);
+            out.clearance = lengthMm(p, "clearance_mm", out.clearance, Range::NonNegative);
             p.finish();
         }
         r.finish();
@@ -434,7 +461,7 @@ class ProjectParser {
         ObjectReader r(value, ptr);
         patterns::DrapeSettings& d = m_project.drape;
         d.particleDistance =
-            r.positive("particle_distance_mm", d.particleDistance / M_PER_MM) * M_PER_MM;
+            lengthMm(r, "particle_distance_mm", d.particleDistance, Range::Positive);
         if (const auto model = r.optionalString("model")) {
             const auto m = sim::stretchModelFromName(*model);
             if (!m) {
@@ -453,15 +480,15 @@ class ProjectParser {
             d.integrator = *kind;
         }
         d.dt = r.positive("dt_s", d.dt);
-        d.clothThickness =
-            r.positive("cloth_thickness_mm", d.clothThickness / M_PER_MM) * M_PER_MM;
+        d.clothThickness = lengthMm(r, "cloth_thickness_mm", d.clothThickness, Range::Positive);
         d.selfCollision = r.boolean("self_collision", d.selfCollision);
-        d.bodyThickness = r.nonNegative("body_thickness_mm", d.bodyThickness / M_PER_MM) * M_PER_MM;
+        d.bodyThickness =
+            lengthMm(r, "body_thickness_mm", d.bodyThickness, Range::NonNegative);
         d.bodyStaticFriction = r.nonNegative("body_static_friction", d.bodyStaticFriction);
         d.bodyKineticFriction = r.nonNegative("body_kinetic_friction", d.bodyKineticFriction);
         d.seamTimeConstant = r.positive("seam_time_constant_s", d.seamTimeConstant);
         d.seamWeldDistance =
-            r.nonNegative("seam_weld_distance_mm", d.seamWeldDistance / M_PER_MM) * M_PER_MM;
+            lengthMm(r, "seam_weld_distance_mm", d.seamWeldDistance, Range::NonNegative);
         d.restKineticEnergy = r.nonNegative("rest_kinetic_energy_j", d.restKineticEnergy);
         d.restDuration = r.nonNegative("rest_duration_s", d.restDuration);
         d.timeLimit = r.positive("time_limit_s", d.timeLimit);
@@ -499,7 +526,7 @@ ordered_json rounded(double v) {
 }
 
 ordered_json mm(double metres) { return rounded(metres * 1000.0); }
-ordered_json deg(double radians) { return rounded(radians / RAD_PER_DEG); }
+ordered_json deg(double radians) { return rounded(radians / PI * 180.0); }
 ordered_json pointMm(const Vec2& p) { return ordered_json::array({mm(p.x()), mm(p.y())}); }
 
 ordered_json segmentJson(const Segment& s, bool open) {

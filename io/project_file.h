@@ -63,7 +63,7 @@ Result<patterns::Project> loadProject(const std::filesystem::path& path);
 /// The canonical text of a project (see above). A material whose `material.name` is a
 /// built-in preset and whose parameters equal that preset's is written as `"fabric": name`,
 /// any other with its full parameters. Loop segments are written by their start: each ends
-/// where the next starts.
+/// where the next starts. Non-finite values are written as `null` (which loading refuses).
 std::string formatProject(const patterns::Project& project);
 
 /// Writes `formatProject(project)` to `path` atomically.

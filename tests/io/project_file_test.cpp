@@ -355,15 +355,41 @@ TEST(ProjectFile, FullProjectValues) {
 TEST(ProjectFile, MinimalProjectGetsDefaultsAndCanonicalText) {
     const auto parsed = parse(MINIMAL);
     ASSERT_TRUE(parsed.ok()) << parsed.error().toString();
+    // Absent keys take the defaults exactly.
     const patterns::DrapeSettings defaults;
     const patterns::DrapeSettings& d = parsed.value().drape;
-    EXPECT_DOUBLE_EQ(d.particleDistance, defaults.particleDistance);
-    EXPECT_DOUBLE_EQ(d.dt, defaults.dt);
-    EXPECT_DOUBLE_EQ(d.timeLimit, defaults.timeLimit);
+    EXPECT_EQ(d.particleDistance, defaults.particleDistance);
     EXPECT_EQ(d.model, defaults.model);
-    EXPECT_DOUBLE_EQ(parsed.value().garment.easeTolerance, patterns::Garment{}.easeTolerance);
+    EXPECT_EQ(d.integrator, defaults.integrator);
+    EXPECT_EQ(d.dt, defaults.dt);
+    EXPECT_EQ(d.clothThickness, defaults.clothThickness);
+    EXPECT_EQ(d.selfCollision, defaults.selfCollision);
+    EXPECT_EQ(d.bodyThickness, defaults.bodyThickness);
+    EXPECT_EQ(d.bodyStaticFriction, defaults.bodyStaticFriction);
+    EXPECT_EQ(d.bodyKineticFriction, defaults.bodyKineticFriction);
+    EXPECT_EQ(d.seamTimeConstant, defaults.seamTimeConstant);
+    EXPECT_EQ(d.seamWeldDistance, defaults.seamWeldDistance);
+    EXPECT_EQ(d.restKineticEnergy, defaults.restKineticEnergy);
+    EXPECT_EQ(d.restDuration, defaults.restDuration);
+    EXPECT_EQ(d.timeLimit, defaults.timeLimit);
+    EXPECT_EQ(parsed.value().garment.easeTolerance, patterns::Garment{}.easeTolerance);
+    const patterns::Panel& panel = parsed.value().garment.panels.at(0);
+    EXPECT_EQ(panel.grainAngle, patterns::Panel{}.grainAngle);
+    EXPECT_EQ(panel.placement.clearance, patterns::Placement{}.clearance);
     EXPECT_EQ(parsed.value().body.base, "female");
     EXPECT_EQ(formatProject(parsed.value()), MINIMAL_CANONICAL);
+
+    // The canonical text reads back to the same values: whole millimetres and degrees
+    // convert exactly.
+    const auto canonical = parse(MINIMAL_CANONICAL);
+    ASSERT_TRUE(canonical.ok()) << canonical.error().toString();
+    EXPECT_EQ(canonical.value().drape.particleDistance, defaults.particleDistance);
+    EXPECT_EQ(canonical.value().drape.seamWeldDistance, defaults.seamWeldDistance);
+    EXPECT_EQ(canonical.value().garment.easeTolerance, patterns::Garment{}.easeTolerance);
+    EXPECT_EQ(canonical.value().garment.panels.at(0).grainAngle, patterns::Panel{}.grainAngle);
+    EXPECT_EQ(canonical.value().garment.panels.at(0).placement.clearance,
+              patterns::Placement{}.clearance);
+    EXPECT_EQ(canonical.value().drape.dt, defaults.dt);
     expectStableText(MINIMAL_CANONICAL);
 }
 
