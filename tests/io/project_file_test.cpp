@@ -467,6 +467,15 @@ TEST(ProjectFile, BodyMeshResolvedAgainstTheProjectDirectory) {
     EXPECT_TRUE(parse(text).ok());
 }
 
+TEST(ProjectFile, SaveIntoAMissingDirectoryFails) {
+    const test::TempDir dir;
+    const auto saved = saveProject(dir / "no/such/dir/a.atelier", parse(MINIMAL).value());
+    ASSERT_FALSE(saved.ok());
+    EXPECT_NE(saved.error().toString().find("a.atelier"), std::string::npos)
+        << saved.error().toString();
+    EXPECT_FALSE(std::filesystem::exists(dir / "no"));
+}
+
 TEST(ProjectFile, MissingFile) {
     const test::TempDir dir;
     const auto result = loadProject(dir / "nothing.atelier");
