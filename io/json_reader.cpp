@@ -48,28 +48,51 @@ std::string typeName(const json& value) {
     }
 }
 
+namespace {
+
+/// "line L, column C" of the byte at `offset` (0-based) in `text`.
+std::string lineColumn(const std::string& text, std::size_t offset) {
+    int line = 1;
+    std::size_t lineStart = 0;
+    for (std::size_t i = 0; i < offset && i < text.size(); ++i) {
+        if (text[i] == '\n') {
+            ++line;
+            lineStart = i + 1;
+        }
+    }
+    return "line " + std::to_string(line) + ", column " + std::to_string(offset - lineStart + 1);
+}
+
+} // namespace
+
 Result<json> parseJson(const std::string& text, const std::string& file) {
     try {
         return json::parse(text);
     } catch (const json::parse_error& e) {
-        // Locate the byte offset as line and column.
-        const std::size_t byte = e.byte == 0 ? 0 : e.byte - 1;
-        int line = 1;
-        std::size_t lineStart = 0;
-        for (std::size_t i = 0; i < byte && i < text.size(); ++i) {
-            if (text[i] == '\n') {
-                ++line;
-                lineStart = i + 1;
-            }
-        }
-        const std::size_t column = byte - lineStart + 1;
         std::string message = e.what();
         // "[json.exception.parse_error.101] parse error at line 1, column 5: syntax error ..."
         if (const std::size_t s = message.find("syntax error"); s != std::string::npos) {
             message = message.substr(s);
         }
-        return Error{file, "line " + std::to_string(line) + ", column " + std::to_string(column),
+        return Error{file, lineColumn(text, e.byte == 0 ? 0 : e.byte - 1),
                      "invalid JSON: " + message};
+    } catch (const json::out_of_range& e) {
+        // A number too large for a double: "... number overflow parsing '1e999'". nlohmann
+        // gives no position; the first occurrence of the number is the best guess.
+        std::string message = e.what();
+        if (const std::size_t s = message.find("] "); s != std::string::npos) {
+            message = message.substr(s + 2);
+        }
+        std::string where;
+        const std::size_t open = message.find('\'');
+        const std::size_t close = message.rfind('\'');
+        if (open != std::string::npos && close > open + 1) {
+            if (const std::size_t at = text.find(message.substr(open + 1, close - open - 1));
+                at != std::string::npos) {
+                where = lineColumn(text, at);
+            }
+        }
+        return Error{file, where, "invalid JSON: " + message};
     }
 }
 

@@ -29,7 +29,8 @@ std::string childPointer(const std::string& base, std::size_t index);
 /// The JSON type name of a value, for messages ("a string", "an array", ...).
 std::string typeName(const nlohmann::json& value);
 
-/// Parses JSON text; a syntax error becomes Error{file, "line L, column C", message}.
+/// Parses JSON text; a syntax error or a number too large for a double (`1e999`) becomes
+/// Error{file, "line L, column C", message}. Never throws.
 Result<nlohmann::json> parseJson(const std::string& text, const std::string& file);
 
 /// Reads the members of one JSON object. Each accessor marks its key as known;
