@@ -1,5 +1,7 @@
 #include "io/project_file.h"
 
+#include "patterns/mesh.h"
+
 #include "io/atomic_file.h"
 #include "io/json_reader.h"
 #include "io/material_json.h"
@@ -489,6 +491,7 @@ class ProjectParser {
         d.seamTimeConstant = r.positive("seam_time_constant_s", d.seamTimeConstant);
         d.seamWeldDistance =
             lengthMm(r, "seam_weld_distance_mm", d.seamWeldDistance, Range::NonNegative);
+        d.sewingTime = r.nonNegative("sewing_time_s", d.sewingTime);
         d.restKineticEnergy = r.nonNegative("rest_kinetic_energy_j", d.restKineticEnergy);
         d.restDuration = r.nonNegative("rest_duration_s", d.restDuration);
         d.timeLimit = r.positive("time_limit_s", d.timeLimit);
@@ -655,6 +658,7 @@ ordered_json simulationJson(const patterns::DrapeSettings& d) {
     out["body_kinetic_friction"] = number(d.bodyKineticFriction);
     out["seam_time_constant_s"] = number(d.seamTimeConstant);
     out["seam_weld_distance_mm"] = mm(d.seamWeldDistance);
+    out["sewing_time_s"] = number(d.sewingTime);
     out["rest_kinetic_energy_j"] = number(d.restKineticEnergy);
     out["rest_duration_s"] = number(d.restDuration);
     out["time_limit_s"] = number(d.timeLimit);
@@ -676,6 +680,10 @@ Result<patterns::Project> parseProject(std::string_view text, const std::string&
         project = ProjectParser(parsed.value(), ordered).parse();
     } catch (const JsonError& e) {
         return Error{file, e.where, e.message};
+    }
+    // Geometry and references: the first problem, at its JSON path.
+    if (const auto issues = patterns::validateGarment(project.garment); !issues.empty()) {
+        return Error{file, issues.front().where, issues.front().message};
     }
     return project;
 }

@@ -27,4 +27,10 @@ void addSimulateCommand(CLI::App& app);
 /// `atelier-cli bench material --model M --mesh T --out M.json` (app/cli/bench_command.cpp).
 void addBenchCommand(CLI::App& app);
 
+/// `atelier-cli drape PROJECT.atelier --out OUT.obj --report REPORT.json` (drape_command.cpp).
+void addDrapeCommand(CLI::App& app);
+
+/// `atelier-cli body [--measurements M.json | --base B] --out BODY.obj` (body_command.cpp).
+void addBodyCommand(CLI::App& app);
+
 } // namespace atelier::app

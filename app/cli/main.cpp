@@ -13,6 +13,8 @@ int main(int argc, char** argv) {
     atelier::app::addSimulateCommand(app);
     // ---- Further subcommands: register them here. ----
     atelier::app::addBenchCommand(app);
+    atelier::app::addDrapeCommand(app);
+    atelier::app::addBodyCommand(app);
 
     try {
         app.parse(argc, argv);

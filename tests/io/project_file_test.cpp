@@ -173,6 +173,7 @@ const char* const MINIMAL_CANONICAL = R"({
     "body_kinetic_friction": 0.4,
     "seam_time_constant_s": 0.03,
     "seam_weld_distance_mm": 1,
+    "sewing_time_s": 0.3,
     "rest_kinetic_energy_j": 1e-08,
     "rest_duration_s": 0.2,
     "time_limit_s": 5

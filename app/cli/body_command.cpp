@@ -1,0 +1,127 @@
+/// `atelier-cli body`: writes the parametric mannequin for a set of measurements.
+#include "app/cli/commands.h"
+
+#include "io/atomic_file.h"
+#include "io/body_file.h"
+#include "io/obj.h"
+
+#include "patterns/body_measure.h"
+#include "patterns/mannequin.h"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <string>
+
+namespace atelier::app {
+
+namespace {
+
+struct BodyOptions {
+    std::string measurements;
+    std::string base = "female";
+    std::string out;
+    std::string report;
+};
+
+nlohmann::ordered_json vec(const sim::Vec3& v) { return {v.x(), v.y(), v.z()}; }
+
+int runBody(const BodyOptions& options) {
+    patterns::BodySource source;
+    source.base = options.base;
+    if (!options.measurements.empty()) {
+        auto read = io::readMeasurementsFile(options.measurements);
+        if (!read.ok()) {
+            std::cerr << "error: " << read.error().toString() << "\n";
+            return EXIT_BAD_INPUT;
+        }
+        source = read.value();
+    }
+    auto made = io::makeBody(source, options.measurements);
+    if (!made.ok()) {
+        std::cerr << "error: " << made.error().toString() << "\n";
+        return EXIT_BAD_INPUT;
+    }
+    const patterns::Mannequin& m = made.value();
+    const patterns::MeshTopology topo = patterns::meshTopology(m.body.vertices, m.body.triangles);
+    std::fprintf(stderr,
+                 "body: %s, %ld triangles, %s (Euler characteristic %ld), generated in %.2f s\n",
+                 source.base.c_str(), static_cast<long>(m.body.triangles.rows()),
+                 topo.watertight() ? "watertight" : "NOT watertight", topo.eulerCharacteristic,
+                 m.seconds);
+    nlohmann::ordered_json requested = nlohmann::ordered_json::object();
+    nlohmann::ordered_json measured = nlohmann::ordered_json::object();
+    for (const auto& [name, member] : patterns::measurementFields()) {
+        requested[std::string(name)] = m.requested.*member;
+        measured[std::string(name)] = m.measured.*member;
+        std::fprintf(stderr, "  %-15s requested %.4f m  measured %.4f m\n",
+                     std::string(name).c_str(), m.requested.*member, m.measured.*member);
+    }
+    int code = EXIT_OK;
+    if (!options.out.empty()) {
+        io::ObjWriteOptions obj;
+        obj.comment = "Atelier mannequin (" + source.base + "), metres, Y up, facing +z";
+        obj.groups.push_back(io::ObjGroup{"body", 0, static_cast<int>(m.body.triangles.rows())});
+        auto written = io::writeObj(options.out, m.body.vertices, m.body.triangles, obj);
+        if (!written.ok()) {
+            std::cerr << "error: " << written.error().toString() << "\n";
+            code = EXIT_RUN_FAILED;
+        }
+    }
+    if (!options.report.empty()) {
+        nlohmann::ordered_json r;
+        r["base"] = source.base;
+        r["vertices"] = m.body.vertices.rows();
+        r["triangles"] = m.body.triangles.rows();
+        r["watertight"] = topo.watertight();
+        r["euler_characteristic"] = topo.eulerCharacteristic;
+        r["volume_m3"] = patterns::enclosedVolume(m.body.vertices, m.body.triangles);
+        r["seconds"] = m.seconds;
+        r["requested"] = requested;
+        r["measured"] = measured;
+        nlohmann::ordered_json slots = nlohmann::ordered_json::array();
+        for (const patterns::ArrangementSlot& s : m.body.slots) {
+            slots.push_back({{"name", s.name},
+                             {"origin", vec(s.origin)},
+                             {"axis", vec(s.axis)},
+                             {"facing", vec(s.facing)},
+                             {"radius", s.radius},
+                             {"along_min", s.alongMin},
+                             {"along_max", s.alongMax}});
+        }
+        r["slots"] = slots;
+        auto written = io::writeFileAtomically(options.report, r.dump(2) + "\n");
+        if (!written.ok()) {
+            std::cerr << "error: " << written.error().toString() << "\n";
+            code = EXIT_RUN_FAILED;
+        }
+    }
+    return code;
+}
+
+} // namespace
+
+void addBodyCommand(CLI::App& app) {
+    auto options = std::make_shared<BodyOptions>();
+    CLI::App* cmd = app.add_subcommand(
+        "body", "Generate the parametric mannequin for a set of measurements (OBJ)");
+    cmd->add_option("--measurements,-m", options->measurements,
+                    "Measurements (JSON, metres: {\"base\": \"female\", \"waist\": 0.72, ...}); "
+                    "absent ones take the base's");
+    cmd->add_option("--base", options->base, "Base when no measurements file is given")
+        ->check(CLI::IsMember({"female", "male"}));
+    cmd->add_option("--out,-o", options->out, "Body mesh (OBJ)");
+    cmd->add_option("--report,-r", options->report,
+                    "Report (JSON): requested and measured measurements, topology, slots");
+    cmd->callback([options] {
+        const int code = runBody(*options);
+        if (code != EXIT_OK) {
+            throw CLI::RuntimeError(code);
+        }
+    });
+}
+
+} // namespace atelier::app

@@ -1,0 +1,137 @@
+#include "io/body_file.h"
+
+#include "io/atomic_file.h"
+#include "io/json_reader.h"
+#include "io/obj.h"
+
+#include <nlohmann/json.hpp>
+
+namespace atelier::io {
+
+namespace {
+
+const std::string MEASUREMENTS_POINTER = "/body/measurements";
+
+/// The error for the first problem checkMeasurements finds, at `pointer`/field.
+std::optional<Error> checkAll(const patterns::BodyMeasurements& m, const std::string& file,
+                              const std::string& pointer) {
+    const auto issues = patterns::checkMeasurements(m);
+    if (issues.empty()) {
+        return std::nullopt;
+    }
+    return Error{file, detail::childPointer(pointer, issues.front().first),
+                 issues.front().second};
+}
+
+} // namespace
+
+Result<patterns::BodyMeasurements> bodyMeasurements(const patterns::BodySource& source,
+                                                    const std::string& file) {
+    patterns::BodyMeasurements m;
+    if (!patterns::baseMeasurements(source.base, m)) {
+        return Error{file, "/body/base",
+                     "unknown body base \"" + source.base + "\" (expected female or male)"};
+    }
+    const auto fields = patterns::measurementFields();
+    for (const auto& [name, value] : source.measurements) {
+        bool known = false;
+        for (const auto& [fieldName, member] : fields) {
+            if (fieldName == name) {
+                m.*member = value;
+                known = true;
+            }
+        }
+        if (!known) {
+            std::string list;
+            for (const auto& [fieldName, member] : fields) {
+                list += (list.empty() ? "" : ", ") + std::string(fieldName);
+            }
+            return Error{file, detail::childPointer(MEASUREMENTS_POINTER, name),
+                         "unknown measurement \"" + name + "\" (known: " + list + ")"};
+        }
+    }
+    if (auto error = checkAll(m, file, MEASUREMENTS_POINTER)) {
+        return *error;
+    }
+    return m;
+}
+
+Result<patterns::Mannequin> makeBody(const patterns::BodySource& source,
+                                     const std::string& file) {
+    auto m = bodyMeasurements(source, file);
+    if (!m.ok()) {
+        return m.error();
+    }
+    return patterns::makeMannequin(source.base, m.value());
+}
+
+Result<patterns::Body> loadBody(const patterns::BodySource& source,
+                                const std::filesystem::path& projectDir,
+                                const std::filesystem::path& projectFile) {
+    if (source.meshPath.empty()) {
+        auto mannequin = makeBody(source, projectFile.string());
+        if (!mannequin.ok()) {
+            return mannequin.error();
+        }
+        return std::move(mannequin).value().body;
+    }
+    const std::filesystem::path path = projectDir / source.meshPath;
+    if (!std::filesystem::exists(path)) {
+        return Error{projectFile.string(), "/body/mesh", "body mesh not found: " + path.string()};
+    }
+    auto obj = readObj(path);
+    if (!obj.ok()) {
+        return obj.error();
+    }
+    patterns::Body body;
+    body.vertices = obj.value().positions;
+    body.triangles = obj.value().triangles;
+    if (auto problem = patterns::estimateSlots(body)) {
+        return Error{path.string(), "", *problem};
+    }
+    return body;
+}
+
+Result<patterns::BodySource> readMeasurementsFile(const std::filesystem::path& path) {
+    const std::string file = path.string();
+    auto text = readFile(path);
+    if (!text.ok()) {
+        return text.error();
+    }
+    auto parsed = detail::parseJson(text.value(), file);
+    if (!parsed.ok()) {
+        return parsed.error();
+    }
+    patterns::BodySource source;
+    try {
+        detail::ObjectReader r(parsed.value(), "");
+        source.base = r.string("base", source.base);
+        for (const auto& [name, member] : patterns::measurementFields()) {
+            if (const auto v = r.optionalNumber(name)) {
+                source.measurements.emplace_back(std::string(name), *v);
+            }
+        }
+        r.allow({"comment", "format"});
+        r.finish();
+    } catch (const detail::JsonError& e) {
+        return Error{file, e.where, e.message};
+    }
+    patterns::BodyMeasurements m;
+    if (!patterns::baseMeasurements(source.base, m)) {
+        return Error{file, "/base",
+                     "unknown body base \"" + source.base + "\" (expected female or male)"};
+    }
+    for (const auto& [name, value] : source.measurements) {
+        for (const auto& [fieldName, member] : patterns::measurementFields()) {
+            if (fieldName == name) {
+                m.*member = value;
+            }
+        }
+    }
+    if (auto error = checkAll(m, file, "")) {
+        return *error;
+    }
+    return source;
+}
+
+} // namespace atelier::io
