@@ -87,7 +87,12 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
             scene.seams.push_back({a, b});
         }
     }
-    scene.seamMode = sim::SeamMode::Imposed;
+    // Implicit Euler: seams as elastics inside the solve (their Jacobian keeps it stable at
+    // any gap); an imposed velocity after the solve would drag the seam vertices away from
+    // cloth that does not know about it. Explicit integrators impose the law (B).
+    scene.seamMode = settings.integrator == sim::IntegratorKind::ImplicitEuler
+                         ? sim::SeamMode::Elastic
+                         : sim::SeamMode::Imposed;
     scene.seamTimeConstant = settings.seamTimeConstant;
     scene.seamWeldDistance = settings.seamWeldDistance;
 

@@ -488,6 +488,7 @@ double lowestCrossing(const sim::MatX3& v, const sim::MatX3i& f, double x, doubl
 /// Where the slots go: axes and ranges from landmarks; radii enclose the parts' vertices.
 struct SlotFrame {
     Vec3 torsoOrigin;
+    double shoulderHalfWidth = 0; ///< torso slots also enclose the shoulders up to here
     double crotchY = 0, shoulderY = 0, neckY = 0;
     std::array<Vec3, 2> shoulderJoint, armAxis, armTop, hipJoint;
     std::array<double, 2> armLength{};
@@ -497,11 +498,17 @@ struct SlotFrame {
 std::vector<ArrangementSlot> computeSlots(const sim::MatX3& x, const std::vector<int>& part,
                                           const SlotFrame& f) {
     std::vector<ArrangementSlot> slots;
-    auto enclose = [&](ArrangementSlot slot, std::initializer_list<int> parts) {
+    // The radius encloses the vertices of `parts` in the slot's range, and those of
+    // `nearParts` closer to the axis than `nearRadius` (the shoulders, labelled arm, around
+    // the torso).
+    auto enclose = [&](ArrangementSlot slot, std::initializer_list<int> parts,
+                       std::initializer_list<int> nearParts = {}, double nearRadius = 0) {
         double r = 0;
         for (Eigen::Index v = 0; v < x.rows(); ++v) {
-            if (std::find(parts.begin(), parts.end(), part[static_cast<std::size_t>(v)]) ==
-                parts.end()) {
+            const int pv = part[static_cast<std::size_t>(v)];
+            const bool in = std::find(parts.begin(), parts.end(), pv) != parts.end();
+            const bool near = std::find(nearParts.begin(), nearParts.end(), pv) != nearParts.end();
+            if (!in && !near) {
                 continue;
             }
             const Vec3 d = Vec3(x.row(v)) - slot.origin;
@@ -509,7 +516,10 @@ std::vector<ArrangementSlot> computeSlots(const sim::MatX3& x, const std::vector
             if (along < slot.alongMin || along > slot.alongMax) {
                 continue;
             }
-            r = std::max(r, (d - along * slot.axis).norm());
+            const double radial = (d - along * slot.axis).norm();
+            if (in || radial <= nearRadius) {
+                r = std::max(r, radial);
+            }
         }
         slot.radius = r;
         slots.push_back(slot);
@@ -524,7 +534,7 @@ std::vector<ArrangementSlot> computeSlots(const sim::MatX3& x, const std::vector
     for (const auto& [name, facing] : facings) {
         enclose({std::string("torso_") + name, f.torsoOrigin, Vec3::UnitY(), facing, 0,
                  f.crotchY - waistY, f.shoulderY - waistY + 0.01},
-                {0});
+                {0}, {1, 2}, f.shoulderHalfWidth + 0.005);
     }
     for (const auto& [name, facing] : facings) {
         enclose({std::string("waist_") + name, f.torsoOrigin, Vec3::UnitY(), facing, 0,
@@ -600,6 +610,7 @@ std::optional<std::string> estimateSlots(Body& body) {
     }
     SlotFrame frame;
     frame.torsoOrigin = Vec3(centre.x(), y0 + 0.625 * H, centre.z());
+    frame.shoulderHalfWidth = 0.12 * H;
     frame.crotchY = crotchY;
     frame.shoulderY = y0 + 0.815 * H;
     frame.neckY = y0 + 0.857 * H;
@@ -770,6 +781,7 @@ Mannequin makeMannequin(std::string_view base, const BodyMeasurements& m,
             const MannequinLandmarks& L = out.landmarks;
             SlotFrame frame;
             frame.torsoOrigin = Vec3(0, L.waistY, L.torsoZ);
+            frame.shoulderHalfWidth = 0.5 * m.shoulderWidth;
             frame.crotchY = L.crotchY;
             frame.shoulderY = L.shoulderY;
             frame.neckY = L.neckY;

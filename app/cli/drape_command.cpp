@@ -38,6 +38,7 @@ struct DrapeOptions {
     int threads = 0;
     double timeLimit = -1;        ///< override of the project's time limit [s]; < 0 = keep
     double particleDistanceMm = -1; ///< override of the project's particle distance [mm]
+    std::string framesDir;          ///< write the garment at every frame here (OBJ)
 };
 
 /// The draped garment as one OBJ: triangles offset per panel, pattern coordinates as UVs, one
@@ -122,8 +123,28 @@ int runDrape(const DrapeOptions& options) {
 
     const bool tty = ::isatty(STDERR_FILENO) != 0;
     int lastReported = -1;
+    GarmentObj frameObj;
+    if (!options.framesDir.empty()) {
+        std::error_code ec;
+        std::filesystem::create_directories(options.framesDir, ec);
+        if (ec) {
+            std::cerr << "error: " << options.framesDir << ": " << ec.message() << "\n";
+            return EXIT_BAD_INPUT;
+        }
+        frameObj = garmentObj(project.garment, mesh, assembled);
+    }
     const patterns::DrapeOutcome outcome = patterns::drapeUntilRest(
         *simulation, project.drape, [&](int frame, double t, double ke) {
+            if (!options.framesDir.empty()) {
+                char name[32];
+                std::snprintf(name, sizeof name, "frame_%04d.obj", frame);
+                auto written = io::writeObj(std::filesystem::path(options.framesDir) / name,
+                                            simulation->positions(), frameObj.triangles,
+                                            frameObj.options);
+                if (!written.ok()) {
+                    std::cerr << "warning: " << written.error().toString() << "\n";
+                }
+            }
             if (!tty && frame / 15 == lastReported) {
                 return;
             }
@@ -238,6 +259,8 @@ void addDrapeCommand(CLI::App& app) {
     cmd->add_option("--particle-distance", options->particleDistanceMm,
                     "Mesh particle distance [mm] (default: the project's)")
         ->check(CLI::PositiveNumber);
+    cmd->add_option("--frames-dir", options->framesDir,
+                    "Write the garment at every output frame to DIR/frame_NNNN.obj");
     cmd->callback([options] {
         const int code = runDrape(*options);
         if (code != EXIT_OK) {

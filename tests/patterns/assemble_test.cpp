@@ -81,7 +81,8 @@ TEST(Assemble, OneClothPerPanelSeamsAndTheBody) {
     ASSERT_EQ(a.scene.cloths.size(), 2u);
     EXPECT_EQ(a.panelOffsets, (std::vector<int>{0, 35, 70}));
     EXPECT_EQ(a.scene.seams.size(), 10u);
-    EXPECT_EQ(a.scene.seamMode, sim::SeamMode::Imposed);
+    // Implicit Euler (the default): seams as elastics inside the solve.
+    EXPECT_EQ(a.scene.seamMode, sim::SeamMode::Elastic);
     ASSERT_EQ(a.scene.obstacles.size(), 1u);
     EXPECT_TRUE(a.scene.obstacles[0].closed);
     // Placed at radius + clearance: outside the body, the front panel in front.

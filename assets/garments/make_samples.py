@@ -1,0 +1,201 @@
+#!/usr/bin/env python3
+"""Writes the sample garments (tshirt, skirt, trousers, dress) as .atelier projects.
+
+The patterns are drafted here from a few dimensions (millimetres) so that they can be changed
+in one place; `atelier-cli project format` (or any load -> save) gives the canonical file.
+Run: python3 assets/garments/make_samples.py
+"""
+import json
+import math
+import os
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def line(x, y):
+    return {"line": {"from": [x, y]}}
+
+
+def cubic(x, y, c1, c2):
+    return {"cubic": {"from": [x, y], "c1": list(c1), "c2": list(c2)}}
+
+
+def quad(x, y, c1):
+    return {"quadratic": {"from": [x, y], "c1": list(c1)}}
+
+
+def edge(panel, segment, t0=0.0, t1=1.0):
+    return {"panel": panel, "segment": segment, "t0": t0, "t1": t1}
+
+
+def seam(name, a, b):
+    return {"name": name, "a": a, "b": b}
+
+
+def panel(name, outline, slot, offset=(0, 0), material="fabric", side="front",
+          clearance=20, rotation=0, **extra):
+    p = {"name": name, "material": material, "side": side, "grain_deg": 90,
+         "outline": outline, "holes": [], "internal_lines": [], "darts": [], "notches": [],
+         "placement": {"slot": slot, "offset_mm": list(offset), "rotation_deg": rotation,
+                       "clearance_mm": clearance}}
+    p.update(extra)
+    return p
+
+
+def project(name, panels, seams, fabric, simulation=None):
+    sim = {"particle_distance_mm": 10}
+    sim.update(simulation or {})
+    return {"format": "atelier-project", "version": 1, "name": name,
+            "body": {"base": "female", "measurements": {}},
+            "materials": [{"name": "fabric", "fabric": fabric}],
+            "panels": panels, "seams": seams, "simulation": sim}
+
+
+def torso(neck_drop, length, half_width=260, hem_half=None, armhole_y=None):
+    """Front or back bodice outline, counter-clockwise from the hem's left corner.
+
+    Segments: 0 hem, 1 right side, 2 right armhole, 3 right shoulder, 4 neckline,
+    5 left shoulder, 6 left armhole, 7 left side. y = 0 at the hem.
+    """
+    w = half_width
+    hw = hem_half if hem_half is not None else w
+    ay = armhole_y if armhole_y is not None else length - 210
+    sy = length - 35        # shoulder point height
+    ny = length             # neck side height
+    sx, nx = 185, 85        # shoulder point, neck side
+    return [
+        line(-hw, 0),
+        line(hw, 0),
+        cubic(w, ay, (w - 40, ay + 20), (sx + 5, ay + 110)),
+        line(sx, sy),
+        quad(nx, ny, (0, ny - 2.0 * neck_drop)),
+        line(-nx, ny),
+        cubic(-sx, sy, (-sx - 5, ay + 110), (-w + 40, ay + 20)),
+        line(-w, ay),
+    ]
+
+
+def tshirt():
+    length = 620
+    # Slot origins sit at the default body's waist (y = 1.05 m); the shoulder points
+    # (585 mm above the hem) go to its shoulder height (1.37 m).
+    front = panel("front", torso(90, length), "torso_front", offset=(0, 45))
+    back = panel("back", torso(25, length), "torso_back", offset=(0, 45))
+    # Sleeve: hem at y = 0, underarm seams up to y = 70, a cap to the top at y = 190.
+    sw, sh, cap = 175, 70, 190
+    sleeve = [
+        line(-sw, 0),
+        line(sw, 0),
+        cubic(sw, sh, (sw - 60, sh + 10), (60, cap)),
+        cubic(0, cap, (-60, cap), (-sw + 60, sh + 10)),
+        line(-sw, sh),
+    ]
+    # Segment 2 of the sleeve starts at (sw, sh): the underarm end of the cap's +x half.
+    # Arm slots start at the shoulder joint and run down the arm: the cap top 70 mm below it,
+    # clear of the shoulder.
+    left = panel("sleeve_left", sleeve, "arm_left", offset=(0, -165))
+    right = panel("sleeve_right", sleeve, "arm_right", offset=(0, -165))
+    seams = [
+        # Side seams: the front's right side (world +x) meets the back's left side.
+        seam("side_left", [edge("front", 1)], [edge("back", 7, 1, 0)]),
+        seam("side_right", [edge("front", 7)], [edge("back", 1, 1, 0)]),
+        seam("shoulder_left", [edge("front", 3)], [edge("back", 5, 1, 0)]),
+        seam("shoulder_right", [edge("front", 5)], [edge("back", 3, 1, 0)]),
+        seam("underarm_left", [edge("sleeve_left", 1)], [edge("sleeve_left", 4, 1, 0)]),
+        seam("underarm_right", [edge("sleeve_right", 1)], [edge("sleeve_right", 4, 1, 0)]),
+        # Caps: the +x half of the left sleeve lies at the back of the arm.
+        seam("armhole_left",
+             [edge("sleeve_left", 2), edge("sleeve_left", 3)],
+             [edge("back", 6, 1, 0), edge("front", 2, 1, 0)]),
+        seam("armhole_right",
+             [edge("sleeve_right", 2), edge("sleeve_right", 3)],
+             [edge("front", 6), edge("back", 2)]),
+    ]
+    return project("tshirt", [front, back, left, right], seams, "jersey-knit")
+
+
+def skirt():
+    # A-line: waist 760 mm around (ease over 720), hem 1500 mm around, 580 mm long.
+    waist_half, hem_half, length = 190, 375, 580
+    rise = 15
+    outline = [
+        quad(-hem_half, 0, (0, -40)),          # 0 hem, curved so the sides stay square
+        line(hem_half, 0),                      # 1 right side
+        quad(waist_half, length, (0, length + rise)),  # 2 waist
+        line(-waist_half, length),              # 3 left side
+    ]
+    # The waist line (580 mm up) at the body's waist, the slot's origin; 60 mm clearance so
+    # that the flared hems of front and back do not overlap at the sides when placed.
+    front = panel("front", outline, "waist_front", offset=(0, -290), clearance=60)
+    back = panel("back", outline, "waist_back", offset=(0, -290), clearance=60)
+    seams = [
+        seam("side_left", [edge("front", 1)], [edge("back", 3, 1, 0)]),
+        seam("side_right", [edge("front", 3)], [edge("back", 1, 1, 0)]),
+    ]
+    return project("skirt", [front, back], seams, "cotton")
+
+
+def dress():
+    length = 1000
+    front = panel("front", torso(80, length, half_width=250, hem_half=330,
+                                 armhole_y=length - 230), "torso_front", offset=(0, -145),
+                  clearance=60)
+    back = panel("back", torso(30, length, half_width=250, hem_half=330,
+                               armhole_y=length - 230), "torso_back", offset=(0, -145),
+                 clearance=60)
+    seams = [
+        seam("side_left", [edge("front", 1)], [edge("back", 7, 1, 0)]),
+        seam("side_right", [edge("front", 7)], [edge("back", 1, 1, 0)]),
+        seam("shoulder_left", [edge("front", 3)], [edge("back", 5, 1, 0)]),
+        seam("shoulder_right", [edge("front", 5)], [edge("back", 3, 1, 0)]),
+    ]
+    return project("dress", [front, back], seams, "cotton")
+
+
+def trousers():
+    """Four panels (front and back of each leg) around the hips, sewn at the sides, the
+    inseams and the centre front and back (crotch) seams.
+
+    Each panel is drawn as seen from outside with its side seam on the body's outer side;
+    y = 0 at the hem. Segments: 0 hem, 1 outer side (hem to hip), 2 side (hip to waist),
+    3 waist, 4 centre (waist down to the crotch curve), 5 crotch curve, 6 inseam.
+    Drawn for the body's left leg (outer side = +x); the right leg's panels are Back-side
+    (mirrored) copies.
+    """
+    length, crotch_y, hip_y = 960, 720, 820
+
+    def leg(hip_w, waist_w, ext, hem_w):
+        # Centre line at x = 0; the outer side at +x.
+        return [
+            line(-ext + 40, 0),                                   # 0 hem (inner to outer)
+            line(hem_w - ext + 40, 0),                            # 1 outer side seam
+            quad(hip_w, hip_y, (hip_w + 10, hip_y + 70)),         # 2 hip to waist
+            line(waist_w, length),                                # 3 waist
+            line(0, length),                                      # 4 centre seam
+            cubic(0, crotch_y + 90, (0, crotch_y + 20), (-ext * 0.5, crotch_y)),  # 5 crotch
+            line(-ext, crotch_y),                                 # 6 inseam
+        ]
+
+    front = leg(hip_w=255, waist_w=195, ext=50, hem_w=210)
+    back = leg(hip_w=275, waist_w=200, ext=100, hem_w=230)
+    panels = [
+        panel("front_left", front, "waist_front", side="front"),
+        panel("front_right", front, "waist_front", side="back"),
+        panel("back_left", back, "waist_back", side="back"),
+        panel("back_right", back, "waist_back", side="front"),
+    ]
+    seams = []
+    return project("trousers", panels, seams, "denim")
+
+
+def main():
+    for name, make in (("tshirt", tshirt), ("skirt", skirt), ("dress", dress)):
+        path = os.path.join(HERE, name + ".atelier")
+        with open(path, "w") as f:
+            json.dump(make(), f, indent=2)
+            f.write("\n")
+        print("wrote", path)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,150 @@
+// The bundled sample garments, draped whole with `atelier-cli drape` on the default body, as a
+// user runs them. The figures of the report are checked, and the written meshes are checked
+// again independently of the engine: penetration of every garment vertex into the body and
+// exact triangle–triangle intersections, computed here from the OBJ files alone.
+
+#include "io/obj.h"
+#include "io/temp_dir.h"
+
+#include "sim/collision/geometry.h"
+
+#include <nlohmann/json.hpp>
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <sys/wait.h>
+#include <unordered_map>
+
+namespace atelier {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Box {
+    sim::Vec3 lo, hi;
+};
+
+Box triangleBox(const sim::MatX3& x, const sim::MatX3i& f, int t) {
+    Box b{x.row(f(t, 0)).transpose(), x.row(f(t, 0)).transpose()};
+    for (int k = 1; k < 3; ++k) {
+        b.lo = b.lo.cwiseMin(x.row(f(t, k)).transpose());
+        b.hi = b.hi.cwiseMax(x.row(f(t, k)).transpose());
+    }
+    return b;
+}
+
+/// Exact intersecting triangle pairs between mesh A and mesh B (or A with itself when
+/// `self`), by a uniform grid over triangle boxes. In the garment, vertices at identical
+/// positions are one vertex (welded seams are written as coincident vertices), and triangles
+/// sharing a vertex are not counted.
+long intersections(const sim::MatX3& xa, const sim::MatX3i& fa, const sim::MatX3& xb,
+                   const sim::MatX3i& fb, bool self) {
+    std::vector<int> id(static_cast<std::size_t>(xa.rows()));
+    {
+        std::map<std::array<double, 3>, int> seen;
+        for (int i = 0; i < xa.rows(); ++i) {
+            id[static_cast<std::size_t>(i)] =
+                seen.emplace(std::array<double, 3>{xa(i, 0), xa(i, 1), xa(i, 2)}, i).first->second;
+        }
+    }
+    const double cell = 0.02;
+    auto key = [&](int i, int j, int k) {
+        return (static_cast<long long>(i) * 73856093LL) ^ (static_cast<long long>(j) * 19349663LL) ^
+               (static_cast<long long>(k) * 83492791LL);
+    };
+    std::unordered_multimap<long long, int> grid;
+    for (int t = 0; t < fb.rows(); ++t) {
+        const Box b = triangleBox(xb, fb, t);
+        for (int i = int(std::floor(b.lo.x() / cell)); i <= int(std::floor(b.hi.x() / cell)); ++i)
+            for (int j = int(std::floor(b.lo.y() / cell)); j <= int(std::floor(b.hi.y() / cell)); ++j)
+                for (int k = int(std::floor(b.lo.z() / cell)); k <= int(std::floor(b.hi.z() / cell)); ++k)
+                    grid.emplace(key(i, j, k), t);
+    }
+    std::vector<std::pair<int, int>> candidates;
+    for (int t = 0; t < fa.rows(); ++t) {
+        const Box b = triangleBox(xa, fa, t);
+        for (int i = int(std::floor(b.lo.x() / cell)); i <= int(std::floor(b.hi.x() / cell)); ++i)
+            for (int j = int(std::floor(b.lo.y() / cell)); j <= int(std::floor(b.hi.y() / cell)); ++j)
+                for (int k = int(std::floor(b.lo.z() / cell)); k <= int(std::floor(b.hi.z() / cell)); ++k) {
+                    const auto range = grid.equal_range(key(i, j, k));
+                    for (auto it = range.first; it != range.second; ++it) {
+                        if (!self || it->second > t) {
+                            candidates.emplace_back(t, it->second);
+                        }
+                    }
+                }
+    }
+    std::sort(candidates.begin(), candidates.end());
+    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    long count = 0;
+    for (const auto& [a, b] : candidates) {
+        if (self) {
+            bool shared = false;
+            for (int i = 0; i < 3; ++i)
+                for (int j = 0; j < 3; ++j)
+                    shared = shared || id[static_cast<std::size_t>(fa(a, i))] ==
+                                           id[static_cast<std::size_t>(fa(b, j))];
+            if (shared) {
+                continue;
+            }
+        }
+        if (sim::trianglesIntersect(xa.row(fa(a, 0)), xa.row(fa(a, 1)), xa.row(fa(a, 2)),
+                                    xb.row(fb(b, 0)), xb.row(fb(b, 1)), xb.row(fb(b, 2)))) {
+            ++count;
+        }
+    }
+    return count;
+}
+
+class SampleGarment : public ::testing::TestWithParam<std::string> {};
+
+// DISABLED until sewing works on full garments: with implicit Euler the seams do not close
+// (see the README's "Draping status"); run with --gtest_also_run_disabled_tests.
+TEST_P(SampleGarment, DISABLED_DrapesToRestOnTheDefaultBody) {
+    test::TempDir dir;
+    const fs::path project = fs::path(ATELIER_SOURCE_DIR) / "assets/garments" / (GetParam() + ".atelier");
+    const fs::path out = dir / "draped.obj";
+    const fs::path report = dir / "report.json";
+    const std::string command = std::string("\"") + ATELIER_CLI + "\" drape \"" + project.string() +
+                                "\" --out \"" + out.string() + "\" --report \"" +
+                                report.string() + "\" 2> \"" + (dir / "stderr.txt").string() + "\"";
+    const int status = std::system(command.c_str());
+    ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0)
+        << test::readText(dir / "stderr.txt");
+
+    const auto r = nlohmann::json::parse(test::readText(report));
+    EXPECT_TRUE(r["finite"].get<bool>());
+    EXPECT_TRUE(r["rested"].get<bool>()) << "stopped at " << r["sim_time_to_rest_s"] << " s";
+    EXPECT_LT(r["seam_gap_max_m"].get<double>(), 0.002);
+    EXPECT_EQ(r["intersecting_triangle_pairs"].get<long>(), 0);
+    EXPECT_LT(r["max_penetration_m"].get<double>(), 0.001);
+    EXPECT_GE(r["area_ratio"].get<double>(), 0.95);
+    EXPECT_LE(r["area_ratio"].get<double>(), 1.05);
+    EXPECT_GE(r["mesh_min_angle_deg"].get<double>(), 25.0);
+
+    // Independently, from the written files.
+    auto garment = io::readObj(out);
+    ASSERT_TRUE(garment.ok()) << garment.error().toString();
+    fs::path bodyPath = out;
+    bodyPath.replace_extension(".body.obj");
+    auto body = io::readObj(bodyPath);
+    ASSERT_TRUE(body.ok()) << body.error().toString();
+    const auto& g = garment.value();
+    const auto& b = body.value();
+    EXPECT_EQ(g.triangles.rows(), r["triangles"].get<long>());
+    EXPECT_EQ(intersections(g.positions, g.triangles, g.positions, g.triangles, true), 0)
+        << "garment with itself";
+    EXPECT_EQ(intersections(g.positions, g.triangles, b.positions, b.triangles, false), 0)
+        << "garment with the body";
+}
+
+INSTANTIATE_TEST_SUITE_P(Garments, SampleGarment,
+                         ::testing::Values("tshirt", "skirt", "dress"));
+
+} // namespace
+} // namespace atelier
