@@ -482,6 +482,7 @@ class ProjectParser {
             d.integrator = *kind;
         }
         d.dt = r.positive("dt_s", d.dt);
+        d.cgTolerance = r.positive("cg_tolerance", d.cgTolerance);
         d.clothThickness = lengthMm(r, "cloth_thickness_mm", d.clothThickness, Range::Positive);
         d.selfCollision = r.boolean("self_collision", d.selfCollision);
         d.bodyThickness =
@@ -651,6 +652,7 @@ ordered_json simulationJson(const patterns::DrapeSettings& d) {
     out["model"] = std::string(sim::stretchModelName(d.model));
     out["integrator"] = std::string(sim::integratorName(d.integrator));
     out["dt_s"] = number(d.dt);
+    out["cg_tolerance"] = number(d.cgTolerance);
     out["cloth_thickness_mm"] = mm(d.clothThickness);
     out["self_collision"] = d.selfCollision;
     out["body_thickness_mm"] = mm(d.bodyThickness);

@@ -93,6 +93,7 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
     scene.seamMode = settings.integrator == sim::IntegratorKind::ImplicitEuler
                          ? sim::SeamMode::Elastic
                          : sim::SeamMode::Imposed;
+    scene.integrator.cgTolerance = settings.cgTolerance;
     scene.seamTimeConstant = settings.seamTimeConstant;
     scene.seamWeldDistance = settings.seamWeldDistance;
 
@@ -108,6 +109,8 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
 
     scene.gravity = true;
     scene.gravityStartTime = settings.sewingTime;
+    // The sewing phase ends with every seam sewn: pairs still apart are welded then.
+    scene.seamWeldAllTime = settings.sewingTime;
     scene.integrator.kind = settings.integrator;
     scene.integrator.dt = settings.dt;
     scene.duration = settings.timeLimit;

@@ -164,6 +164,9 @@ struct SceneSpec {
     /// vertices move as one (positions and velocities merged by mass, A; accelerations shared,
     /// B), so a closed seam stays closed under any tension [m]. 0 = elastics only.
     double seamWeldDistance = 0.0;
+    /// The end of a sewing phase: from this time on every seam pair is welded, whatever its
+    /// gap (RunStats::largestForcedWeld says how far apart the worst pair was) [s]; < 0 = never.
+    double seamWeldAllTime = -1.0;
     /// High damping: purely dissipative velocity damping (A) of every vertex toward the mean
     /// velocity of its neighbours, time constant [s]; 0 = off.
     double highDampingTimeConstant = 0.0;

@@ -268,7 +268,7 @@ void Simulation::Impl::build() {
     if (!scene.seams.empty() && scene.seamMode == SeamMode::Imposed) {
         stages.emplace_back("constraints.seams");
     }
-    if (!scene.seams.empty() && scene.seamWeldDistance > 0) {
+    if (!scene.seams.empty() && (scene.seamWeldDistance > 0 || scene.seamWeldAllTime >= 0)) {
         stages.emplace_back("constraints.seam-welds");
     }
     for (const auto& m : models) {
@@ -477,7 +477,8 @@ void Simulation::Impl::applyCorrectionsA(double h) {
 }
 
 bool Simulation::Impl::weldClosedSeams() {
-    if (!(scene.seamWeldDistance > 0)) {
+    const bool all = scene.seamWeldAllTime >= 0 && t >= scene.seamWeldAllTime - 1e-12;
+    if (!(scene.seamWeldDistance > 0) && !all) {
         return false;
     }
     if (weldParent.empty()) {
@@ -489,8 +490,15 @@ bool Simulation::Impl::weldClosedSeams() {
     bool changed = false;
     for (std::size_t k = 0; k < scene.seams.size(); ++k) {
         const SeamPair& p = scene.seams[k];
-        if (pairWelded[k] || (x.row(p.a) - x.row(p.b)).squaredNorm() > d2) {
+        if (pairWelded[k]) {
             continue;
+        }
+        const double gap2 = (x.row(p.a) - x.row(p.b)).squaredNorm();
+        if (gap2 > d2) {
+            if (!all) {
+                continue;
+            }
+            stats.largestForcedWeld = std::max(stats.largestForcedWeld, std::sqrt(gap2));
         }
         pairWelded[k] = 1;
         ++stats.weldedSeamPairs;
@@ -819,11 +827,29 @@ bool Simulation::Impl::step(double maxH) {
         for (const auto& m : models) {
             m->acceptStep(x, h);
         }
-        if (weldClosedSeams() || !weldGroups.empty()) {
+        const double forcedBefore = stats.largestForcedWeld;
+        const bool newWelds = weldClosedSeams();
+        if (newWelds || !weldGroups.empty()) {
             // Also after the collision corrections, which move vertices one by one: a welded
             // group leaves every step as one point.
             StageTimer timer(*timerConstraints);
+            // Pairs welded from afar (end of sewing) stretch the cloth: that elastic energy is
+            // put in by the weld, so the divergence check counts it.
+            double elasticBefore = 0;
+            const bool forced = newWelds && stats.largestForcedWeld > forcedBefore;
+            if (forced) {
+                for (const auto& m : models) {
+                    elasticBefore += m->hasEnergy() ? m->energy(x) : 0.0;
+                }
+            }
             mergeWelds(&x, v);
+            if (forced) {
+                double elasticAfter = 0;
+                for (const auto& m : models) {
+                    elasticAfter += m->hasEnergy() ? m->energy(x) : 0.0;
+                }
+                baseEnergyInput += std::max(0.0, elasticAfter - elasticBefore);
+            }
         }
         ++stats.steps;
         stats.minDt = stats.steps == 1 ? h : std::min(stats.minDt, h);

@@ -36,6 +36,8 @@ struct RunStats {
     double maxPenetration = 0;
     long contacts = 0; ///< active contacts after the last step
     long weldedSeamPairs = 0; ///< seam pairs welded so far (see SceneSpec::seamWeldDistance)
+    /// Largest gap of a pair welded at SceneSpec::seamWeldAllTime, beyond the weld distance [m]
+    double largestForcedWeld = 0;
 };
 
 class CollisionStage;

@@ -173,6 +173,13 @@ int runDrape(const DrapeOptions& options) {
                      outcome.simulatedTime);
     }
 
+    if (simulation->stats().largestForcedWeld > 0.005) {
+        std::fprintf(stderr,
+                     "warning: sewing did not close every seam in %.2f s: pairs up to %.1f mm "
+                     "apart were welded at its end (a longer sewing_time_s, or panels placed "
+                     "closer, sew more gently)\n",
+                     project.drape.sewingTime, 1000 * simulation->stats().largestForcedWeld);
+    }
     const double gap = patterns::seamGapMax(assembled, x);
     const double ratio = patterns::areaRatio(assembled.scene, x);
     std::fprintf(stderr,
@@ -222,6 +229,7 @@ int runDrape(const DrapeOptions& options) {
             {"panels", static_cast<std::int64_t>(mesh.panels.size())},
             {"seam_pairs", static_cast<std::int64_t>(assembled.scene.seams.size())},
             {"welded_seam_pairs", static_cast<std::int64_t>(simulation->stats().weldedSeamPairs)},
+            {"largest_forced_weld_m", simulation->stats().largestForcedWeld},
             {"meshing_time_s", mesh.seconds},
             {"time_to_rest_s", outcome.wallSeconds},
             {"rested", outcome.rested},

@@ -43,7 +43,10 @@ def panel(name, outline, slot, offset=(0, 0), material="fabric", side="front",
 
 
 def project(name, panels, seams, fabric, simulation=None):
-    sim = {"particle_distance_mm": 10}
+    # Sewing: gravity waits 1 s while the seams (elastics, τ = 30 ms) pull the panels shut
+    # around the body; pairs closer than 1.5 mm weld for good.
+    sim = {"particle_distance_mm": 10, "sewing_time_s": 1.0, "seam_weld_distance_mm": 1.5,
+           "time_limit_s": 4}
     sim.update(simulation or {})
     return {"format": "atelier-project", "version": 1, "name": name,
             "body": {"base": "female", "measurements": {}},

@@ -157,6 +157,44 @@ TEST(Constraints, ClosedSeamsWeldAndStayClosedUnderLoad) {
     }
 }
 
+TEST(Constraints, SewingPhaseEndsWithEverySeamWelded) {
+    // Elastic seams, slow to close (τ = 1 s), between two sheets 2 cm apart with no gravity:
+    // at seamWeldAllTime every pair is welded whatever its gap, and the largest such gap is
+    // reported.
+    const int cells = 3;
+    SceneSpec scene = test::smallSheet(StretchModel::Fem, cells, 0.2, false);
+    ClothSpec b = scene.cloths[0];
+    b.name = "b";
+    b.position.col(0).array() += 0.22;
+    scene.cloths.push_back(b);
+    scene.gravity = false;
+    const int nA = (cells + 1) * (cells + 1);
+    for (int j = 0; j <= cells; ++j) {
+        scene.seams.push_back({j * (cells + 1) + cells, nA + j * (cells + 1)});
+    }
+    scene.seamTimeConstant = 1.0;
+    scene.seamMode = SeamMode::Elastic;
+    scene.seamWeldDistance = 1e-3;
+    scene.seamWeldAllTime = 0.05;
+    scene.integrator.kind = IntegratorKind::ImplicitEuler;
+    scene.integrator.dt = 1e-2;
+    Simulation sim(scene);
+    ASSERT_TRUE(hasStage(sim, "constraints.seam-welds"));
+    ASSERT_EQ(sim.advance(0.04), RunStatus::Finished) << sim.error();
+    EXPECT_EQ(sim.stats().weldedSeamPairs, 0);
+    const double gapBefore =
+        (sim.positions().row(scene.seams[0].a) - sim.positions().row(scene.seams[0].b)).norm();
+    EXPECT_GT(gapBefore, 0.015); // still open: the elastic is slow
+    ASSERT_EQ(sim.advance(0.06), RunStatus::Finished) << sim.error() << sim.stats().error;
+    EXPECT_EQ(sim.stats().weldedSeamPairs, cells + 1);
+    for (const SeamPair& p : scene.seams) {
+        EXPECT_EQ((sim.positions().row(p.a) - sim.positions().row(p.b)).norm(), 0.0);
+    }
+    EXPECT_GT(sim.stats().largestForcedWeld, 0.015);
+    EXPECT_LT(sim.stats().largestForcedWeld, 0.02 + 1e-9);
+    EXPECT_TRUE(sim.stats().finite);
+}
+
 TEST(Constraints, GravityStartsAtItsTime) {
     // A free sheet stays put during the sewing phase, then falls with g from the start time.
     SceneSpec scene = test::smallSheet(StretchModel::Fem, 2, 0.2, false);
