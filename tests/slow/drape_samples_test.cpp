@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cstdio>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -101,28 +102,26 @@ long intersections(const sim::MatX3& xa, const sim::MatX3i& fa, const sim::MatX3
     return count;
 }
 
-class SampleGarment : public ::testing::TestWithParam<std::string> {};
-
-// DISABLED until sewing works on full garments: with implicit Euler the seams do not close
-// (see the README's "Draping status"); run with --gtest_also_run_disabled_tests.
-TEST_P(SampleGarment, DISABLED_DrapesToRestOnTheDefaultBody) {
+/// Drapes a sample with `atelier-cli drape ARGS`, then checks the report's figures and, from
+/// the written meshes alone, penetration-free and intersection-free results.
+/// `complete`: also rest, no intersections and no penetration (the issue's full bar).
+void drapeAndCheck(const std::string& name, const std::string& args, bool complete) {
     test::TempDir dir;
-    const fs::path project = fs::path(ATELIER_SOURCE_DIR) / "assets/garments" / (GetParam() + ".atelier");
+    const fs::path project = fs::path(ATELIER_SOURCE_DIR) / "assets/garments" / (name + ".atelier");
     const fs::path out = dir / "draped.obj";
     const fs::path report = dir / "report.json";
     const std::string command = std::string("\"") + ATELIER_CLI + "\" drape \"" + project.string() +
                                 "\" --out \"" + out.string() + "\" --report \"" +
-                                report.string() + "\" 2> \"" + (dir / "stderr.txt").string() + "\"";
+                                report.string() + "\" " + args + " 2> \"" +
+                                (dir / "stderr.txt").string() + "\"";
     const int status = std::system(command.c_str());
     ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0)
         << test::readText(dir / "stderr.txt");
 
     const auto r = nlohmann::json::parse(test::readText(report));
     EXPECT_TRUE(r["finite"].get<bool>());
-    EXPECT_TRUE(r["rested"].get<bool>()) << "stopped at " << r["sim_time_to_rest_s"] << " s";
     EXPECT_LT(r["seam_gap_max_m"].get<double>(), 0.002);
-    EXPECT_EQ(r["intersecting_triangle_pairs"].get<long>(), 0);
-    EXPECT_LT(r["max_penetration_m"].get<double>(), 0.001);
+    EXPECT_EQ(r["welded_seam_pairs"].get<long>(), r["seam_pairs"].get<long>());
     EXPECT_GE(r["area_ratio"].get<double>(), 0.95);
     EXPECT_LE(r["area_ratio"].get<double>(), 1.05);
     EXPECT_GE(r["mesh_min_angle_deg"].get<double>(), 25.0);
@@ -137,10 +136,36 @@ TEST_P(SampleGarment, DISABLED_DrapesToRestOnTheDefaultBody) {
     const auto& g = garment.value();
     const auto& b = body.value();
     EXPECT_EQ(g.triangles.rows(), r["triangles"].get<long>());
-    EXPECT_EQ(intersections(g.positions, g.triangles, g.positions, g.triangles, true), 0)
-        << "garment with itself";
-    EXPECT_EQ(intersections(g.positions, g.triangles, b.positions, b.triangles, false), 0)
-        << "garment with the body";
+    const long self = intersections(g.positions, g.triangles, g.positions, g.triangles, true);
+    const long withBody = intersections(g.positions, g.triangles, b.positions, b.triangles, false);
+    // The engine's count is exact too: both must agree.
+    EXPECT_EQ(self + withBody, r["intersecting_triangle_pairs"].get<long>());
+    std::printf("%s: rested %d, intersecting pairs %ld with itself and %ld with the body, max "
+                "penetration %.4f m\n",
+                name.c_str(), r["rested"].get<bool>() ? 1 : 0, self, withBody,
+                r["max_penetration_m"].get<double>());
+    if (complete) {
+        EXPECT_TRUE(r["rested"].get<bool>()) << "stopped at " << r["sim_time_to_rest_s"] << " s";
+        EXPECT_EQ(self, 0) << "garment with itself";
+        EXPECT_EQ(withBody, 0) << "garment with the body";
+        EXPECT_LT(r["max_penetration_m"].get<double>(), 0.001);
+    }
+}
+
+// The A-line skirt at 20 mm (≈4k triangles): sewn shut in the 1 s sewing phase, then 1.5 s
+// under gravity on the default body: finite, every seam welded, area kept. Not yet asked for
+// (README, "Patterns, the mannequin and draping"): rest (contact jitter) and a state free of
+// intersections at 2.5 s; the counts are printed and must agree with the engine's.
+TEST(SampleGarments, SkirtSewsAndHangsOnTheDefaultBody) {
+    drapeAndCheck("skirt", "--particle-distance 20 --time-limit 2.5 --threads 1", false);
+}
+
+class SampleGarment : public ::testing::TestWithParam<std::string> {};
+
+// DISABLED until every sample drapes to rest at 10 mm within CI's time (README, "Draping");
+// run with --gtest_also_run_disabled_tests.
+TEST_P(SampleGarment, DISABLED_DrapesToRestOnTheDefaultBody) {
+    drapeAndCheck(GetParam(), "", true);
 }
 
 INSTANTIATE_TEST_SUITE_P(Garments, SampleGarment,
