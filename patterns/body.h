@@ -24,8 +24,36 @@ struct ArrangementSlot {
     double radius = 0.2;   ///< smallest cylinder radius enclosing the body part in range [m]
     double alongMin = -0.3; ///< extent of the body part along the axis from origin [m]
     double alongMax = 0.3;  ///< [m]
+    /// The body part's radius along the axis: profile[k] encloses it at along = alongMin +
+    /// k·profileStep (empty: `radius` everywhere). Panels are wrapped on this surface of
+    /// revolution, so they start close to the body where it is narrow (a waist) and clear
+    /// of it where it is wide (hips).
+    std::vector<double> profile;
+    double profileStep = 0.01; ///< [m]
+    /// Largest angle a panel may span to either side of `facing` [rad]: a little under π/2
+    /// where two panels share the circumference (front and back), under π where one panel
+    /// wraps alone (a sleeve).
+    double maxAngle = 3.1;
 
     sim::Vec3 right() const { return axis.cross(facing); }
+
+    /// The profile's radius at `along` (linear, clamped to its ends) [m].
+    double radiusAt(double along) const {
+        if (profile.empty()) {
+            return radius;
+        }
+        const double u = (along - alongMin) / profileStep;
+        if (u <= 0) {
+            return profile.front();
+        }
+        const auto last = static_cast<double>(profile.size() - 1);
+        if (u >= last) {
+            return profile.back();
+        }
+        const auto k = static_cast<std::size_t>(u);
+        const double f = u - static_cast<double>(k);
+        return (1 - f) * profile[k] + f * profile[k + 1];
+    }
 };
 
 /// A body mesh with its slots. Outward normals (counter-clockwise seen from outside), Y up,

@@ -501,6 +501,7 @@ std::vector<ArrangementSlot> computeSlots(const sim::MatX3& x, const std::vector
     // The radius encloses the vertices of `parts` in the slot's range, and those of
     // `nearParts` closer to the axis than `nearRadius` (the shoulders, labelled arm, around
     // the torso).
+    bool paired = true; // front/back (or left/right) panels share the slot's circumference
     auto enclose = [&](ArrangementSlot slot, std::initializer_list<int> parts,
                        std::initializer_list<int> nearParts = {}, double nearRadius = 0) {
         double r = 0;
@@ -522,6 +523,38 @@ std::vector<ArrangementSlot> computeSlots(const sim::MatX3& x, const std::vector
             }
         }
         slot.radius = r;
+        // The radius profile along the axis, 1 cm bins, each also covering its neighbours.
+        const int bins = static_cast<int>(std::ceil((slot.alongMax - slot.alongMin) / 0.01)) + 1;
+        std::vector<double> prof(static_cast<std::size_t>(bins), 0.0);
+        for (Eigen::Index v = 0; v < x.rows(); ++v) {
+            const int pv = part[static_cast<std::size_t>(v)];
+            const bool in = std::find(parts.begin(), parts.end(), pv) != parts.end();
+            const bool near = std::find(nearParts.begin(), nearParts.end(), pv) != nearParts.end();
+            if (!in && !near) {
+                continue;
+            }
+            const Vec3 d = Vec3(x.row(v)) - slot.origin;
+            const double along = d.dot(slot.axis);
+            if (along < slot.alongMin || along > slot.alongMax) {
+                continue;
+            }
+            const double radial = (d - along * slot.axis).norm();
+            if (in || radial <= nearRadius) {
+                const auto k = static_cast<std::size_t>(std::clamp(
+                    static_cast<int>(std::lround((along - slot.alongMin) / 0.01)), 0, bins - 1));
+                prof[k] = std::max(prof[k], radial);
+            }
+        }
+        slot.profile.assign(prof.size(), 0.0);
+        for (int k = 0; k < bins; ++k) {
+            double m = 0;
+            for (int j = std::max(0, k - 2); j <= std::min(bins - 1, k + 2); ++j) {
+                m = std::max(m, prof[static_cast<std::size_t>(j)]);
+            }
+            slot.profile[static_cast<std::size_t>(k)] = m > 0 ? m : r;
+        }
+        slot.profileStep = 0.01;
+        slot.maxAngle = paired ? 0.49 * PI : 0.97 * PI;
         slots.push_back(slot);
     };
     const double waistY = f.torsoOrigin.y();
@@ -535,12 +568,16 @@ std::vector<ArrangementSlot> computeSlots(const sim::MatX3& x, const std::vector
         enclose({std::string("torso_") + name, f.torsoOrigin, Vec3::UnitY(), facing, 0,
                  f.crotchY - waistY, f.shoulderY - waistY + 0.01},
                 {0}, {1, 2}, f.shoulderHalfWidth + 0.005);
+        // A torso panel hugging the bust would wrap its sides into the arms: the torso slots
+        // stay cylinders of the whole torso's radius.
+        slots.back().profile.clear();
     }
     for (const auto& [name, facing] : facings) {
         enclose({std::string("waist_") + name, f.torsoOrigin, Vec3::UnitY(), facing, 0,
                  f.crotchY - 0.02 - waistY, 0.06},
                 {0, 3, 4});
     }
+    paired = false;
     enclose({"neck", Vec3(f.torsoOrigin.x(), f.neckY, f.torsoOrigin.z()), Vec3::UnitY(),
              Vec3::UnitZ(), 0, -0.03, 0.03},
             {0});
@@ -548,9 +585,11 @@ std::vector<ArrangementSlot> computeSlots(const sim::MatX3& x, const std::vector
         const std::string lr = i == 0 ? "left" : "right";
         const int side = static_cast<int>(i);
         // Arm: +axis toward the shoulder, facing the top of the arm.
+        paired = false;
         enclose({"arm_" + lr, f.shoulderJoint[i], f.armAxis[i], f.armTop[i], 0, -f.armLength[i],
                  0.0},
                 {1 + side});
+        paired = true;
         const Vec3 legOrigin(f.hipJoint[i].x(), f.crotchY, f.hipJoint[i].z());
         enclose({"leg_" + lr + "_front", legOrigin, Vec3::UnitY(), Vec3::UnitZ(), 0,
                  -f.crotchY + 0.09, 0.0},

@@ -1,6 +1,8 @@
 #include "patterns/placement.h"
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace atelier::patterns {
 
@@ -24,14 +26,69 @@ sim::MatX2 placementCoordinates(const Panel& panel, const PanelMesh& mesh) {
 
 sim::MatX3 wrapOnSlot(const sim::MatX2& coordinates, const ArrangementSlot& slot,
                       double clearance) {
-    const double r = slot.radius + clearance;
+    const Eigen::Index n = coordinates.rows();
+    sim::MatX3 x(n, 3);
+    if (n == 0) {
+        return x;
+    }
+    // The panel's rows, 1 cm apart along v: each gets the radius that clears the body there
+    // and lets the row's widest point stay within ±maxAngle.
+    constexpr double STEP = 0.01;
+    const double vMin = coordinates.col(1).minCoeff();
+    const double vMax = coordinates.col(1).maxCoeff();
+    const int rows = static_cast<int>(std::ceil((vMax - vMin) / STEP)) + 1;
+    std::vector<double> halfWidth(static_cast<std::size_t>(rows), 0.0);
+    for (Eigen::Index i = 0; i < n; ++i) {
+        const auto k = static_cast<std::size_t>(
+            std::clamp(static_cast<int>(std::lround((coordinates(i, 1) - vMin) / STEP)), 0,
+                       rows - 1));
+        halfWidth[k] = std::max(halfWidth[k], std::abs(coordinates(i, 0)));
+    }
+    std::vector<double> need(static_cast<std::size_t>(rows));
+    for (int k = 0; k < rows; ++k) {
+        const double v = vMin + k * STEP;
+        need[static_cast<std::size_t>(k)] =
+            std::max(slot.radiusAt(v) + clearance,
+                     halfWidth[static_cast<std::size_t>(k)] / std::max(slot.maxAngle, 0.1));
+    }
+    // Smooth without dropping below the need: a moving maximum, then a moving average, both
+    // over ±3 rows (every average then includes the centre row's need).
+    auto window = [&](const std::vector<double>& in, bool maximum) {
+        std::vector<double> out(in.size());
+        for (int k = 0; k < rows; ++k) {
+            double acc = maximum ? 0.0 : 0.0;
+            int count = 0;
+            for (int j = std::max(0, k - 3); j <= std::min(rows - 1, k + 3); ++j) {
+                const double value = in[static_cast<std::size_t>(j)];
+                acc = maximum ? std::max(acc, value) : acc + value;
+                ++count;
+            }
+            out[static_cast<std::size_t>(k)] = maximum ? acc : acc / count;
+        }
+        return out;
+    };
+    const std::vector<double> r = window(window(need, true), false);
+    // Along the axis: the meridian's arc length equals v, anchored at the panel's top row.
+    std::vector<double> along(static_cast<std::size_t>(rows));
+    along[static_cast<std::size_t>(rows - 1)] = vMin + (rows - 1) * STEP;
+    for (int k = rows - 2; k >= 0; --k) {
+        const double dr = r[static_cast<std::size_t>(k + 1)] - r[static_cast<std::size_t>(k)];
+        const double da = std::sqrt(std::max(STEP * STEP - dr * dr, 0.25 * STEP * STEP));
+        along[static_cast<std::size_t>(k)] = along[static_cast<std::size_t>(k + 1)] - da;
+    }
     const Vec3 right = slot.right();
-    sim::MatX3 x(coordinates.rows(), 3);
-    for (int i = 0; i < coordinates.rows(); ++i) {
-        const double angle = coordinates(i, 0) / r;
-        const double along = coordinates(i, 1);
-        x.row(i) = (slot.origin + along * slot.axis +
-                    r * (std::cos(angle) * slot.facing + std::sin(angle) * right))
+    for (Eigen::Index i = 0; i < n; ++i) {
+        const double u = std::clamp((coordinates(i, 1) - vMin) / STEP, 0.0,
+                                    static_cast<double>(rows - 1));
+        const auto k = std::min(static_cast<int>(u), rows - 2 < 0 ? 0 : rows - 2);
+        const double f = rows > 1 ? u - k : 0.0;
+        const auto kk = static_cast<std::size_t>(k);
+        const auto k1 = static_cast<std::size_t>(std::min(k + 1, rows - 1));
+        const double radius = (1 - f) * r[kk] + f * r[k1];
+        const double a = (1 - f) * along[kk] + f * along[k1];
+        const double angle = coordinates(i, 0) / radius;
+        x.row(i) = (slot.origin + a * slot.axis +
+                    radius * (std::cos(angle) * slot.facing + std::sin(angle) * right))
                        .transpose();
     }
     return x;

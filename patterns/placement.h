@@ -13,9 +13,12 @@ namespace atelier::patterns {
 sim::MatX2 placementCoordinates(const Panel& panel, const PanelMesh& mesh);
 
 /// 3D start positions of a panel (|V|×3) [m]: each placement point (u, v) goes to
-/// origin + v·axis + r·(cos(u/r)·facing + sin(u/r)·right) with r = slot.radius +
-/// placement.clearance, so the panel starts curved around the body part, outside the
-/// cylinder enclosing it, with its front facing out.
+/// origin + a(v)·axis + r(v)·(cos(u/r(v))·facing + sin(u/r(v))·right). The radius r(v) of the
+/// panel's row at v is the slot's profile there plus the clearance, or more where the row is
+/// too wide to stay within ±slot.maxAngle (smoothed over ±3 cm, never below either bound);
+/// a(v) makes the meridian's arc length equal to v, anchored at the panel's top row. Around,
+/// arc lengths are kept exactly: the panel starts curved around the body part, clear of it,
+/// with its front facing out.
 sim::MatX3 wrapOnSlot(const sim::MatX2& coordinates, const ArrangementSlot& slot,
                       double clearance);
 

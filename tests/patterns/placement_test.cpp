@@ -95,5 +95,57 @@ TEST(Placement, WrapsOnTheSlotCylinderAtRadiusPlusClearanceFacingOut) {
     EXPECT_GT((mid - slot.origin).normalized().dot(slot.facing), 0.9);
 }
 
+TEST(Placement, FollowsTheSlotsProfileAndStaysWithinItsAngle) {
+    // A waist-like slot: radius 0.12 at the top widening to 0.2 at 0.3 m below, panels
+    // limited to ±π/2 around the facing (front and back share the circumference).
+    ArrangementSlot slot;
+    slot.origin = Vec3::Zero();
+    slot.axis = Vec3::UnitY();
+    slot.facing = Vec3::UnitZ();
+    slot.alongMin = -0.3;
+    slot.alongMax = 0.0;
+    slot.profileStep = 0.01;
+    for (int k = 0; k <= 30; ++k) {
+        slot.profile.push_back(0.2 - 0.08 * k / 30.0);
+    }
+    slot.maxAngle = 0.49 * std::acos(-1.0);
+    EXPECT_NEAR(slot.radiusAt(-0.3), 0.2, 1e-12);
+    EXPECT_NEAR(slot.radiusAt(0.0), 0.12, 1e-12);
+    EXPECT_NEAR(slot.radiusAt(-0.15), 0.16, 1e-12);
+    // A panel 0.5 m wide and 0.3 m tall, its rows sampled every 5 mm.
+    const int nx = 21, ny = 61;
+    sim::MatX2 c(nx * ny, 2);
+    for (int j = 0; j < ny; ++j) {
+        for (int i = 0; i < nx; ++i) {
+            c.row(j * nx + i) << -0.25 + 0.5 * i / (nx - 1), -0.3 + 0.3 * j / (ny - 1);
+        }
+    }
+    const double clearance = 0.02;
+    const sim::MatX3 x = wrapOnSlot(c, slot, clearance);
+    for (int j = 0; j < ny; ++j) {
+        for (int i = 0; i < nx; ++i) {
+            const Vec3 p = x.row(j * nx + i);
+            const double r = std::hypot(p.x(), p.z());
+            // Clear of the body part everywhere, and within the angle.
+            EXPECT_GE(r, slot.radiusAt(p.y()) + clearance - 1e-9);
+            EXPECT_LE(std::abs(std::atan2(p.x(), p.z())), slot.maxAngle + 1e-9);
+        }
+    }
+    // Around, the arc length is kept exactly: the centre column to the edge is 0.25 m of arc.
+    for (int j = 0; j < ny; j += 10) {
+        const Vec3 p = x.row(j * nx + nx - 1);
+        const double r = std::hypot(p.x(), p.z());
+        EXPECT_NEAR(r * std::atan2(p.x(), p.z()), 0.25, 1e-9);
+    }
+    // Along, the meridian keeps the panel's height within 1%.
+    double meridian = 0;
+    for (int j = 0; j + 1 < ny; ++j) {
+        meridian += (x.row((j + 1) * nx + nx / 2) - x.row(j * nx + nx / 2)).norm();
+    }
+    EXPECT_NEAR(meridian, 0.3, 0.003);
+    // The top row stays where the panel puts it.
+    EXPECT_NEAR(x((ny - 1) * nx, 1), 0.0, 1e-12);
+}
+
 } // namespace
 } // namespace atelier::patterns
