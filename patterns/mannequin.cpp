@@ -501,6 +501,19 @@ std::vector<ArrangementSlot> computeSlots(const sim::MatX3& x, const std::vector
     // The radius encloses the vertices of `parts` in the slot's range, and those of
     // `nearParts` closer to the axis than `nearRadius` (the shoulders, labelled arm, around
     // the torso).
+    // Aggregate initialisation would leave the newer members to -Wmissing-field-initializers.
+    auto slotOf = [](std::string name, const Vec3& origin, const Vec3& axis, const Vec3& facing,
+                     double radius, double alongMin, double alongMax) {
+        ArrangementSlot s;
+        s.name = std::move(name);
+        s.origin = origin;
+        s.axis = axis;
+        s.facing = facing;
+        s.radius = radius;
+        s.alongMin = alongMin;
+        s.alongMax = alongMax;
+        return s;
+    };
     bool paired = true; // front/back (or left/right) panels share the slot's circumference
     auto enclose = [&](ArrangementSlot slot, std::initializer_list<int> parts,
                        std::initializer_list<int> nearParts = {}, double nearRadius = 0) {
@@ -565,37 +578,37 @@ std::vector<ArrangementSlot> computeSlots(const sim::MatX3& x, const std::vector
         {"right", -Vec3::UnitX()},
     }};
     for (const auto& [name, facing] : facings) {
-        enclose({std::string("torso_") + name, f.torsoOrigin, Vec3::UnitY(), facing, 0,
-                 f.crotchY - waistY, f.shoulderY - waistY + 0.01},
+        enclose(slotOf(std::string("torso_") + name, f.torsoOrigin, Vec3::UnitY(), facing, 0,
+                 f.crotchY - waistY, f.shoulderY - waistY + 0.01),
                 {0}, {1, 2}, f.shoulderHalfWidth + 0.005);
         // A torso panel hugging the bust would wrap its sides into the arms: the torso slots
         // stay cylinders of the whole torso's radius.
         slots.back().profile.clear();
     }
     for (const auto& [name, facing] : facings) {
-        enclose({std::string("waist_") + name, f.torsoOrigin, Vec3::UnitY(), facing, 0,
-                 f.crotchY - 0.02 - waistY, 0.06},
+        enclose(slotOf(std::string("waist_") + name, f.torsoOrigin, Vec3::UnitY(), facing, 0,
+                 f.crotchY - 0.02 - waistY, 0.06),
                 {0, 3, 4});
     }
     paired = false;
-    enclose({"neck", Vec3(f.torsoOrigin.x(), f.neckY, f.torsoOrigin.z()), Vec3::UnitY(),
-             Vec3::UnitZ(), 0, -0.03, 0.03},
+    enclose(slotOf("neck", Vec3(f.torsoOrigin.x(), f.neckY, f.torsoOrigin.z()), Vec3::UnitY(),
+             Vec3::UnitZ(), 0, -0.03, 0.03),
             {0});
     for (std::size_t i = 0; i < 2; ++i) {
         const std::string lr = i == 0 ? "left" : "right";
         const int side = static_cast<int>(i);
         // Arm: +axis toward the shoulder, facing the top of the arm.
         paired = false;
-        enclose({"arm_" + lr, f.shoulderJoint[i], f.armAxis[i], f.armTop[i], 0, -f.armLength[i],
-                 0.0},
+        enclose(slotOf("arm_" + lr, f.shoulderJoint[i], f.armAxis[i], f.armTop[i], 0, -f.armLength[i],
+                 0.0),
                 {1 + side});
         paired = true;
         const Vec3 legOrigin(f.hipJoint[i].x(), f.crotchY, f.hipJoint[i].z());
-        enclose({"leg_" + lr + "_front", legOrigin, Vec3::UnitY(), Vec3::UnitZ(), 0,
-                 -f.crotchY + 0.09, 0.0},
+        enclose(slotOf("leg_" + lr + "_front", legOrigin, Vec3::UnitY(), Vec3::UnitZ(), 0,
+                 -f.crotchY + 0.09, 0.0),
                 {3 + side});
-        enclose({"leg_" + lr + "_back", legOrigin, Vec3::UnitY(), -Vec3::UnitZ(), 0,
-                 -f.crotchY + 0.09, 0.0},
+        enclose(slotOf("leg_" + lr + "_back", legOrigin, Vec3::UnitY(), -Vec3::UnitZ(), 0,
+                 -f.crotchY + 0.09, 0.0),
                 {3 + side});
     }
     return slots;
