@@ -5,8 +5,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <cmath>
 #include <optional>
@@ -517,6 +515,10 @@ std::vector<ArrangementSlot> computeSlots(const sim::MatX3& x, const std::vector
     bool paired = true; // front/back (or left/right) panels share the slot's circumference
     auto enclose = [&](ArrangementSlot slot, std::initializer_list<int> parts,
                        std::initializer_list<int> nearParts = {}, double nearRadius = 0) {
+        // The radius, and its profile along the axis in 1 cm bins (each bin later also
+        // covering its neighbours), from the same vertices.
+        const int bins = static_cast<int>(std::ceil((slot.alongMax - slot.alongMin) / 0.01)) + 1;
+        std::vector<double> prof(static_cast<std::size_t>(bins), 0.0);
         double r = 0;
         for (Eigen::Index v = 0; v < x.rows(); ++v) {
             const int pv = part[static_cast<std::size_t>(v)];
@@ -533,31 +535,12 @@ std::vector<ArrangementSlot> computeSlots(const sim::MatX3& x, const std::vector
             const double radial = (d - along * slot.axis).norm();
             if (in || radial <= nearRadius) {
                 r = std::max(r, radial);
-            }
-        }
-        slot.radius = r;
-        // The radius profile along the axis, 1 cm bins, each also covering its neighbours.
-        const int bins = static_cast<int>(std::ceil((slot.alongMax - slot.alongMin) / 0.01)) + 1;
-        std::vector<double> prof(static_cast<std::size_t>(bins), 0.0);
-        for (Eigen::Index v = 0; v < x.rows(); ++v) {
-            const int pv = part[static_cast<std::size_t>(v)];
-            const bool in = std::find(parts.begin(), parts.end(), pv) != parts.end();
-            const bool near = std::find(nearParts.begin(), nearParts.end(), pv) != nearParts.end();
-            if (!in && !near) {
-                continue;
-            }
-            const Vec3 d = Vec3(x.row(v)) - slot.origin;
-            const double along = d.dot(slot.axis);
-            if (along < slot.alongMin || along > slot.alongMax) {
-                continue;
-            }
-            const double radial = (d - along * slot.axis).norm();
-            if (in || radial <= nearRadius) {
                 const auto k = static_cast<std::size_t>(std::clamp(
                     static_cast<int>(std::lround((along - slot.alongMin) / 0.01)), 0, bins - 1));
                 prof[k] = std::max(prof[k], radial);
             }
         }
+        slot.radius = r;
         slot.profile.assign(prof.size(), 0.0);
         for (int k = 0; k < bins; ++k) {
             double m = 0;
@@ -810,14 +793,6 @@ Mannequin makeMannequin(std::string_view base, const BodyMeasurements& m,
             worst = std::max(worst, std::abs(targetGirth(measured, g) - targetGirth(m, g)));
         }
         worst = std::max(worst, std::abs(measured.inseam - m.inseam));
-        if (std::getenv("ATELIER_MANNEQUIN_DEBUG") != nullptr) {
-            std::fprintf(stderr, "fit %d:", round);
-            for (int g = 0; g < GIRTHS; ++g) {
-                std::fprintf(stderr, " %.4f/%.4f(x%.3f)", targetGirth(measured, g),
-                             targetGirth(m, g), scale[static_cast<std::size_t>(g)]);
-            }
-            std::fprintf(stderr, " inseam %.4f\n", measured.inseam);
-        }
         if (!last && worst < options.fitTolerance) {
             round = options.fitIterations - 1; // one more, final round with full relaxation
         } else if (last) {

@@ -56,7 +56,7 @@ sim::MatX3 wrapOnSlot(const sim::MatX2& coordinates, const ArrangementSlot& slot
     auto window = [&](const std::vector<double>& in, bool maximum) {
         std::vector<double> out(in.size());
         for (int k = 0; k < rows; ++k) {
-            double acc = maximum ? 0.0 : 0.0;
+            double acc = 0;
             int count = 0;
             for (int j = std::max(0, k - 3); j <= std::min(rows - 1, k + 3); ++j) {
                 const double value = in[static_cast<std::size_t>(j)];

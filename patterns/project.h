@@ -30,8 +30,8 @@ struct DrapeSettings {
     sim::IntegratorKind integrator = sim::IntegratorKind::ImplicitEuler;
     double dt = 1.0 / 300;          ///< step (fixed, or first of rk45) [s]
     /// Implicit Euler: relative tolerance of the conjugate-gradient solve. Draping needs the
-    /// shape at rest, not the path to it: 1e-3 sews and settles like 1e-6 at a third of the
-    /// iterations (README, "Draping").
+    /// shape at rest, not the path to it: on the 10 mm skirt, 1e-3 closed the seams nearly as
+    /// fast as 1e-6 (gap 0.176 against 0.156 m after 0.3 s) with ~200 instead of 500 iterations.
     double cgTolerance = 1e-3;
     double clothThickness = 0.002;  ///< collision thickness of the cloth [m]
     bool selfCollision = true;      ///< garment against itself (layers, front vs back)
