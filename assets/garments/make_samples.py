@@ -83,9 +83,10 @@ def torso(neck_drop, length, half_width=260, hem_half=None, armhole_y=None):
 def tshirt():
     length = 620
     # Slot origins sit at the default body's waist (y = 1.05 m); the shoulder points
-    # (585 mm above the hem) go to its shoulder height (1.37 m).
-    front = panel("front", torso(90, length), "torso_front", offset=(0, 45))
-    back = panel("back", torso(25, length), "torso_back", offset=(0, 45))
+    # (585 mm above the hem) go 3 cm above its shoulder top (1.37 m), so the shoulder seams
+    # close over the shoulders rather than against them. The hem flares to clear the hips.
+    front = panel("front", torso(90, length, hem_half=285), "torso_front", offset=(0, 75))
+    back = panel("back", torso(25, length, hem_half=285), "torso_back", offset=(0, 75))
     # Sleeve: hem at y = 0, underarm seams up to y = 70, a cap to the top at y = 190.
     sw, sh, cap = 175, 70, 190
     sleeve = [
@@ -108,13 +109,15 @@ def tshirt():
         seam("shoulder_right", [edge("front", 5)], [edge("back", 3, 1, 0)]),
         seam("underarm_left", [edge("sleeve_left", 1)], [edge("sleeve_left", 4, 1, 0)]),
         seam("underarm_right", [edge("sleeve_right", 1)], [edge("sleeve_right", 4, 1, 0)]),
-        # Caps: the +x half of the left sleeve lies at the back of the arm.
+        # Caps run underarm -> top -> underarm; each armhole edge is taken in that order
+        # (the +x half of the left sleeve lies at the back of the arm, of the right sleeve at
+        # the front).
         seam("armhole_left",
              [edge("sleeve_left", 2), edge("sleeve_left", 3)],
              [edge("back", 6, 1, 0), edge("front", 2, 1, 0)]),
         seam("armhole_right",
              [edge("sleeve_right", 2), edge("sleeve_right", 3)],
-             [edge("front", 6), edge("back", 2)]),
+             [edge("front", 6, 1, 0), edge("back", 2, 1, 0)]),
     ]
     return project("tshirt", [front, back, left, right], seams, "jersey-knit")
 

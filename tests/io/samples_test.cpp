@@ -11,8 +11,12 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <filesystem>
+#include <map>
 #include <set>
+#include <tuple>
+#include <vector>
 
 namespace atelier::io {
 namespace {
@@ -65,6 +69,37 @@ TEST(Samples, MeshAndStartOutsideTheDefaultBody) {
         EXPECT_EQ(simulation.penetration(), 0.0);
         EXPECT_EQ(simulation.intersectingTrianglePairs(), 0);
         EXPECT_NEAR(patterns::areaRatio(assembled.scene, simulation.positions()), 1.0, 0.005);
+        // Each seam runs the way its two sides are placed: between two panels, its pairs start
+        // closer together than they would with one side reversed (a reversed edge sews a
+        // sleeve's cap top to the underarm, which no sewing can close).
+        std::map<std::tuple<int, int, int>, std::vector<std::array<int, 2>>> bySeam;
+        for (std::size_t k = 0; k < mesh.seamPairs.size(); ++k) {
+            std::array<int, 2> ends{};
+            for (std::size_t side = 0; side < 2; ++side) {
+                const patterns::VertexRef& v = mesh.seamPairs[k][side];
+                ends[side] = assembled.panelOffsets[static_cast<std::size_t>(v.panel)] + v.vertex;
+            }
+            bySeam[{mesh.seamOfPair[k], mesh.seamPairs[k][0].panel, mesh.seamPairs[k][1].panel}]
+                .push_back(ends);
+        }
+        const sim::MatX3& x = simulation.positions();
+        for (const auto& [key, pairs] : bySeam) {
+            const int seam = std::get<0>(key);
+            if (seam < 0) {
+                continue; // a dart
+            }
+            double placed = 0, reversed = 0;
+            for (std::size_t i = 0; i < pairs.size(); ++i) {
+                placed += (x.row(pairs[i][0]) - x.row(pairs[i][1])).norm();
+                reversed += (x.row(pairs[i][0]) - x.row(pairs[pairs.size() - 1 - i][1])).norm();
+            }
+            EXPECT_LE(placed, reversed)
+                << "seam \"" << p.garment.seams[static_cast<std::size_t>(seam)].name
+                << "\" between panels " << std::get<1>(key) << " and " << std::get<2>(key)
+                << ": mean gap " << placed / static_cast<double>(pairs.size())
+                << " m as placed, " << reversed / static_cast<double>(pairs.size())
+                << " m with one side reversed";
+        }
         ++count;
     }
     EXPECT_GE(count, 3);
