@@ -96,6 +96,9 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
     scene.integrator.cgTolerance = settings.cgTolerance;
     scene.seamTimeConstant = settings.seamTimeConstant;
     scene.seamWeldDistance = settings.seamWeldDistance;
+    // Seams whose chord crosses the body (a shirt's shoulders, a skirt's hips) are led around
+    // it rather than pressed into it.
+    scene.seamRouteClearance = settings.seamRouteClearance;
 
     sim::ObstacleSpec obstacle;
     obstacle.name = "body";

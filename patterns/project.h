@@ -40,6 +40,9 @@ struct DrapeSettings {
     double bodyKineticFriction = 0.4;
     double seamTimeConstant = 0.03; ///< seams close like (1 + t/τ)e^{−t/τ} [s]
     double seamWeldDistance = 0.001; ///< a closed seam pair welds below this gap [m]
+    /// Sewing leads a seam around the body where its chord crosses it, via a point this far
+    /// outside the body (sim::SceneSpec::seamRouteClearance) [m]; 0 = straight chords only.
+    double seamRouteClearance = 0.01;
     /// Sewing phase: gravity starts after this time [s], so that the seams close around the
     /// body before the garment can fall off it.
     double sewingTime = 0.3;

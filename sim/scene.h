@@ -167,6 +167,10 @@ struct SceneSpec {
     /// The end of a sewing phase: from this time on every seam pair is welded, whatever its
     /// gap (RunStats::largestForcedWeld says how far apart the worst pair was) [s]; < 0 = never.
     double seamWeldAllTime = -1.0;
+    /// Seam routing (elastic seams, closed obstacles): an open pair whose straight chord passes
+    /// through or within this distance of an obstacle is pulled around it, both vertices towards
+    /// a via point this far outside (SeamElastics::setVia), re-chosen every step [m]; 0 = off.
+    double seamRouteClearance = 0.0;
     /// High damping: purely dissipative velocity damping (A) of every vertex toward the mean
     /// velocity of its neighbours, time constant [s]; 0 = off.
     double highDampingTimeConstant = 0.0;

@@ -170,6 +170,10 @@ struct Simulation::Impl {
     /// relative velocities.
     void imposeSeamVelocities(double h, MatX3& vEnd) const;
     bool pairOpen(std::size_t k) const { return pairWelded.empty() || !pairWelded[k]; }
+    SeamElastics* seamElastics = nullptr; ///< the seam model when seams are elastic
+    /// Seam routing: re-chooses the via points of the open pairs blocked by an obstacle (see
+    /// SceneSpec::seamRouteClearance); energy the moved targets add counts as put in.
+    void routeSeams();
     double seamPower = 0; ///< power of the imposed seam corrections at the step's start [W]
 
     bool hasDrives() const { return !scene.drives.empty(); }
@@ -242,7 +246,9 @@ void Simulation::Impl::build() {
         }
     }
     if (!scene.seams.empty() && scene.seamMode == SeamMode::Elastic) {
-        models.push_back(std::make_unique<SeamElastics>(scene.seams, mass, scene.seamTimeConstant));
+        auto seams = std::make_unique<SeamElastics>(scene.seams, mass, scene.seamTimeConstant);
+        seamElastics = seams.get();
+        models.push_back(std::move(seams));
     }
     pinned.assign(static_cast<std::size_t>(n), 0);
     pinPosition = x;
@@ -474,6 +480,23 @@ void Simulation::Impl::applyCorrectionsA(double h) {
         applyHighDamping(allEdges, invMass, h, scene.highDampingTimeConstant, v);
     }
     mergeWelds(&x, v);
+}
+
+void Simulation::Impl::routeSeams() {
+    if (seamElastics == nullptr || !collision || !(scene.seamRouteClearance > 0)) {
+        return;
+    }
+    const bool sewing = scene.seamWeldAllTime < 0 || t < scene.seamWeldAllTime - 1e-12;
+    const double before = seamElastics->energy(x);
+    for (std::size_t k = 0; k < scene.seams.size(); ++k) {
+        const SeamPair& p = scene.seams[k];
+        Vec3 via;
+        const bool route = sewing && pairOpen(k) &&
+                           collision->routeAround(x.row(p.a).transpose(), x.row(p.b).transpose(),
+                                                  scene.seamRouteClearance, via);
+        seamElastics->setVia(k, route ? &via : nullptr);
+    }
+    baseEnergyInput += std::max(0.0, seamElastics->energy(x) - before);
 }
 
 bool Simulation::Impl::weldClosedSeams() {
@@ -732,6 +755,7 @@ bool Simulation::Impl::step(double maxH) {
     if (scene.gravity && scene.gravityStartTime > t + 1e-12 && scene.gravityStartTime < t + h) {
         h = scene.gravityStartTime - t;
     }
+    routeSeams();
     for (;;) {
         if (h < opt.minDt) {
             std::ostringstream s;
@@ -972,6 +996,9 @@ std::optional<std::string> Simulation::validate(const SceneSpec& s) {
     }
     if (!(s.seamWeldDistance >= 0)) {
         return std::string("seam weld distance must be zero or positive");
+    }
+    if (!(s.seamRouteClearance >= 0) || !std::isfinite(s.seamRouteClearance)) {
+        return std::string("seam route clearance must be zero or positive");
     }
     if (!s.seams.empty() && !(s.seamTimeConstant > 0)) {
         return std::string("seam time constant must be positive");

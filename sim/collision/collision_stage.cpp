@@ -243,6 +243,28 @@ CollisionStage::CollisionStage(const SceneSpec& scene, const std::vector<int>& o
     m_openSide.assign(static_cast<std::size_t>(n) * m_obstacles.size(), 0);
 }
 
+bool CollisionStage::routeAround(const Vec3& p, const Vec3& q, double clearance,
+                                 Vec3& via) const {
+    double deepest = clearance;
+    bool blocked = false;
+    for (std::size_t k = 0; k < m_obstacles.size(); ++k) {
+        if (!m_obstacles[k].spec->closed) {
+            continue;
+        }
+        for (const double s : {0.5, 0.25, 0.75}) {
+            const Vec3 point = (1 - s) * p + s * q;
+            Vec3 closest, outward;
+            const double d = signedDistance(k, m_obstacles[k].x1, point, INF, &closest, &outward);
+            if (d < deepest) {
+                deepest = d;
+                via = closest + clearance * outward;
+                blocked = true;
+            }
+        }
+    }
+    return blocked;
+}
+
 double CollisionStage::signedDistance(std::size_t k, const MatX3& xo, const Vec3& p,
                                       double maxDistance, Vec3* closest, Vec3* outward) const {
     const ObstacleData& o = m_obstacles[k];

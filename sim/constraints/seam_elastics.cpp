@@ -11,6 +11,15 @@ SeamElastics::SeamElastics(const std::vector<SeamPair>& pairs, const VecX& masse
         const double mb = masses[p.b];
         m_reducedMass.push_back(ma + mb > 0 ? ma * mb / (ma + mb) : 0.0);
     }
+    m_via.assign(pairs.size(), Vec3::Zero());
+    m_routed.assign(pairs.size(), 0);
+}
+
+void SeamElastics::setVia(std::size_t s, const Vec3* via) {
+    m_routed[s] = via != nullptr ? 1 : 0;
+    if (via != nullptr) {
+        m_via[s] = *via;
+    }
 }
 
 void SeamElastics::addForces(const MatX3& x, const MatX3& v, MatX3& f) const {
@@ -19,8 +28,14 @@ void SeamElastics::addForces(const MatX3& x, const MatX3& v, MatX3& f) const {
     for (std::size_t s = 0; s < m_pairs.size(); ++s) {
         const int a = m_pairs[s].a;
         const int b = m_pairs[s].b;
-        const Vec3 fa = m_reducedMass[s] * (-k * (x.row(a) - x.row(b)) - c * (v.row(a) - v.row(b)))
-                            .transpose();
+        const double mu = m_reducedMass[s];
+        if (m_routed[s] != 0) {
+            const Eigen::RowVector3d via = m_via[s].transpose();
+            f.row(a) += mu * (-k * (x.row(a) - via) - c * v.row(a));
+            f.row(b) += mu * (-k * (x.row(b) - via) - c * v.row(b));
+            continue;
+        }
+        const Vec3 fa = mu * (-k * (x.row(a) - x.row(b)) - c * (v.row(a) - v.row(b))).transpose();
         f.row(a) += fa.transpose();
         f.row(b) -= fa.transpose();
     }
@@ -29,8 +44,14 @@ void SeamElastics::addForces(const MatX3& x, const MatX3& v, MatX3& f) const {
 double SeamElastics::energy(const MatX3& x) const {
     double e = 0;
     for (std::size_t s = 0; s < m_pairs.size(); ++s) {
-        e += 0.5 * m_reducedMass[s] / (m_tau * m_tau) *
-             (x.row(m_pairs[s].a) - x.row(m_pairs[s].b)).squaredNorm();
+        const double k = 0.5 * m_reducedMass[s] / (m_tau * m_tau);
+        if (m_routed[s] != 0) {
+            const Eigen::RowVector3d via = m_via[s].transpose();
+            e += k * ((x.row(m_pairs[s].a) - via).squaredNorm() +
+                      (x.row(m_pairs[s].b) - via).squaredNorm());
+            continue;
+        }
+        e += k * (x.row(m_pairs[s].a) - x.row(m_pairs[s].b)).squaredNorm();
     }
     return e;
 }
@@ -50,9 +71,11 @@ void SeamElastics::addJacobian(const MatX3& /*x*/, const MatX3& /*v*/, double kx
         const int a = m_pairs[s].a;
         const int b = m_pairs[s].b;
         J.add(a, a, -B);
-        J.add(a, b, B);
-        J.add(b, a, B);
         J.add(b, b, -B);
+        if (m_routed[s] == 0) {
+            J.add(a, b, B);
+            J.add(b, a, B);
+        }
     }
 }
 

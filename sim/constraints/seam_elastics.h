@@ -14,6 +14,11 @@ namespace atelier::sim {
 /// As a force on the pair this is \f$ f_a = \mu\,\ddot r \f$ with the reduced mass μ, which is
 /// how it enters implicit solves. The closing is independent of the masses and of the cloth's
 /// stiffness: a gap shrinks like \f$ (1 + t/\tau)e^{-t/\tau} \f$ when nothing resists.
+///
+/// Routing: a pair whose straight chord is blocked by an obstacle (a shoulder between the
+/// front and back of a shirt) can be given a via point clear of it; each of its two vertices
+/// is then pulled towards the via point with the same law (stiffness μ/τ², damping 2μ/τ on its
+/// own velocity), so the cloth is led around the obstacle instead of being pressed into it.
 class SeamElastics : public ForceModel {
   public:
     SeamElastics(const std::vector<SeamPair>& pairs, const VecX& masses, double timeConstant);
@@ -26,8 +31,15 @@ class SeamElastics : public ForceModel {
     void addJacobian(const MatX3& x, const MatX3& v, double kx, double kv, JacobianMode mode,
                      BlockSparseMatrix& J) const override;
 
+    /// Routes pair s through `via` (world point), or back to its straight chord (nullptr).
+    void setVia(std::size_t s, const Vec3* via);
+    bool routed(std::size_t s) const { return m_routed[s] != 0; }
+    std::size_t pairCount() const { return m_pairs.size(); }
+
   private:
     std::vector<SeamPair> m_pairs;
+    std::vector<Vec3> m_via;      ///< per pair: via point when routed [m]
+    std::vector<char> m_routed;   ///< per pair
     std::vector<double> m_reducedMass; ///< [kg]
     double m_tau;
 };

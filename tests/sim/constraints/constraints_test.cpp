@@ -1,6 +1,7 @@
 // Kinematic corrections: pins (A + B), drives (exact and tracker-following), seam elastics (C)
 // and high damping (A, purely dissipative); and the pipeline holds only the stages a scene needs.
 
+#include "sim/collision/obstacle.h"
 #include "sim/constraints/kinematic.h"
 #include "sim/simulation.h"
 #include "sim/test_scenes.h"
@@ -193,6 +194,59 @@ TEST(Constraints, SewingPhaseEndsWithEverySeamWelded) {
     EXPECT_GT(sim.stats().largestForcedWeld, 0.015);
     EXPECT_LT(sim.stats().largestForcedWeld, 0.02 + 1e-9);
     EXPECT_TRUE(sim.stats().finite);
+}
+
+TEST(Constraints, SeamBlockedByABodyIsLedAroundIt) {
+    // Two small sheets face each other across a sphere; their top rows are sewn, and each
+    // pair's chord runs through the sphere, just above its centre. Pulled straight, the
+    // sheets press on the sphere where friction holds them (the pull is 11° off the normal,
+    // μ = 0.5); routed, each pair is led over the sphere and closes.
+    const int cells = 4;
+    SceneSpec scene = test::smallSheet(StretchModel::Fem, cells, 0.1, false);
+    scene.cloths[0].position.col(0).array() -= 0.05;
+    scene.cloths[0].position.col(1).array() -= 0.08; // top row at y = 0.02
+    ClothSpec back = scene.cloths[0];
+    back.name = "back";
+    scene.cloths[0].position.col(2).array() += 0.13;
+    back.position.col(2).array() -= 0.13;
+    scene.cloths.push_back(back);
+    const int n = (cells + 1) * (cells + 1);
+    for (int i = 0; i <= cells; ++i) {
+        scene.seams.push_back({cells * (cells + 1) + i, n + cells * (cells + 1) + i});
+    }
+    ObstacleSpec sphere;
+    sphere.name = "sphere";
+    makeSphereMesh(0.1, 3, sphere.vertices, sphere.triangles);
+    sphere.closed = true;
+    sphere.staticFriction = 0.5;
+    sphere.kineticFriction = 0.5;
+    scene.obstacles.push_back(sphere);
+    scene.gravity = false;
+    scene.seamTimeConstant = 0.03;
+    scene.seamMode = SeamMode::Elastic;
+    scene.seamWeldDistance = 1e-3;
+    scene.integrator.kind = IntegratorKind::ImplicitEuler;
+    scene.integrator.dt = 5e-3;
+    auto largestGap = [&](const Simulation& sim) {
+        double gap = 0;
+        for (const SeamPair& p : scene.seams) {
+            gap = std::max(gap, (sim.positions().row(p.a) - sim.positions().row(p.b)).norm());
+        }
+        return gap;
+    };
+    {
+        Simulation straight(scene);
+        ASSERT_EQ(straight.advance(1.0), RunStatus::Finished) << straight.error();
+        EXPECT_GT(largestGap(straight), 0.1);
+        EXPECT_EQ(straight.stats().weldedSeamPairs, 0);
+    }
+    scene.seamRouteClearance = 0.01;
+    Simulation routed(scene);
+    ASSERT_EQ(routed.advance(1.0), RunStatus::Finished) << routed.error();
+    EXPECT_EQ(routed.stats().weldedSeamPairs, cells + 1);
+    EXPECT_EQ(largestGap(routed), 0.0);
+    EXPECT_TRUE(routed.stats().finite);
+    EXPECT_EQ(routed.intersectingTrianglePairs(), 0);
 }
 
 TEST(Constraints, GravityStartsAtItsTime) {
