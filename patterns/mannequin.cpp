@@ -271,11 +271,12 @@ public:
             L.wrist[i] = wrist;
             L.upperArmPoint[i] = joint + 0.5 * (elbow - joint);
 
-            // Leg, feet slightly apart.
+            // Leg, spread about 6° like a dress form's: the thighs part below the crotch, so a
+            // trouser leg can be sewn around each one.
             const Vec3 hipJoint(sx * hx, L.crotchY + 0.045 * s, -0.005 * s);
-            const Vec3 knee(sx * (hx + 0.006 * s), 0.285 * H, 0.0);
-            const Vec3 calf(sx * (hx + 0.009 * s), 0.21 * H, -0.008 * s);
-            const Vec3 ankle(sx * (hx + 0.012 * s), 0.055 * H + 0.01 * s, -0.01 * s);
+            const Vec3 knee(sx * (hx + 0.045 * s), 0.285 * H, 0.0);
+            const Vec3 calf(sx * (hx + 0.054 * s), 0.21 * H, -0.008 * s);
+            const Vec3 ankle(sx * (hx + 0.072 * s), 0.055 * H + 0.01 * s, -0.01 * s);
             Limb leg;
             leg.joints = {hipJoint, knee, calf, ankle};
             leg.radii = {rThigh, 0.60 * rThigh, 0.62 * rThigh, 0.38 * rThigh};
@@ -283,7 +284,7 @@ public:
             leg.handV = Vec3::UnitY();
             leg.handW = Vec3::UnitZ();
             leg.handRadii = Vec3(0.042 * s, 0.035 * s, 0.125 * s);
-            leg.handCentre = Vec3(sx * (hx + 0.015 * s), leg.handRadii.y(), 0.045 * s);
+            leg.handCentre = Vec3(sx * (hx + 0.075 * s), leg.handRadii.y(), 0.045 * s);
             m_legs[i] = leg;
             L.hipJoint[i] = hipJoint;
             // The thigh's axis at the measuring height.
