@@ -29,7 +29,7 @@
 ///   "simulation": {"particle_distance_mm": 10, "model": "fem", "integrator": "implicit-euler",
 ///       "dt_s": 0.00333, "cloth_thickness_mm": 2, "self_collision": true,
 ///       "body_thickness_mm": 2, "body_static_friction": 0.5, "body_kinetic_friction": 0.4,
-///       "seam_time_constant_s": 0.03, "seam_weld_distance_mm": 1,
+///       "seam_time_constant_s": 0.004, "seam_weld_distance_mm": 1,
 ///       "rest_kinetic_energy_j": 1e-8, "rest_duration_s": 0.2, "time_limit_s": 5} }
 /// ```
 /// Absent optional keys take the defaults of patterns::Panel, Placement and DrapeSettings.

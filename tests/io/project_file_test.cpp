@@ -172,7 +172,7 @@ const char* const MINIMAL_CANONICAL = R"({
     "body_thickness_mm": 2,
     "body_static_friction": 0.5,
     "body_kinetic_friction": 0.4,
-    "seam_time_constant_s": 0.03,
+    "seam_time_constant_s": 0.004,
     "seam_weld_distance_mm": 1,
     "seam_route_clearance_mm": 10,
     "sewing_time_s": 0.3,
