@@ -67,7 +67,7 @@ def torso(neck_drop, length, half_width=260, hem_half=None, armhole_y=None):
     ay = armhole_y if armhole_y is not None else length - 210
     sy = length - 35        # shoulder point height
     ny = length             # neck side height
-    sx, nx = 185, 85        # shoulder point, neck side
+    sx, nx = 185, 100       # shoulder point, neck side
     return [
         line(-hw, 0),
         line(hw, 0),
@@ -149,10 +149,10 @@ def skirt():
 def dress():
     length = 1000
     front = panel("front", torso(80, length, half_width=250, hem_half=330,
-                                 armhole_y=length - 230), "torso_front", offset=(0, -145),
+                                 armhole_y=length - 230), "torso_front", offset=(0, -115),
                   clearance=60)
     back = panel("back", torso(30, length, half_width=250, hem_half=330,
-                               armhole_y=length - 230), "torso_back", offset=(0, -145),
+                               armhole_y=length - 230), "torso_back", offset=(0, -115),
                  clearance=60)
     seams = [
         seam("side_left", [edge("front", 1)], [edge("back", 7, 1, 0)]),
@@ -164,19 +164,21 @@ def dress():
 
 
 def trousers():
-    """Four panels (front and back of each leg) around the hips, sewn at the sides, the
-    inseams and the centre front and back (crotch) seams.
+    """Four panels (front and back of each leg), sewn at the outer sides, the inseams and the
+    centre front and back (crotch) seams.
 
     Each panel is drawn as seen from outside with its side seam on the body's outer side;
     y = 0 at the hem. Segments: 0 hem, 1 outer side (hem to hip), 2 side (hip to waist),
     3 waist, 4 centre (waist down to the crotch curve), 5 crotch curve, 6 inseam.
-    Drawn for the body's left leg (outer side = +x); the right leg's panels are Back-side
-    (mirrored) copies.
+    Drawn for the body's left leg (outer side = +x); the right leg's panels are mirrored
+    copies. The default body's waist is at 1.05 m and its crotch at 0.77 m: the waistline
+    goes 2 cm above the waist and the crotch point (330 mm below the waistline) 4 cm below
+    the body's crotch, the hem to the ankle.
     """
-    length, crotch_y, hip_y = 960, 720, 820
+    length, crotch_y, hip_y = 960, 630, 770
 
     def leg(hip_w, waist_w, ext, hem_w):
-        # Centre line at x = 0; the outer side at +x.
+        # Centre line at x = 0; the outer side at +x; the crotch extends to x = -ext.
         return [
             line(-ext + 40, 0),                                   # 0 hem (inner to outer)
             line(hem_w - ext + 40, 0),                            # 1 outer side seam
@@ -187,20 +189,47 @@ def trousers():
             line(-ext, crotch_y),                                 # 6 inseam
         ]
 
-    front = leg(hip_w=255, waist_w=195, ext=50, hem_w=210)
-    back = leg(hip_w=275, waist_w=200, ext=100, hem_w=230)
+    front_ext, back_ext = 50, 100
+    front = leg(hip_w=255, waist_w=195, ext=front_ext, hem_w=210)
+    back = leg(hip_w=275, waist_w=200, ext=back_ext, hem_w=230)
+    # Placement centres each panel's bounding box on the slot: shift it back so the crotch
+    # point (x = -ext), where the inseam starts, lies at the body's centre front or back.
+    # Each leg's tube then encloses only its own leg, and the centre seams close across the
+    # front and the back. The back slot's "right" is the body's right, so the left leg's
+    # back panel is the mirrored one. The right leg's panels sit 15 mm further out than the
+    # left's, so that the two never start through each other at the centre.
+    fc = (front_ext + 265) / 2
+    bc = (back_ext + 285) / 2
+    down = 20 - length / 2   # the waistline 20 mm above the slot's origin (the waist)
     panels = [
-        panel("front_left", front, "waist_front", side="front"),
-        panel("front_right", front, "waist_front", side="back"),
-        panel("back_left", back, "waist_back", side="back"),
-        panel("back_right", back, "waist_back", side="front"),
+        panel("front_left", front, "waist_front", offset=(fc, down), side="front"),
+        panel("front_right", front, "waist_front", offset=(-fc, down), side="back",
+              clearance=35),
+        panel("back_left", back, "waist_back", offset=(-bc, down), side="back"),
+        panel("back_right", back, "waist_back", offset=(bc, down), side="front",
+              clearance=35),
     ]
-    seams = []
+    seams = [
+        # Outer sides in two seams, hem to hip and hip to waist, so both sides have a vertex
+        # at the hip point (one seam over both would space the front's vertices by the
+        # back's lengths and leave a sliver at the front's hip corner).
+        seam("outseam_left", [edge("front_left", 1)], [edge("back_left", 1)]),
+        seam("hip_left", [edge("front_left", 2)], [edge("back_left", 2)]),
+        seam("outseam_right", [edge("front_right", 1)], [edge("back_right", 1)]),
+        seam("hip_right", [edge("front_right", 2)], [edge("back_right", 2)]),
+        seam("inseam_left", [edge("front_left", 6)], [edge("back_left", 6)]),
+        seam("inseam_right", [edge("front_right", 6)], [edge("back_right", 6)]),
+        seam("centre_front", [edge("front_left", 4), edge("front_left", 5)],
+             [edge("front_right", 4), edge("front_right", 5)]),
+        seam("centre_back", [edge("back_left", 4), edge("back_left", 5)],
+             [edge("back_right", 4), edge("back_right", 5)]),
+    ]
     return project("trousers", panels, seams, "denim")
 
 
 def main():
-    for name, make in (("tshirt", tshirt), ("skirt", skirt), ("dress", dress)):
+    for name, make in (("tshirt", tshirt), ("skirt", skirt), ("dress", dress),
+                       ("trousers", trousers)):
         path = os.path.join(HERE, name + ".atelier")
         with open(path, "w") as f:
             json.dump(make(), f, indent=2)

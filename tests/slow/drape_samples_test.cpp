@@ -102,10 +102,16 @@ long intersections(const sim::MatX3& xa, const sim::MatX3i& fa, const sim::MatX3
     return count;
 }
 
+/// What a drape must reach beyond finite, sewn shut, area kept and a good mesh.
+struct Bar {
+    bool rest = false;            ///< came to rest before the time limit
+    bool noIntersections = false; ///< garment free of itself and of the body (from the files)
+    double maxPenetration = INFINITY; ///< [m], over all frames (report)
+};
+
 /// Drapes a sample with `atelier-cli drape ARGS`, then checks the report's figures and, from
-/// the written meshes alone, penetration-free and intersection-free results.
-/// `complete`: also rest, no intersections and no penetration (the full bar).
-void drapeAndCheck(const std::string& name, const std::string& args, bool complete) {
+/// the written meshes alone, the intersections with itself and with the body.
+void drapeAndCheck(const std::string& name, const std::string& args, const Bar& bar) {
     test::TempDir dir;
     const fs::path project = fs::path(ATELIER_SOURCE_DIR) / "assets/garments" / (name + ".atelier");
     const fs::path out = dir / "draped.obj";
@@ -144,20 +150,32 @@ void drapeAndCheck(const std::string& name, const std::string& args, bool comple
                 "penetration %.4f m\n",
                 name.c_str(), r["rested"].get<bool>() ? 1 : 0, self, withBody,
                 r["max_penetration_m"].get<double>());
-    if (complete) {
+    if (bar.rest) {
         EXPECT_TRUE(r["rested"].get<bool>()) << "stopped at " << r["sim_time_to_rest_s"] << " s";
+    }
+    if (bar.noIntersections) {
         EXPECT_EQ(self, 0) << "garment with itself";
         EXPECT_EQ(withBody, 0) << "garment with the body";
-        EXPECT_LT(r["max_penetration_m"].get<double>(), 0.001);
     }
+    EXPECT_LT(r["max_penetration_m"].get<double>(), bar.maxPenetration);
 }
 
-// The A-line skirt at 20 mm (≈4.5k triangles): sewn shut in the 1 s sewing phase, then 3 s
-// under gravity on the default body: finite, every seam welded, area kept. Not yet asked for
-// (README, "Patterns, the mannequin and draping"): rest (contact jitter) and a state free of
-// intersections; the counts are printed and must agree with the engine's.
+// The samples at 20 mm (4–6k triangles), 1 s of sewing then 3 s under gravity on the default
+// body: finite, every seam welded, area kept, free of intersections (counted from the written
+// files, agreeing with the engine), penetration within what each reaches now (README,
+// "Patterns, the mannequin and draping": tshirt 0.8 mm, skirt 0, dress 2.2 mm). Not yet
+// asked for: rest (contact jitter keeps them moving), 1 mm for the dress, the trousers (their
+// centre seams do not close).
 TEST(SampleGarments, SkirtSewsAndHangsOnTheDefaultBody) {
-    drapeAndCheck("skirt", "--particle-distance 20 --threads 1", false);
+    drapeAndCheck("skirt", "--particle-distance 20 --threads 1", {false, true, 0.001});
+}
+
+TEST(SampleGarments, TshirtSewsAndHangsOnTheDefaultBody) {
+    drapeAndCheck("tshirt", "--particle-distance 20 --threads 1", {false, true, 0.001});
+}
+
+TEST(SampleGarments, DressSewsAndHangsOnTheDefaultBody) {
+    drapeAndCheck("dress", "--particle-distance 20 --threads 1", {false, true, 0.005});
 }
 
 class SampleGarment : public ::testing::TestWithParam<std::string> {};
@@ -165,11 +183,11 @@ class SampleGarment : public ::testing::TestWithParam<std::string> {};
 // DISABLED until every sample drapes to rest at 10 mm within CI's time (README, "Draping");
 // run with --gtest_also_run_disabled_tests.
 TEST_P(SampleGarment, DISABLED_DrapesToRestOnTheDefaultBody) {
-    drapeAndCheck(GetParam(), "", true);
+    drapeAndCheck(GetParam(), "", {true, true, 0.001});
 }
 
 INSTANTIATE_TEST_SUITE_P(Garments, SampleGarment,
-                         ::testing::Values("tshirt", "skirt", "dress"));
+                         ::testing::Values("tshirt", "skirt", "dress", "trousers"));
 
 } // namespace
 } // namespace atelier
