@@ -492,6 +492,7 @@ class ProjectParser {
         d.seamTimeConstant = r.positive("seam_time_constant_s", d.seamTimeConstant);
         d.seamWeldDistance =
             lengthMm(r, "seam_weld_distance_mm", d.seamWeldDistance, Range::NonNegative);
+        d.seamReach = lengthMm(r, "seam_reach_mm", d.seamReach, Range::NonNegative);
         d.seamRouteClearance =
             lengthMm(r, "seam_route_clearance_mm", d.seamRouteClearance, Range::NonNegative);
         d.sewingTime = r.nonNegative("sewing_time_s", d.sewingTime);
@@ -662,6 +663,7 @@ ordered_json simulationJson(const patterns::DrapeSettings& d) {
     out["body_kinetic_friction"] = number(d.bodyKineticFriction);
     out["seam_time_constant_s"] = number(d.seamTimeConstant);
     out["seam_weld_distance_mm"] = mm(d.seamWeldDistance);
+    out["seam_reach_mm"] = mm(d.seamReach);
     out["seam_route_clearance_mm"] = mm(d.seamRouteClearance);
     out["sewing_time_s"] = number(d.sewingTime);
     out["rest_kinetic_energy_j"] = number(d.restKineticEnergy);

@@ -95,6 +95,7 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
                          : sim::SeamMode::Imposed;
     scene.integrator.cgTolerance = settings.cgTolerance;
     scene.seamTimeConstant = settings.seamTimeConstant;
+    scene.seamReach = settings.seamReach;
     scene.seamWeldDistance = settings.seamWeldDistance;
     // Seams whose chord crosses the body (a shirt's shoulders, a skirt's hips) are led around
     // it rather than pressed into it.

@@ -44,6 +44,9 @@ struct DrapeSettings {
     /// and the rest are millimetres to centimetres apart when the sewing phase ends.
     double seamTimeConstant = 0.004;
     double seamWeldDistance = 0.001; ///< a closed seam pair welds below this gap [m]
+    /// Beyond this gap a seam pulls with a constant force (sim::SceneSpec::seamReach): gaps
+    /// close at about seamReach/(2τ) [m].
+    double seamReach = 0.01;
     /// Sewing leads a seam around the body where its chord crosses it, via a point this far
     /// outside the body (sim::SceneSpec::seamRouteClearance) [m]; 0 = straight chords only.
     double seamRouteClearance = 0.01;

@@ -159,6 +159,9 @@ struct SceneSpec {
     std::vector<Drive> drives;
     std::vector<SeamPair> seams;
     double seamTimeConstant = 0.05; ///< time constant of every seam elastic [s]
+    /// Elastic seams: beyond a gap of this length a seam pulls with a constant force, so wide
+    /// gaps close at about seamReach/(2τ) rather than snapping shut [m]; 0 = linear.
+    double seamReach = 0.0;
     SeamMode seamMode = SeamMode::Elastic;
     /// A seam pair whose gap closes below this distance is welded for good: from then on its
     /// vertices move as one (positions and velocities merged by mass, A; accelerations shared,

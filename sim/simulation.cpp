@@ -246,7 +246,8 @@ void Simulation::Impl::build() {
         }
     }
     if (!scene.seams.empty() && scene.seamMode == SeamMode::Elastic) {
-        auto seams = std::make_unique<SeamElastics>(scene.seams, mass, scene.seamTimeConstant);
+        auto seams = std::make_unique<SeamElastics>(scene.seams, mass, scene.seamTimeConstant,
+                                                    scene.seamReach);
         seamElastics = seams.get();
         models.push_back(std::move(seams));
     }
@@ -996,6 +997,9 @@ std::optional<std::string> Simulation::validate(const SceneSpec& s) {
     }
     if (!(s.seamWeldDistance >= 0)) {
         return std::string("seam weld distance must be zero or positive");
+    }
+    if (!(s.seamReach >= 0) || !std::isfinite(s.seamReach)) {
+        return std::string("seam reach must be zero or positive");
     }
     if (!(s.seamRouteClearance >= 0) || !std::isfinite(s.seamRouteClearance)) {
         return std::string("seam route clearance must be zero or positive");

@@ -1,10 +1,39 @@
 #include "sim/constraints/seam_elastics.h"
 
+#include <cmath>
+
 namespace atelier::sim {
 
+namespace {
+
+/// The spring's pull on an extension r: r itself up to the reach L, then L r̂ (constant
+/// force beyond it). 0 = no reach (linear everywhere).
+Vec3 pulled(const Vec3& r, double reach) {
+    const double length = r.norm();
+    return reach > 0 && length > reach ? Vec3(reach / length * r) : r;
+}
+
+/// Energy of the spring per unit stiffness: r²/2 up to L, then L(|r| − L/2).
+double potential(const Vec3& r, double reach) {
+    const double length = r.norm();
+    return reach > 0 && length > reach ? reach * (length - 0.5 * reach) : 0.5 * r.squaredNorm();
+}
+
+/// ∂pulled/∂r: I up to L, then (L/|r|)(I − r̂r̂ᵀ) (symmetric, positive semi-definite).
+Mat3 pullDerivative(const Vec3& r, double reach) {
+    const double length = r.norm();
+    if (!(reach > 0 && length > reach)) {
+        return Mat3::Identity();
+    }
+    const Vec3 u = r / length;
+    return reach / length * (Mat3::Identity() - u * u.transpose());
+}
+
+} // namespace
+
 SeamElastics::SeamElastics(const std::vector<SeamPair>& pairs, const VecX& masses,
-                           double timeConstant)
-    : m_pairs(pairs), m_tau(timeConstant) {
+                           double timeConstant, double reach)
+    : m_pairs(pairs), m_tau(timeConstant), m_reach(reach) {
     m_reducedMass.reserve(pairs.size());
     for (const SeamPair& p : pairs) {
         const double ma = masses[p.a];
@@ -30,12 +59,15 @@ void SeamElastics::addForces(const MatX3& x, const MatX3& v, MatX3& f) const {
         const int b = m_pairs[s].b;
         const double mu = m_reducedMass[s];
         if (m_routed[s] != 0) {
-            const Eigen::RowVector3d via = m_via[s].transpose();
-            f.row(a) += mu * (-k * (x.row(a) - via) - c * v.row(a));
-            f.row(b) += mu * (-k * (x.row(b) - via) - c * v.row(b));
+            for (const int i : {a, b}) {
+                const Vec3 r = x.row(i).transpose() - m_via[s];
+                f.row(i) += (mu * (-k * pulled(r, m_reach) - c * v.row(i).transpose())).transpose();
+            }
             continue;
         }
-        const Vec3 fa = mu * (-k * (x.row(a) - x.row(b)) - c * (v.row(a) - v.row(b))).transpose();
+        const Vec3 r = (x.row(a) - x.row(b)).transpose();
+        const Vec3 rv = (v.row(a) - v.row(b)).transpose();
+        const Vec3 fa = mu * (-k * pulled(r, m_reach) - c * rv);
         f.row(a) += fa.transpose();
         f.row(b) -= fa.transpose();
     }
@@ -44,14 +76,15 @@ void SeamElastics::addForces(const MatX3& x, const MatX3& v, MatX3& f) const {
 double SeamElastics::energy(const MatX3& x) const {
     double e = 0;
     for (std::size_t s = 0; s < m_pairs.size(); ++s) {
-        const double k = 0.5 * m_reducedMass[s] / (m_tau * m_tau);
+        const double k = m_reducedMass[s] / (m_tau * m_tau);
+        const int a = m_pairs[s].a;
+        const int b = m_pairs[s].b;
         if (m_routed[s] != 0) {
-            const Eigen::RowVector3d via = m_via[s].transpose();
-            e += k * ((x.row(m_pairs[s].a) - via).squaredNorm() +
-                      (x.row(m_pairs[s].b) - via).squaredNorm());
+            e += k * (potential(x.row(a).transpose() - m_via[s], m_reach) +
+                      potential(x.row(b).transpose() - m_via[s], m_reach));
             continue;
         }
-        e += k * (x.row(m_pairs[s].a) - x.row(m_pairs[s].b)).squaredNorm();
+        e += k * potential((x.row(a) - x.row(b)).transpose(), m_reach);
     }
     return e;
 }
@@ -62,20 +95,29 @@ void SeamElastics::jacobianPattern(std::vector<std::pair<int, int>>& pairs) cons
     }
 }
 
-void SeamElastics::addJacobian(const MatX3& /*x*/, const MatX3& /*v*/, double kx, double kv,
+void SeamElastics::addJacobian(const MatX3& x, const MatX3& /*v*/, double kx, double kv,
                                JacobianMode /*mode*/, BlockSparseMatrix& J) const {
+    // The pull's derivative is symmetric positive semi-definite, so the exact Jacobian is
+    // already the definite one.
     for (std::size_t s = 0; s < m_pairs.size(); ++s) {
         const double mu = m_reducedMass[s];
-        const double d = kx * mu / (m_tau * m_tau) + kv * 2.0 * mu / m_tau;
-        const Mat3 B = d * Mat3::Identity();
+        const double stiffness = kx * mu / (m_tau * m_tau);
+        const Mat3 damping = kv * 2.0 * mu / m_tau * Mat3::Identity();
         const int a = m_pairs[s].a;
         const int b = m_pairs[s].b;
-        J.add(a, a, -B);
-        J.add(b, b, -B);
-        if (m_routed[s] == 0) {
-            J.add(a, b, B);
-            J.add(b, a, B);
+        if (m_routed[s] != 0) {
+            for (const int i : {a, b}) {
+                const Vec3 r = x.row(i).transpose() - m_via[s];
+                J.add(i, i, -(stiffness * pullDerivative(r, m_reach) + damping));
+            }
+            continue;
         }
+        const Mat3 B =
+            stiffness * pullDerivative((x.row(a) - x.row(b)).transpose(), m_reach) + damping;
+        J.add(a, a, -B);
+        J.add(a, b, B);
+        J.add(b, a, B);
+        J.add(b, b, -B);
     }
 }
 

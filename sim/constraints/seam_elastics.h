@@ -21,7 +21,11 @@ namespace atelier::sim {
 /// own velocity), so the cloth is led around the obstacle instead of being pressed into it.
 class SeamElastics : public ForceModel {
   public:
-    SeamElastics(const std::vector<SeamPair>& pairs, const VecX& masses, double timeConstant);
+    /// `reach` > 0 saturates the pull: beyond a gap of `reach` the spring pulls with the
+    /// constant force it has at `reach`, so a wide gap closes at about reach/(2τ) instead of
+    /// snapping shut at gap/τ (which crumples the panels).
+    SeamElastics(const std::vector<SeamPair>& pairs, const VecX& masses, double timeConstant,
+                 double reach = 0.0);
 
     std::string_view name() const override { return "seams"; }
     void addForces(const MatX3& x, const MatX3& v, MatX3& f) const override;
@@ -42,6 +46,7 @@ class SeamElastics : public ForceModel {
     std::vector<char> m_routed;   ///< per pair
     std::vector<double> m_reducedMass; ///< [kg]
     double m_tau;
+    double m_reach; ///< [m], 0 = linear
 };
 
 } // namespace atelier::sim

@@ -174,6 +174,7 @@ const char* const MINIMAL_CANONICAL = R"({
     "body_kinetic_friction": 0.4,
     "seam_time_constant_s": 0.004,
     "seam_weld_distance_mm": 1,
+    "seam_reach_mm": 10,
     "seam_route_clearance_mm": 10,
     "sewing_time_s": 0.3,
     "rest_kinetic_energy_j": 1e-08,

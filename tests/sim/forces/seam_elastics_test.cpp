@@ -35,5 +35,34 @@ TEST(SeamElastics, RoutedPairsAreTheGradientOfTheirEnergyWithExactJacobians) {
     EXPECT_LT((f.row(2) + f.row(3)).norm(), 1e-12); // action = reaction again
 }
 
+TEST(SeamElastics, SaturatedBeyondTheirReachWithExactJacobians) {
+    // With a reach of 5 cm, gaps of 11–40 cm are pulled with the constant force the spring
+    // has at 5 cm, along the gap; the energy, the Jacobians and their definiteness still hold,
+    // and a gap within the reach is pulled linearly as before.
+    MatX3 x(4, 3), v(4, 3);
+    x << 0, 0, 0, 0.1, 0.02, -0.03, 0.3, 0.1, 0.05, 0.25, -0.1, 0.2;
+    v << 0.1, -0.2, 0.3, 0, 0.5, -0.1, -0.3, 0.2, 0.1, 0.4, 0, -0.2;
+    const VecX masses = (VecX(4) << 0.01, 0.02, 0.015, 0.03).finished();
+    const double tau = 0.04, reach = 0.05;
+    SeamElastics seams({{0, 1}, {2, 3}}, masses, tau, reach);
+    const Vec3 via(0.2, 0.3, 0.1);
+    seams.setVia(1, &via);
+    test::expectForcesAreEnergyGradient(seams, x, 1e-6, 1e-6);
+    test::expectExactJacobianMatchesFiniteDifferences(seams, x, v, 1e-6, 1e-5);
+    test::expectDefiniteJacobian(seams, x, v);
+    MatX3 f = MatX3::Zero(4, 3);
+    seams.addForces(x, MatX3::Zero(4, 3), f);
+    const double mu = 0.01 * 0.02 / 0.03;
+    const Vec3 gap = (x.row(0) - x.row(1)).transpose();
+    ASSERT_GT(gap.norm(), reach);
+    EXPECT_LT((f.row(0).transpose() + mu / (tau * tau) * reach * gap.normalized()).norm(), 1e-12);
+    SeamElastics linear({{0, 1}}, masses, tau, 1.0); // every gap here within a reach of 1 m
+    SeamElastics plain({{0, 1}}, masses, tau);
+    MatX3 f1 = MatX3::Zero(4, 3), f2 = MatX3::Zero(4, 3);
+    linear.addForces(x, v, f1);
+    plain.addForces(x, v, f2);
+    EXPECT_EQ((f1 - f2).cwiseAbs().maxCoeff(), 0.0);
+}
+
 } // namespace
 } // namespace atelier::sim
