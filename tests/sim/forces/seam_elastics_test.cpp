@@ -7,22 +7,37 @@
 namespace atelier::sim {
 namespace {
 
+/// Four vertices in two pairs (0–1, 2–3), 11–40 cm apart, moving, with unequal masses.
+struct TwoPairs {
+    MatX3 x{4, 3}, v{4, 3};
+    VecX masses{4};
+    TwoPairs() {
+        x << 0, 0, 0, 0.1, 0.02, -0.03, 0.3, 0.1, 0.05, 0.25, -0.1, 0.2;
+        v << 0.1, -0.2, 0.3, 0, 0.5, -0.1, -0.3, 0.2, 0.1, 0.4, 0, -0.2;
+        masses << 0.01, 0.02, 0.015, 0.03;
+    }
+};
+
+/// Forces are −∇E, exact Jacobians match finite differences (relative `tolerance`), and the
+/// definite ones are negative semi-definite.
+void expectConsistent(const SeamElastics& seams, const TwoPairs& state, double tolerance) {
+    test::expectForcesAreEnergyGradient(seams, state.x, 1e-6, 0.1 * tolerance);
+    test::expectExactJacobianMatchesFiniteDifferences(seams, state.x, state.v, 1e-6, tolerance);
+    test::expectDefiniteJacobian(seams, state.x, state.v);
+}
+
 TEST(SeamElastics, RoutedPairsAreTheGradientOfTheirEnergyWithExactJacobians) {
     // Two pairs, one on its straight chord and one routed through a via point: forces are
     // −∇E, the Jacobians match finite differences and the definite ones are negative
     // semi-definite; routing back to the chord restores the pair coupling.
-    MatX3 x(4, 3), v(4, 3);
-    x << 0, 0, 0, 0.1, 0.02, -0.03, 0.3, 0.1, 0.05, 0.25, -0.1, 0.2;
-    v << 0.1, -0.2, 0.3, 0, 0.5, -0.1, -0.3, 0.2, 0.1, 0.4, 0, -0.2;
-    const VecX masses = (VecX(4) << 0.01, 0.02, 0.015, 0.03).finished();
-    SeamElastics seams({{0, 1}, {2, 3}}, masses, 0.04);
+    const TwoPairs state;
+    const MatX3& x = state.x;
+    SeamElastics seams({{0, 1}, {2, 3}}, state.masses, 0.04);
     const Vec3 via(0.2, 0.3, 0.1);
     seams.setVia(1, &via);
     EXPECT_TRUE(seams.routed(1));
     EXPECT_FALSE(seams.routed(0));
-    test::expectForcesAreEnergyGradient(seams, x, 1e-6, 1e-7);
-    test::expectExactJacobianMatchesFiniteDifferences(seams, x, v, 1e-6, 1e-6);
-    test::expectDefiniteJacobian(seams, x, v);
+    expectConsistent(seams, state, 1e-6);
     // The routed pair: both vertices pulled towards the via point, not towards each other.
     MatX3 f = MatX3::Zero(4, 3);
     seams.addForces(x, MatX3::Zero(4, 3), f);
@@ -39,17 +54,14 @@ TEST(SeamElastics, SaturatedBeyondTheirReachWithExactJacobians) {
     // With a reach of 5 cm, gaps of 11–40 cm are pulled with the constant force the spring
     // has at 5 cm, along the gap; the energy, the Jacobians and their definiteness still hold,
     // and a gap within the reach is pulled linearly as before.
-    MatX3 x(4, 3), v(4, 3);
-    x << 0, 0, 0, 0.1, 0.02, -0.03, 0.3, 0.1, 0.05, 0.25, -0.1, 0.2;
-    v << 0.1, -0.2, 0.3, 0, 0.5, -0.1, -0.3, 0.2, 0.1, 0.4, 0, -0.2;
-    const VecX masses = (VecX(4) << 0.01, 0.02, 0.015, 0.03).finished();
+    const TwoPairs state;
+    const MatX3& x = state.x;
+    const VecX& masses = state.masses;
     const double tau = 0.04, reach = 0.05;
     SeamElastics seams({{0, 1}, {2, 3}}, masses, tau, reach);
     const Vec3 via(0.2, 0.3, 0.1);
     seams.setVia(1, &via);
-    test::expectForcesAreEnergyGradient(seams, x, 1e-6, 1e-6);
-    test::expectExactJacobianMatchesFiniteDifferences(seams, x, v, 1e-6, 1e-5);
-    test::expectDefiniteJacobian(seams, x, v);
+    expectConsistent(seams, state, 1e-5);
     MatX3 f = MatX3::Zero(4, 3);
     seams.addForces(x, MatX3::Zero(4, 3), f);
     const double mu = 0.01 * 0.02 / 0.03;
@@ -59,8 +71,8 @@ TEST(SeamElastics, SaturatedBeyondTheirReachWithExactJacobians) {
     SeamElastics linear({{0, 1}}, masses, tau, 1.0); // every gap here within a reach of 1 m
     SeamElastics plain({{0, 1}}, masses, tau);
     MatX3 f1 = MatX3::Zero(4, 3), f2 = MatX3::Zero(4, 3);
-    linear.addForces(x, v, f1);
-    plain.addForces(x, v, f2);
+    linear.addForces(x, state.v, f1);
+    plain.addForces(x, state.v, f2);
     EXPECT_EQ((f1 - f2).cwiseAbs().maxCoeff(), 0.0);
 }
 
