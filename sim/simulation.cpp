@@ -171,6 +171,7 @@ struct Simulation::Impl {
     void imposeSeamVelocities(double h, MatX3& vEnd) const;
     bool pairOpen(std::size_t k) const { return pairWelded.empty() || !pairWelded[k]; }
     SeamElastics* seamElastics = nullptr; ///< the seam model when seams are elastic
+    bool seamsRouted = false; ///< some pair has a via point (routing ran this sewing phase)
     /// Seam routing: re-chooses the via points of the open pairs blocked by an obstacle (see
     /// SceneSpec::seamRouteClearance); energy the moved targets add counts as put in.
     void routeSeams();
@@ -488,7 +489,11 @@ void Simulation::Impl::routeSeams() {
         return;
     }
     const bool sewing = scene.seamWeldAllTime < 0 || t < scene.seamWeldAllTime - 1e-12;
+    if (!sewing && !seamsRouted) {
+        return; // after sewing: nothing to route, nothing left to clear
+    }
     const double before = seamElastics->energy(x);
+    seamsRouted = false;
     for (std::size_t k = 0; k < scene.seams.size(); ++k) {
         const SeamPair& p = scene.seams[k];
         Vec3 via;
@@ -496,6 +501,7 @@ void Simulation::Impl::routeSeams() {
                            collision->routeAround(x.row(p.a).transpose(), x.row(p.b).transpose(),
                                                   scene.seamRouteClearance, via);
         seamElastics->setVia(k, route ? &via : nullptr);
+        seamsRouted = seamsRouted || route;
     }
     baseEnergyInput += std::max(0.0, seamElastics->energy(x) - before);
 }

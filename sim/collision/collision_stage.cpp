@@ -246,7 +246,6 @@ CollisionStage::CollisionStage(const SceneSpec& scene, const std::vector<int>& o
 bool CollisionStage::routeAround(const Vec3& p, const Vec3& q, double clearance,
                                  Vec3& via) const {
     double deepest = clearance;
-    bool blocked = false;
     for (std::size_t k = 0; k < m_obstacles.size(); ++k) {
         if (!m_obstacles[k].spec->closed) {
             continue;
@@ -258,11 +257,10 @@ bool CollisionStage::routeAround(const Vec3& p, const Vec3& q, double clearance,
             if (d < deepest) {
                 deepest = d;
                 via = closest + clearance * outward;
-                blocked = true;
             }
         }
     }
-    return blocked;
+    return deepest < clearance;
 }
 
 double CollisionStage::signedDistance(std::size_t k, const MatX3& xo, const Vec3& p,
