@@ -123,25 +123,33 @@ def tshirt():
 
 
 def skirt():
-    # A-line: waist 760 mm around (ease over 720), hem 1500 mm around, 580 mm long.
-    waist_half, hem_half, length = 190, 375, 580
-    rise = 15
+    # A-line on the default body (waist 0.70 m at 1.05 m, hip 0.97 m 170 mm below it): waist
+    # about 720 mm around, 1.1 m at the hip line 200 mm below the waist, hem 1500 mm around,
+    # 595 mm long. The hip curve leaves the waist vertically and the waist line rises towards
+    # the sides, so each side seam meets the waist at a right angle and front and back join
+    # in a smooth waist line (an A-line side slanted at the waist, as this sample had, left a
+    # point at the top of each side seam that the sewn waist stretched by up to 90%).
+    waist_half, hip_half, hem_half, length, hip_depth = 178, 275, 375, 595, 200
+    hip_y = length - hip_depth
     outline = [
-        quad(-hem_half, 0, (0, -40)),          # 0 hem, curved so the sides stay square
-        # 1 right side: a hip curve, 300 mm wide (a quarter of 1.2 m) 180 mm below the
-        # waist, so the skirt passes the hips (0.97 m) with ease; straight A-line sides would
-        # be 8 mm short there and the side seams could not close.
-        quad(hem_half, 0, (330, 480)),
-        quad(waist_half, length, (0, length + rise)),  # 2 waist
-        quad(-waist_half, length, (-330, 480)),        # 3 left side, mirrored
+        quad(-hem_half, 0, (0, -40)),                                   # 0 hem
+        line(hem_half, 0),                                              # 1 right side, A-line
+        cubic(hip_half, hip_y, (hip_half - 15, hip_y + 58),             # 2 right hip curve
+              (waist_half + 2, length - 55)),
+        quad(waist_half, length, (0, length - 30)),                     # 3 waist, 15 mm lower at the centre
+        cubic(-waist_half, length, (-waist_half - 2, length - 55),      # 4 left hip curve
+              (-hip_half + 15, hip_y + 58)),
+        line(-hip_half, hip_y),                                         # 5 left side
     ]
-    # The waist line (580 mm up) at the body's waist, the slot's origin; 60 mm clearance so
-    # that the flared hems of front and back do not overlap at the sides when placed.
-    front = panel("front", outline, "waist_front", offset=(0, -290), clearance=60)
-    back = panel("back", outline, "waist_back", offset=(0, -290), clearance=60)
+    # The waist line at the body's waist (the slot's origin); 60 mm clearance so that the
+    # flared hems of front and back do not overlap at the sides when placed.
+    front = panel("front", outline, "waist_front", offset=(0, -300), clearance=60)
+    back = panel("back", outline, "waist_back", offset=(0, -300), clearance=60)
     seams = [
-        seam("side_left", [edge("front", 1)], [edge("back", 3, 1, 0)]),
-        seam("side_right", [edge("front", 3)], [edge("back", 1, 1, 0)]),
+        seam("side_left", [edge("front", 1)], [edge("back", 5, 1, 0)]),
+        seam("hip_left", [edge("front", 2)], [edge("back", 4, 1, 0)]),
+        seam("hip_right", [edge("front", 4)], [edge("back", 2, 1, 0)]),
+        seam("side_right", [edge("front", 5)], [edge("back", 1, 1, 0)]),
     ]
     return project("skirt", [front, back], seams, "cotton")
 
