@@ -124,12 +124,14 @@ def tshirt():
 
 def skirt():
     # A-line on the default body (waist 0.70 m at 1.05 m, hip 0.97 m 170 mm below it): waist
-    # about 720 mm around, 1.1 m at the hip line 200 mm below the waist, hem 1500 mm around,
-    # 595 mm long. The hip curve leaves the waist vertically and the waist line rises towards
+    # about 770 mm around, 1.12 m at the hip line 200 mm below the waist, hem 1500 mm around,
+    # 595 mm long. Ease counts the contact layer: cloth resting 4 mm off the body (both
+    # thicknesses) spans a girth 25 mm longer than the body's, and a 720 mm waist left its
+    # side seams 16-18 mm open at the end of sewing. The hip curve leaves the waist vertically and the waist line rises towards
     # the sides, so each side seam meets the waist at a right angle and front and back join
     # in a smooth waist line (an A-line side slanted at the waist, as this sample had, left a
     # point at the top of each side seam that the sewn waist stretched by up to 90%).
-    waist_half, hip_half, hem_half, length, hip_depth = 178, 275, 375, 595, 200
+    waist_half, hip_half, hem_half, length, hip_depth = 190, 280, 375, 595, 200
     hip_y = length - hip_depth
     outline = [
         quad(-hem_half, 0, (0, -40)),                                   # 0 hem
