@@ -115,6 +115,7 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
     scene.gravityStartTime = settings.sewingTime;
     // The sewing phase ends with every seam sewn: pairs still apart are welded then.
     scene.seamWeldAllTime = settings.sewingTime;
+    scene.sewingFrictionScale = settings.sewingFrictionScale;
     scene.integrator.kind = settings.integrator;
     scene.integrator.dt = settings.dt;
     scene.duration = settings.timeLimit;

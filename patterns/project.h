@@ -53,6 +53,10 @@ struct DrapeSettings {
     /// Sewing phase: gravity starts after this time [s], so that the seams close around the
     /// body before the garment can fall off it.
     double sewingTime = 0.3;
+    /// Friction against the body and between layers is multiplied by this while sewing
+    /// (sim::SceneSpec::sewingFrictionScale): panels pressed onto the body by their own
+    /// tension slide along it to meet their seams instead of sticking where they land [-].
+    double sewingFrictionScale = 0.0;
     /// At rest when the mean kinetic energy per vertex stays below this [J] ...
     double restKineticEnergy = 1e-8;
     double restDuration = 0.2; ///< ... for this long [s] of simulated time

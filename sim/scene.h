@@ -170,6 +170,10 @@ struct SceneSpec {
     /// The end of a sewing phase: from this time on every seam pair is welded, whatever its
     /// gap (RunStats::largestForcedWeld says how far apart the worst pair was) [s]; < 0 = never.
     double seamWeldAllTime = -1.0;
+    /// Friction of every contact (cloth–obstacle and cloth–cloth) is multiplied by this during
+    /// the sewing phase (before seamWeldAllTime), so panels slide around the body to close
+    /// their seams instead of being held where they first touch it [-]; 1 = unchanged.
+    double sewingFrictionScale = 1.0;
     /// Seam routing (elastic seams, closed obstacles): an open pair whose straight chord passes
     /// through or within this distance of an obstacle is pulled around it, both vertices towards
     /// a via point this far outside (SeamElastics::setVia), re-chosen every step [m]; 0 = off.

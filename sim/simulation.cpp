@@ -763,6 +763,10 @@ bool Simulation::Impl::step(double maxH) {
         h = scene.gravityStartTime - t;
     }
     routeSeams();
+    if (collision && scene.sewingFrictionScale != 1.0) {
+        const bool sewing = scene.seamWeldAllTime >= 0 && t < scene.seamWeldAllTime - 1e-12;
+        collision->setFrictionScale(sewing ? scene.sewingFrictionScale : 1.0);
+    }
     for (;;) {
         if (h < opt.minDt) {
             std::ostringstream s;

@@ -427,8 +427,8 @@ void CollisionStage::detectObstacle(std::size_t k, double h, const MatX3& xs, co
     auto trapped = [&](int v) { return m_trapped[static_cast<std::size_t>(v)] == ki; };
     auto friction = [&](Contact& c, int clothVertex) {
         const Material& m = m_scene.cloths[static_cast<std::size_t>(m_clothOf[static_cast<std::size_t>(clothVertex)])].material;
-        c.staticFriction = combine(m.staticFriction, spec.staticFriction);
-        c.kineticFriction = combine(m.kineticFriction, spec.kineticFriction);
+        c.staticFriction = m_frictionScale * combine(m.staticFriction, spec.staticFriction);
+        c.kineticFriction = m_frictionScale * combine(m.kineticFriction, spec.kineticFriction);
         c.obstacle = ki;
     };
     for (const auto& [a, b] : m_pairs) {
@@ -698,8 +698,8 @@ void CollisionStage::detectSelf(const MatX3& xs, const MatX3& xe) {
                 }
                 c.distance = d0;
                 c.normal = side * nb;
-                c.staticFriction = combine(material(p).staticFriction, material(fb[0]).staticFriction);
-                c.kineticFriction = combine(material(p).kineticFriction, material(fb[0]).kineticFriction);
+                c.staticFriction = m_frictionScale * combine(material(p).staticFriction, material(fb[0]).staticFriction);
+                c.kineticFriction = m_frictionScale * combine(material(p).kineticFriction, material(fb[0]).kineticFriction);
                 m_contacts.push_back(c);
                 m_contactKey.resize(m_contacts.size(), 0);
                 m_contactSide.resize(m_contacts.size(), 0);
@@ -764,8 +764,8 @@ void CollisionStage::detectSelf(const MatX3& xs, const MatX3& xe) {
                 c.weight[3] = -t;
                 c.distance = d0;
                 c.normal = normal;
-                c.staticFriction = combine(material(e0).staticFriction, material(g0).staticFriction);
-                c.kineticFriction = combine(material(e0).kineticFriction, material(g0).kineticFriction);
+                c.staticFriction = m_frictionScale * combine(material(e0).staticFriction, material(g0).staticFriction);
+                c.kineticFriction = m_frictionScale * combine(material(e0).kineticFriction, material(g0).kineticFriction);
                 m_contacts.push_back(c);
             }
         }

@@ -50,6 +50,8 @@ class CollisionStage {
     /// Whether the scene needs the stage at all (obstacles, or a cloth with self-collision).
     static bool needed(const SceneSpec& scene);
     bool selfCollision() const { return m_anySelf; }
+    /// Multiplies the friction coefficients of the contacts found from now on (sewing phase).
+    void setFrictionScale(double scale) { m_frictionScale = scale; }
 
     /// After a step from (xs at t0) to (xe, ve at t1): detects contacts (proximity at the end,
     /// swept over the step) and corrects xe and ve (A). Vertices with invMass 0 do not move.
@@ -150,7 +152,8 @@ class CollisionStage {
     std::vector<signed char> m_openSide; ///< per (obstacle, vertex): side of an open obstacle
     std::vector<std::pair<int, int>> m_pairs;
     std::vector<char> m_putBack;    ///< fail-safe: per vertex, put back this step (all 0 between steps)
-    std::vector<int> m_putBackList; ///< fail-safe: the vertices put back in the current round
+    std::vector<int> m_putBackList;
+    double m_frictionScale = 1.0; ///< fail-safe: the vertices put back in the current round
     double m_lastInsideCheck = -1e300;
     CollisionFigures m_figures;
     std::vector<int> m_alias; ///< (|V|) representative of each vertex's sewn group

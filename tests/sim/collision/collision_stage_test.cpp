@@ -133,7 +133,9 @@ struct SlopeCase {
 class SlopeFriction : public ::testing::TestWithParam<SlopeCase> {};
 
 /// A sheet resting on a plane tilted by 20°: displacement along the slope after `t` seconds.
-double slideOnSlope(double friction, sim::IntegratorKind kind, double t, double* accel) {
+/// `sewingEnd`, `sewingScale`: a sewing phase until then, friction multiplied by the scale.
+double slideOnSlope(double friction, sim::IntegratorKind kind, double t, double* accel,
+                    double sewingEnd = -1.0, double sewingScale = 1.0) {
     const double theta = 20.0 * M_PI / 180.0;
     const Vec3 normal(-std::sin(theta), std::cos(theta), 0);
     const Vec3 downhill = -Vec3(std::cos(theta), std::sin(theta), 0);
@@ -153,6 +155,8 @@ double slideOnSlope(double friction, sim::IntegratorKind kind, double t, double*
     s.integrator.dt = kind == sim::IntegratorKind::Rk45 ? 1e-4 : 1.0 / 480;
     s.integrator.maxDt = kind == sim::IntegratorKind::Rk45 ? 1.0 / 240 : 1.0 / 480;
     s.integrator.tolerance = 1e-4;
+    s.seamWeldAllTime = sewingEnd;
+    s.sewingFrictionScale = sewingScale;
     sim::Simulation simulation(s);
     EXPECT_TRUE(simulation.error().empty()) << simulation.error();
     const Vec3 start = centroid(simulation.positions());
@@ -194,6 +198,18 @@ INSTANTIATE_TEST_SUITE_P(
         return std::string(info.param.integrator == sim::IntegratorKind::Rk45 ? "rk45" : "implicit") +
                (info.param.friction > 0.3 ? "_sticks" : "_slides");
     });
+
+TEST(SewingFriction, ScalesFrictionWhileSewingAndRestoresItAfter) {
+    const double theta = 20.0 * M_PI / 180.0;
+    // μ = 0.5 holds the sheet; while sewing with a scale of 0.4 it slides at the μ = 0.2 rate.
+    double accel = 0;
+    slideOnSlope(0.5, sim::IntegratorKind::ImplicitEuler, 0.4, &accel, 10.0, 0.4);
+    const double expected = sim::STANDARD_GRAVITY * (std::sin(theta) - 0.2 * std::cos(theta));
+    EXPECT_NEAR(accel, expected, 0.05 * expected);
+    // Sewing over before the measurement: the full friction holds it again.
+    const double moved = slideOnSlope(0.5, sim::IntegratorKind::ImplicitEuler, 0.4, nullptr, 0.0, 0.4);
+    EXPECT_LT(std::abs(moved), 1e-3);
+}
 
 TEST(ContinuousDetection, AFastSheetDoesNotTunnelThroughAThinPlaneAtALargeStep) {
     // 20 m/s toward a plane with one step of 1/60 s: 33 cm per step, a hundred times the
