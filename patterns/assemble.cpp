@@ -80,11 +80,13 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
         scene.cloths.push_back(std::move(cloth));
         out.panelOffsets.push_back(out.panelOffsets.back() + pm.pattern.rows());
     }
-    for (const auto& pair : mesh.seamPairs) {
+    for (std::size_t k = 0; k < mesh.seamPairs.size(); ++k) {
+        const auto& pair = mesh.seamPairs[k];
         const int a = out.panelOffsets[static_cast<std::size_t>(pair[0].panel)] + pair[0].vertex;
         const int b = out.panelOffsets[static_cast<std::size_t>(pair[1].panel)] + pair[1].vertex;
         if (a != b) {
             scene.seams.push_back({a, b});
+            out.pairSeam.push_back(k < mesh.seamOfPair.size() ? mesh.seamOfPair[k] : -1);
         }
     }
     // Implicit Euler: seams as elastics inside the solve (their Jacobian keeps it stable at
@@ -120,6 +122,37 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
     scene.integrator.dt = settings.dt;
     scene.duration = settings.timeLimit;
     return std::nullopt;
+}
+
+std::vector<ForcedWeld> forcedWelds(const Garment& garment, const AssembledGarment& assembled,
+                                    const std::vector<double>& gaps) {
+    std::map<int, ForcedWeld> bySeam;
+    const std::size_t n = std::min(gaps.size(), assembled.pairSeam.size());
+    for (std::size_t k = 0; k < n; ++k) {
+        if (!(gaps[k] > 0)) {
+            continue;
+        }
+        const int seam = assembled.pairSeam[k];
+        ForcedWeld& w = bySeam[seam];
+        if (w.pairs == 0) {
+            if (seam >= 0 && static_cast<std::size_t>(seam) < garment.seams.size()) {
+                w.seam = garment.seams[static_cast<std::size_t>(seam)].name;
+            } else {
+                const std::size_t panel = static_cast<std::size_t>(-1 - seam);
+                w.seam = "dart of " + (panel < garment.panels.size() ? garment.panels[panel].name
+                                                                     : std::string("?"));
+            }
+        }
+        w.widest = std::max(w.widest, gaps[k]);
+        ++w.pairs;
+    }
+    std::vector<ForcedWeld> out;
+    for (auto& [seam, w] : bySeam) {
+        out.push_back(std::move(w));
+    }
+    std::stable_sort(out.begin(), out.end(),
+                     [](const ForcedWeld& a, const ForcedWeld& b) { return a.widest > b.widest; });
+    return out;
 }
 
 double seamGapMax(const AssembledGarment& assembled, const sim::MatX3& x) {

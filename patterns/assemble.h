@@ -18,6 +18,9 @@ struct AssembledGarment {
     sim::SceneSpec scene;
     /// First global vertex of each panel's cloth, plus the total at the end (|panels|+1).
     std::vector<int> panelOffsets;
+    /// Per scene seam pair: its entry in GarmentMesh::seamOfPair (the garment seam, or
+    /// −1 − panel for a dart).
+    std::vector<int> pairSeam;
 };
 
 /// Builds the scene: one cloth per panel (rest shape in its material frame, start positions
@@ -27,6 +30,18 @@ struct AssembledGarment {
 std::optional<std::string> assembleGarment(const Garment& garment, const GarmentMesh& mesh,
                                            const Body& body, const DrapeSettings& settings,
                                            AssembledGarment& out);
+
+/// A seam (or dart) that sewing did not close: its widest pair welded by force.
+struct ForcedWeld {
+    std::string seam;   ///< the seam's name, or "dart of PANEL"
+    double widest = 0;  ///< [m]
+    int pairs = 0;      ///< pairs of it welded by force
+};
+
+/// Per garment seam, from the engine's per-pair gaps (sim::RunStats::forcedWeldGaps): the
+/// seams with a pair welded by force, widest first.
+std::vector<ForcedWeld> forcedWelds(const Garment& garment, const AssembledGarment& assembled,
+                                    const std::vector<double>& gaps);
 
 /// Largest distance between sewn vertex pairs [m] at positions x (global, |V|×3).
 double seamGapMax(const AssembledGarment& assembled, const sim::MatX3& x);

@@ -529,6 +529,8 @@ bool Simulation::Impl::weldClosedSeams() {
                 continue;
             }
             stats.largestForcedWeld = std::max(stats.largestForcedWeld, std::sqrt(gap2));
+            stats.forcedWeldGaps.resize(scene.seams.size(), 0.0);
+            stats.forcedWeldGaps[k] = std::sqrt(gap2);
         }
         pairWelded[k] = 1;
         ++stats.weldedSeamPairs;

@@ -38,6 +38,9 @@ struct RunStats {
     long weldedSeamPairs = 0; ///< seam pairs welded so far (see SceneSpec::seamWeldDistance)
     /// Largest gap of a pair welded at SceneSpec::seamWeldAllTime, beyond the weld distance [m]
     double largestForcedWeld = 0;
+    /// Per seam pair (SceneSpec::seams): its gap when welded at SceneSpec::seamWeldAllTime
+    /// beyond the weld distance, 0 if it closed by itself or is still open [m].
+    std::vector<double> forcedWeldGaps;
 };
 
 class CollisionStage;

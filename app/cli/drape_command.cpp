@@ -173,12 +173,23 @@ int runDrape(const DrapeOptions& options) {
                      outcome.simulatedTime);
     }
 
+    const std::vector<patterns::ForcedWeld> forced =
+        patterns::forcedWelds(project.garment, assembled, simulation->stats().forcedWeldGaps);
     if (simulation->stats().largestForcedWeld > 0.005) {
+        std::string seams;
+        for (const patterns::ForcedWeld& w : forced) {
+            if (w.widest > 0.005) {
+                char line[160];
+                std::snprintf(line, sizeof line, "%s%s %.1f mm (%d pairs)", seams.empty() ? "" : ", ",
+                              w.seam.c_str(), 1000 * w.widest, w.pairs);
+                seams += line;
+            }
+        }
         std::fprintf(stderr,
-                     "warning: sewing did not close every seam in %.2f s: pairs up to %.1f mm "
-                     "apart were welded at its end (a longer sewing_time_s, or panels placed "
-                     "closer, sew more gently)\n",
-                     project.drape.sewingTime, 1000 * simulation->stats().largestForcedWeld);
+                     "warning: sewing did not close every seam in %.2f s; welded at its end, "
+                     "widest pair per seam: %s (a longer sewing_time_s, panels placed closer, "
+                     "or more ease where the garment is tight)\n",
+                     project.drape.sewingTime, seams.c_str());
     }
     const double gap = patterns::seamGapMax(assembled, x);
     const double ratio = patterns::areaRatio(assembled.scene, x);
@@ -230,6 +241,8 @@ int runDrape(const DrapeOptions& options) {
             {"seam_pairs", static_cast<std::int64_t>(assembled.scene.seams.size())},
             {"welded_seam_pairs", static_cast<std::int64_t>(simulation->stats().weldedSeamPairs)},
             {"largest_forced_weld_m", simulation->stats().largestForcedWeld},
+            {"largest_forced_weld_seam",
+             forced.empty() ? io::ReportValue(nullptr) : io::ReportValue(forced.front().seam)},
             {"meshing_time_s", mesh.seconds},
             {"time_to_rest_s", outcome.wallSeconds},
             {"rested", outcome.rested},

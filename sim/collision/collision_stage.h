@@ -152,8 +152,8 @@ class CollisionStage {
     std::vector<signed char> m_openSide; ///< per (obstacle, vertex): side of an open obstacle
     std::vector<std::pair<int, int>> m_pairs;
     std::vector<char> m_putBack;    ///< fail-safe: per vertex, put back this step (all 0 between steps)
-    std::vector<int> m_putBackList;
-    double m_frictionScale = 1.0; ///< fail-safe: the vertices put back in the current round
+    std::vector<int> m_putBackList; ///< fail-safe: the vertices put back in the current round
+    double m_frictionScale = 1.0;   ///< multiplies the friction of contacts found (sewing phase)
     double m_lastInsideCheck = -1e300;
     CollisionFigures m_figures;
     std::vector<int> m_alias; ///< (|V|) representative of each vertex's sewn group

@@ -54,9 +54,16 @@ Tube tube(int cx, int cy) {
     m.material.density = 0.15;
     t.garment.materials.push_back(m);
     // Front's right edge (i = cx) meets back's left edge (i = 0) and vice versa.
+    for (const char* name : {"right", "left"}) {
+        Seam s;
+        s.name = name;
+        t.garment.seams.push_back(s);
+    }
     for (int j = 0; j <= cy; ++j) {
         t.mesh.seamPairs.push_back({VertexRef{0, j * (cx + 1) + cx}, VertexRef{1, j * (cx + 1)}});
+        t.mesh.seamOfPair.push_back(0);
         t.mesh.seamPairs.push_back({VertexRef{0, j * (cx + 1)}, VertexRef{1, j * (cx + 1) + cx}});
+        t.mesh.seamOfPair.push_back(1);
     }
     t.mesh.triangleCount = 2L * cx * cy * 2;
     sim::makeCapsuleMesh(0.1, 0.4, 32, t.body.vertices, t.body.triangles);
@@ -132,6 +139,57 @@ TEST(Drape, BandSewsShutAroundTheBody) {
     const double ratio = areaRatio(a.scene, simulation.positions());
     EXPECT_GT(ratio, 0.95);
     EXPECT_LT(ratio, 1.05);
+}
+
+TEST(Drape, ForcedWeldsNameTheSeamsWidestFirst) {
+    // Sewing stops before the band can close: every pair is welded by force, and the report
+    // names both seams with their widest gap as the engine measured it.
+    const Tube t = tube(24, 6);
+    AssembledGarment a;
+    DrapeSettings settings;
+    settings.timeLimit = 0.02;
+    settings.sewingTime = 0.01;
+    ASSERT_FALSE(assembleGarment(t.garment, t.mesh, t.body, settings, a).has_value());
+    ASSERT_EQ(a.pairSeam.size(), a.scene.seams.size());
+    const sim::MatX3 start = [&] {
+        sim::Simulation s(a.scene);
+        return s.positions();
+    }();
+    sim::Simulation simulation(a.scene);
+    ASSERT_TRUE(simulation.error().empty()) << simulation.error();
+    drapeUntilRest(simulation, settings);
+    const std::vector<double>& gaps = simulation.stats().forcedWeldGaps;
+    ASSERT_EQ(gaps.size(), a.scene.seams.size());
+    double widest[2] = {0, 0};
+    for (std::size_t k = 0; k < gaps.size(); ++k) {
+        // 0.01 s of sewing closes little of gaps that start centimetres wide.
+        const sim::SeamPair& p = a.scene.seams[k];
+        const double startGap = (start.row(p.a) - start.row(p.b)).norm();
+        EXPECT_GT(gaps[k], 0.5 * startGap) << "pair " << k;
+        widest[a.pairSeam[k]] = std::max(widest[a.pairSeam[k]], gaps[k]);
+    }
+    const std::vector<ForcedWeld> forced = forcedWelds(t.garment, a, gaps);
+    ASSERT_EQ(forced.size(), 2u);
+    EXPECT_GE(forced[0].widest, forced[1].widest);
+    for (const ForcedWeld& w : forced) {
+        EXPECT_EQ(w.pairs, 7);
+        EXPECT_EQ(w.widest, widest[w.seam == "right" ? 0 : 1]) << w.seam;
+    }
+    EXPECT_EQ(simulation.stats().largestForcedWeld, forced[0].widest);
+}
+
+TEST(Drape, ForcedWeldsOfDartsNameTheirPanel) {
+    Garment g;
+    Panel p;
+    p.name = "bodice";
+    g.panels.push_back(p);
+    AssembledGarment a;
+    a.pairSeam = {-1, -1, -1};
+    const std::vector<ForcedWeld> forced = forcedWelds(g, a, {0.0, 0.02, 0.01});
+    ASSERT_EQ(forced.size(), 1u);
+    EXPECT_EQ(forced[0].seam, "dart of bodice");
+    EXPECT_EQ(forced[0].pairs, 2);
+    EXPECT_EQ(forced[0].widest, 0.02);
 }
 
 } // namespace
