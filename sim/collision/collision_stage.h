@@ -76,10 +76,10 @@ class CollisionStage {
     /// `clothObstacle`, if given, receives the cloth–obstacle part of the count.
     long intersectingTrianglePairs(const MatX3& x, long* clothObstacle = nullptr);
 
-    /// Seam routing: whether the chord p→q passes within `clearance` of (or through) a closed
-    /// obstacle, judged at its quarter points; if so, `via` is the deepest of them moved along
-    /// the obstacle's outward direction to `clearance` outside it, a point the chord's two ends
-    /// can be pulled to around the obstacle instead of into it.
+    /// Seam routing: whether the chord p→q passes through a closed obstacle, judged at its
+    /// quarter points; if so, `via` is the deepest of them moved along the obstacle's outward
+    /// direction to `clearance` outside it, a point the chord's two ends can be pulled to
+    /// around the obstacle instead of into it.
     bool routeAround(const Vec3& p, const Vec3& q, double clearance, Vec3& via) const;
 
     const std::vector<Contact>& contacts() const { return m_contacts; }

@@ -275,8 +275,9 @@ TEST(ContactRegions, VerticesPushedThroughALayerGoBackToTheMajoritySide) {
 
 TEST(CollisionStage, SeamRoutesGoAroundAClosedObstacle) {
     // A sphere of 10 cm; chords from x = -0.3 to 0.3 at various heights. One through the
-    // sphere just above its centre is routed over the top, one within the clearance is lifted
-    // to it, one clear of it is not routed.
+    // sphere just above its centre is routed over the top; one through its cap is lifted to
+    // the clearance; one that passes within the clearance but outside the sphere is not
+    // routed (a seam lying on the body), nor is one clear of it.
     sim::SceneSpec scene = sheetAbove(0.2, 2, 1.0);
     scene.obstacles.push_back(sphereObstacle(0.1, Vec3::Zero()));
     sim::Simulation simulation(scene);
@@ -289,8 +290,9 @@ TEST(CollisionStage, SeamRoutesGoAroundAClosedObstacle) {
     EXPECT_GE(via.norm(), 0.1 + clearance - 0.002) << via.transpose();
     EXPECT_LT(std::abs(via.x()), 0.01) << via.transpose(); // over the top, not to one end
     EXPECT_GT(via.y(), 0.1) << via.transpose();
-    ASSERT_TRUE(stage.routeAround(Vec3(-0.3, 0.105, 0), Vec3(0.3, 0.105, 0), clearance, via));
+    ASSERT_TRUE(stage.routeAround(Vec3(-0.3, 0.095, 0), Vec3(0.3, 0.095, 0), clearance, via));
     EXPECT_GE(via.y(), 0.1 + clearance - 0.002);
+    EXPECT_FALSE(stage.routeAround(Vec3(-0.3, 0.105, 0), Vec3(0.3, 0.105, 0), clearance, via));
     EXPECT_FALSE(stage.routeAround(Vec3(-0.3, 0.2, 0), Vec3(0.3, 0.2, 0), clearance, via));
 }
 
