@@ -497,6 +497,7 @@ class ProjectParser {
             lengthMm(r, "seam_route_clearance_mm", d.seamRouteClearance, Range::NonNegative);
         d.sewingTime = r.nonNegative("sewing_time_s", d.sewingTime);
         d.sewingFrictionScale = r.nonNegative("sewing_friction_scale", d.sewingFrictionScale);
+        d.closingTime = r.nonNegative("closing_time_s", d.closingTime);
         d.restKineticEnergy = r.nonNegative("rest_kinetic_energy_j", d.restKineticEnergy);
         d.restDuration = r.nonNegative("rest_duration_s", d.restDuration);
         d.timeLimit = r.positive("time_limit_s", d.timeLimit);
@@ -668,6 +669,7 @@ ordered_json simulationJson(const patterns::DrapeSettings& d) {
     out["seam_route_clearance_mm"] = mm(d.seamRouteClearance);
     out["sewing_time_s"] = number(d.sewingTime);
     out["sewing_friction_scale"] = number(d.sewingFrictionScale);
+    out["closing_time_s"] = number(d.closingTime);
     out["rest_kinetic_energy_j"] = number(d.restKineticEnergy);
     out["rest_duration_s"] = number(d.restDuration);
     out["time_limit_s"] = number(d.timeLimit);

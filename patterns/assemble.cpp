@@ -118,6 +118,10 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
     // The sewing phase ends with every seam sewn: pairs still apart are welded then.
     scene.seamWeldAllTime = settings.sewingTime;
     scene.sewingFrictionScale = settings.sewingFrictionScale;
+    if (settings.closingTime > 0) {
+        scene.seamReachGrowthStart = std::max(0.0, settings.sewingTime - settings.closingTime);
+        scene.seamReachGrowth = 10.0;
+    }
     scene.integrator.kind = settings.integrator;
     scene.integrator.dt = settings.dt;
     scene.duration = settings.timeLimit;

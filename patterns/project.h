@@ -57,6 +57,10 @@ struct DrapeSettings {
     /// (sim::SceneSpec::sewingFrictionScale): panels pressed onto the body by their own
     /// tension slide along it to meet their seams instead of sticking where they land [-].
     double sewingFrictionScale = 0.0;
+    /// Over the last this-many seconds of sewing the pull of open seams grows tenfold
+    /// (sim::SceneSpec::seamReachGrowthStart), so they close before sewing ends rather than
+    /// being welded across their gap [s]; 0 = a constant pull.
+    double closingTime = 0.3;
     /// At rest when the mean kinetic energy per vertex stays below this [J] ...
     double restKineticEnergy = 1e-8;
     double restDuration = 0.2; ///< ... for this long [s] of simulated time

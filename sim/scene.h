@@ -174,9 +174,16 @@ struct SceneSpec {
     /// the sewing phase (before seamWeldAllTime), so panels slide around the body to close
     /// their seams instead of being held where they first touch it [-]; 1 = unchanged.
     double sewingFrictionScale = 1.0;
+    /// Closing (elastic seams with a reach, a sewing phase): from this time to seamWeldAllTime
+    /// the reach grows linearly to seamReachGrowth × seamReach, so open pairs are pulled harder
+    /// and harder and close before the forced weld instead of being merged across their gap in
+    /// one step (which stretched the two triangles beside each such pair by up to 100%) [s];
+    /// < 0 = off.
+    double seamReachGrowthStart = -1.0;
+    double seamReachGrowth = 1.0; ///< [-]
     /// Seam routing (elastic seams, closed obstacles): an open pair whose straight chord passes
-    /// through or within this distance of an obstacle is pulled around it, both vertices towards
-    /// a via point this far outside (SeamElastics::setVia), re-chosen every step [m]; 0 = off.
+    /// through an obstacle is pulled around it, both vertices towards a via point this far
+    /// outside (SeamElastics::setVia), re-chosen every step [m]; 0 = off.
     double seamRouteClearance = 0.0;
     /// High damping: purely dissipative velocity damping (A) of every vertex toward the mean
     /// velocity of its neighbours, time constant [s]; 0 = off.

@@ -175,6 +175,8 @@ struct Simulation::Impl {
     /// Seam routing: re-chooses the via points of the open pairs blocked by an obstacle (see
     /// SceneSpec::seamRouteClearance); energy the moved targets add counts as put in.
     void routeSeams();
+    /// The sewing phase's growing pull (SceneSpec::seamReachGrowthStart), set for time t.
+    void growSeamReach();
     double seamPower = 0; ///< power of the imposed seam corrections at the step's start [W]
 
     bool hasDrives() const { return !scene.drives.empty(); }
@@ -484,6 +486,24 @@ void Simulation::Impl::applyCorrectionsA(double h) {
     mergeWelds(&x, v);
 }
 
+void Simulation::Impl::growSeamReach() {
+    if (seamElastics == nullptr || scene.seamReachGrowthStart < 0 || !(scene.seamReach > 0) ||
+        scene.seamWeldAllTime <= scene.seamReachGrowthStart) {
+        return;
+    }
+    const double s = std::clamp((t - scene.seamReachGrowthStart) /
+                                    (scene.seamWeldAllTime - scene.seamReachGrowthStart),
+                                0.0, 1.0);
+    const double reach = scene.seamReach * (1.0 + (scene.seamReachGrowth - 1.0) * s);
+    if (reach == seamElastics->reach()) {
+        return;
+    }
+    // A longer reach raises the potential of wide gaps: energy put in, counted.
+    const double before = seamElastics->energy(x);
+    seamElastics->setReach(reach);
+    baseEnergyInput += std::max(0.0, seamElastics->energy(x) - before);
+}
+
 void Simulation::Impl::routeSeams() {
     if (seamElastics == nullptr || !collision || !(scene.seamRouteClearance > 0)) {
         return;
@@ -764,6 +784,7 @@ bool Simulation::Impl::step(double maxH) {
     if (scene.gravity && scene.gravityStartTime > t + 1e-12 && scene.gravityStartTime < t + h) {
         h = scene.gravityStartTime - t;
     }
+    growSeamReach();
     routeSeams();
     if (collision && scene.sewingFrictionScale != 1.0) {
         const bool sewing = scene.seamWeldAllTime >= 0 && t < scene.seamWeldAllTime - 1e-12;

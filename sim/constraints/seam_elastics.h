@@ -37,6 +37,10 @@ class SeamElastics : public ForceModel {
     void addJacobian(const MatX3& x, const MatX3& v, double kx, double kv, JacobianMode mode,
                      BlockSparseMatrix& J) const override;
 
+    /// Changes the reach (a sewing phase that pulls harder towards its end) [m].
+    void setReach(double reach) { m_reach = reach; }
+    double reach() const { return m_reach; }
+
     /// Routes pair s through `via` (world point), or back to its straight chord (nullptr).
     void setVia(std::size_t s, const Vec3* via);
     bool routed(std::size_t s) const { return m_routed[s] != 0; }

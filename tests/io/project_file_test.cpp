@@ -178,6 +178,7 @@ const char* const MINIMAL_CANONICAL = R"({
     "seam_route_clearance_mm": 10,
     "sewing_time_s": 0.3,
     "sewing_friction_scale": 0,
+    "closing_time_s": 0.3,
     "rest_kinetic_energy_j": 1e-08,
     "rest_duration_s": 0.2,
     "time_limit_s": 5

@@ -196,6 +196,55 @@ TEST(Constraints, SewingPhaseEndsWithEverySeamWelded) {
     EXPECT_TRUE(sim.stats().finite);
 }
 
+TEST(Constraints, AGrowingReachClosesSeamsBeforeTheForcedWeld) {
+    // Two sheets 10 cm apart, no gravity, seams saturated at a 5 mm reach: the constant pull
+    // closes the gap at about reach/(2τ) = 5 cm/s at best (the sheets' inertia slows it), too
+    // slowly for a 1 s sewing phase. With the reach growing twentyfold over the phase the pairs
+    // close and weld by themselves before it ends.
+    const int cells = 3;
+    auto run = [&](bool grow, std::vector<double>& gaps) {
+        SceneSpec scene = test::smallSheet(StretchModel::Fem, cells, 0.2, false);
+        ClothSpec b = scene.cloths[0];
+        b.name = "b";
+        b.position.col(0).array() += 0.3;
+        scene.cloths.push_back(b);
+        scene.gravity = false;
+        const int nA = (cells + 1) * (cells + 1);
+        for (int j = 0; j <= cells; ++j) {
+            scene.seams.push_back({j * (cells + 1) + cells, nA + j * (cells + 1)});
+        }
+        scene.seamTimeConstant = 0.05;
+        scene.seamReach = 0.005;
+        scene.seamMode = SeamMode::Elastic;
+        scene.seamWeldDistance = 1e-3;
+        scene.seamWeldAllTime = 1.0;
+        if (grow) {
+            scene.seamReachGrowthStart = 0.0;
+            scene.seamReachGrowth = 20.0;
+        }
+        scene.integrator.kind = IntegratorKind::ImplicitEuler;
+        scene.integrator.dt = 1e-2;
+        Simulation sim(scene);
+        EXPECT_EQ(sim.advance(1.1), RunStatus::Finished) << sim.error() << sim.stats().error;
+        EXPECT_TRUE(sim.stats().finite);
+        EXPECT_EQ(sim.stats().weldedSeamPairs, cells + 1);
+        gaps = sim.stats().forcedWeldGaps;
+        return sim.stats().largestForcedWeld;
+    };
+    std::vector<double> constant, growing;
+    const double forcedConstant = run(false, constant);
+    const double forcedGrowing = run(true, growing);
+    EXPECT_GT(forcedConstant, 0.03);
+    ASSERT_EQ(constant.size(), static_cast<std::size_t>(cells + 1));
+    for (double g : constant) {
+        EXPECT_GT(g, 0.03); // every pair still open when sewing ended
+    }
+    EXPECT_EQ(forcedGrowing, 0.0);
+    for (double g : growing) {
+        EXPECT_EQ(g, 0.0);
+    }
+}
+
 TEST(Constraints, SeamBlockedByABodyIsLedAroundIt) {
     // Two small sheets face each other across a sphere; their top rows are sewn, and each
     // pair's chord runs through the sphere, just above its centre. Pulled straight, the
