@@ -158,27 +158,35 @@ TEST(Constraints, ClosedSeamsWeldAndStayClosedUnderLoad) {
     }
 }
 
-TEST(Constraints, SewingPhaseEndsWithEverySeamWelded) {
-    // Elastic seams, slow to close (τ = 1 s), between two sheets 2 cm apart with no gravity:
-    // at seamWeldAllTime every pair is welded whatever its gap, and the largest such gap is
-    // reported.
-    const int cells = 3;
+/// Two 0.2 m sheets of `cells`² cells side by side, `gap` apart along x, no gravity, the right
+/// edge of the first sewn to the left edge of the second by elastic seams that weld below 1 mm;
+/// implicit Euler at 10 ms.
+SceneSpec twoSheetsSewn(int cells, double gap) {
     SceneSpec scene = test::smallSheet(StretchModel::Fem, cells, 0.2, false);
     ClothSpec b = scene.cloths[0];
     b.name = "b";
-    b.position.col(0).array() += 0.22;
+    b.position.col(0).array() += 0.2 + gap;
     scene.cloths.push_back(b);
     scene.gravity = false;
     const int nA = (cells + 1) * (cells + 1);
     for (int j = 0; j <= cells; ++j) {
         scene.seams.push_back({j * (cells + 1) + cells, nA + j * (cells + 1)});
     }
-    scene.seamTimeConstant = 1.0;
     scene.seamMode = SeamMode::Elastic;
     scene.seamWeldDistance = 1e-3;
-    scene.seamWeldAllTime = 0.05;
     scene.integrator.kind = IntegratorKind::ImplicitEuler;
     scene.integrator.dt = 1e-2;
+    return scene;
+}
+
+TEST(Constraints, SewingPhaseEndsWithEverySeamWelded) {
+    // Elastic seams, slow to close (τ = 1 s), between two sheets 2 cm apart with no gravity:
+    // at seamWeldAllTime every pair is welded whatever its gap, and the largest such gap is
+    // reported.
+    const int cells = 3;
+    SceneSpec scene = twoSheetsSewn(cells, 0.02);
+    scene.seamTimeConstant = 1.0;
+    scene.seamWeldAllTime = 0.05;
     Simulation sim(scene);
     ASSERT_TRUE(hasStage(sim, "constraints.seam-welds"));
     ASSERT_EQ(sim.advance(0.04), RunStatus::Finished) << sim.error();
@@ -203,27 +211,14 @@ TEST(Constraints, AGrowingReachClosesSeamsBeforeTheForcedWeld) {
     // close and weld by themselves before it ends.
     const int cells = 3;
     auto run = [&](bool grow, std::vector<double>& gaps) {
-        SceneSpec scene = test::smallSheet(StretchModel::Fem, cells, 0.2, false);
-        ClothSpec b = scene.cloths[0];
-        b.name = "b";
-        b.position.col(0).array() += 0.3;
-        scene.cloths.push_back(b);
-        scene.gravity = false;
-        const int nA = (cells + 1) * (cells + 1);
-        for (int j = 0; j <= cells; ++j) {
-            scene.seams.push_back({j * (cells + 1) + cells, nA + j * (cells + 1)});
-        }
+        SceneSpec scene = twoSheetsSewn(cells, 0.1);
         scene.seamTimeConstant = 0.05;
         scene.seamReach = 0.005;
-        scene.seamMode = SeamMode::Elastic;
-        scene.seamWeldDistance = 1e-3;
         scene.seamWeldAllTime = 1.0;
         if (grow) {
             scene.seamReachGrowthStart = 0.0;
             scene.seamReachGrowth = 20.0;
         }
-        scene.integrator.kind = IntegratorKind::ImplicitEuler;
-        scene.integrator.dt = 1e-2;
         Simulation sim(scene);
         EXPECT_EQ(sim.advance(1.1), RunStatus::Finished) << sim.error() << sim.stats().error;
         EXPECT_TRUE(sim.stats().finite);
