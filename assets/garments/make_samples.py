@@ -200,8 +200,11 @@ def trousers():
         ]
 
     front_ext, back_ext = 50, 100
-    front = leg(hip_w=255, waist_w=195, ext=front_ext, hem_w=210)
-    back = leg(hip_w=275, waist_w=200, ext=back_ext, hem_w=230)
+    # Front and back take the same steps in from the hip (70 mm to the waist, 70 mm to the
+    # hem's outer corner), so their side seams have the same length: with the back 15-50 mm
+    # wider there, the drape warned of outseams 5 mm and hip curves 6 mm apart.
+    front = leg(hip_w=255, waist_w=185, ext=front_ext, hem_w=195)
+    back = leg(hip_w=270, waist_w=200, ext=back_ext, hem_w=260)
     # Placement centres each panel's bounding box on the slot: shift it back so the crotch
     # point (x = -ext), where the inseam starts, lies at the body's centre front or back.
     # Each leg's tube then encloses only its own leg, and the centre seams close across the
@@ -209,7 +212,7 @@ def trousers():
     # back panel is the mirrored one. The right leg's panels sit 15 mm further out than the
     # left's, so that the two never start through each other at the centre.
     fc = (front_ext + 265) / 2
-    bc = (back_ext + 285) / 2
+    bc = (back_ext + 280) / 2
     down = 20 - length / 2   # the waistline 20 mm above the slot's origin (the waist)
     panels = [
         panel("front_left", front, "waist_front", offset=(fc, down), side="front"),
