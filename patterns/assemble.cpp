@@ -11,6 +11,10 @@ namespace atelier::patterns {
 
 namespace {
 
+/// How much stronger the pull of an open seam is at the end of the closing time
+/// (DrapeSettings::closingTime).
+constexpr double CLOSING_PULL_GROWTH = 10.0;
+
 /// Per hinge of a built cloth mesh, the fold angle of the internal line its edge lies on.
 sim::VecX hingeRestAngles(const sim::ClothMesh& cloth, const PanelMesh& mesh) {
     if (mesh.lineEdges.empty()) {
@@ -120,7 +124,7 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
     scene.sewingFrictionScale = settings.sewingFrictionScale;
     if (settings.closingTime > 0) {
         scene.seamReachGrowthStart = std::max(0.0, settings.sewingTime - settings.closingTime);
-        scene.seamReachGrowth = 10.0;
+        scene.seamReachGrowth = CLOSING_PULL_GROWTH;
     }
     scene.integrator.kind = settings.integrator;
     scene.integrator.dt = settings.dt;

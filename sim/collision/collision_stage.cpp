@@ -119,6 +119,10 @@ double cornerAngle(const Vec3& a, const Vec3& b, const Vec3& c) {
 
 } // namespace
 
+double CollisionStage::scaledFriction(double a, double b) const {
+    return m_frictionScale * combine(a, b);
+}
+
 bool CollisionStage::needed(const SceneSpec& scene) {
     if (!scene.obstacles.empty()) {
         return true;
@@ -431,8 +435,8 @@ void CollisionStage::detectObstacle(std::size_t k, double h, const MatX3& xs, co
     auto trapped = [&](int v) { return m_trapped[static_cast<std::size_t>(v)] == ki; };
     auto friction = [&](Contact& c, int clothVertex) {
         const Material& m = m_scene.cloths[static_cast<std::size_t>(m_clothOf[static_cast<std::size_t>(clothVertex)])].material;
-        c.staticFriction = m_frictionScale * combine(m.staticFriction, spec.staticFriction);
-        c.kineticFriction = m_frictionScale * combine(m.kineticFriction, spec.kineticFriction);
+        c.staticFriction = scaledFriction(m.staticFriction, spec.staticFriction);
+        c.kineticFriction = scaledFriction(m.kineticFriction, spec.kineticFriction);
         c.obstacle = ki;
     };
     for (const auto& [a, b] : m_pairs) {
@@ -702,8 +706,8 @@ void CollisionStage::detectSelf(const MatX3& xs, const MatX3& xe) {
                 }
                 c.distance = d0;
                 c.normal = side * nb;
-                c.staticFriction = m_frictionScale * combine(material(p).staticFriction, material(fb[0]).staticFriction);
-                c.kineticFriction = m_frictionScale * combine(material(p).kineticFriction, material(fb[0]).kineticFriction);
+                c.staticFriction = scaledFriction(material(p).staticFriction, material(fb[0]).staticFriction);
+                c.kineticFriction = scaledFriction(material(p).kineticFriction, material(fb[0]).kineticFriction);
                 m_contacts.push_back(c);
                 m_contactKey.resize(m_contacts.size(), 0);
                 m_contactSide.resize(m_contacts.size(), 0);
@@ -768,8 +772,8 @@ void CollisionStage::detectSelf(const MatX3& xs, const MatX3& xe) {
                 c.weight[3] = -t;
                 c.distance = d0;
                 c.normal = normal;
-                c.staticFriction = m_frictionScale * combine(material(e0).staticFriction, material(g0).staticFriction);
-                c.kineticFriction = m_frictionScale * combine(material(e0).kineticFriction, material(g0).kineticFriction);
+                c.staticFriction = scaledFriction(material(e0).staticFriction, material(g0).staticFriction);
+                c.kineticFriction = scaledFriction(material(e0).kineticFriction, material(g0).kineticFriction);
                 m_contacts.push_back(c);
             }
         }

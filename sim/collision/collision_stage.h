@@ -154,6 +154,9 @@ class CollisionStage {
     std::vector<char> m_putBack;    ///< fail-safe: per vertex, put back this step (all 0 between steps)
     std::vector<int> m_putBackList; ///< fail-safe: the vertices put back in the current round
     double m_frictionScale = 1.0;   ///< multiplies the friction of contacts found (sewing phase)
+    /// The friction coefficient of a contact between two materials' coefficients a and b
+    /// (their geometric mean), times the current scale.
+    double scaledFriction(double a, double b) const;
     double m_lastInsideCheck = -1e300;
     CollisionFigures m_figures;
     std::vector<int> m_alias; ///< (|V|) representative of each vertex's sewn group

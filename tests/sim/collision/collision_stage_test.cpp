@@ -206,9 +206,13 @@ TEST(SewingFriction, ScalesFrictionWhileSewingAndRestoresItAfter) {
     slideOnSlope(0.5, sim::IntegratorKind::ImplicitEuler, 0.4, &accel, 10.0, 0.4);
     const double expected = sim::STANDARD_GRAVITY * (std::sin(theta) - 0.2 * std::cos(theta));
     EXPECT_NEAR(accel, expected, 0.05 * expected);
-    // Sewing over before the measurement: the full friction holds it again.
-    const double moved = slideOnSlope(0.5, sim::IntegratorKind::ImplicitEuler, 0.4, nullptr, 0.0, 0.4);
-    EXPECT_LT(std::abs(moved), 1e-3);
+    // Sewing over at 0.05 s: the sheet slid while it lasted, then the full friction stops it
+    // and holds it: between 0.3 s and 0.5 s it does not move (sliding at the μ = 0.2 rate it
+    // would go 12 cm).
+    const double at03 = slideOnSlope(0.5, sim::IntegratorKind::ImplicitEuler, 0.2, nullptr, 0.05, 0.4);
+    const double at05 = slideOnSlope(0.5, sim::IntegratorKind::ImplicitEuler, 0.4, nullptr, 0.05, 0.4);
+    EXPECT_GT(at03, 1e-3);
+    EXPECT_LT(std::abs(at05 - at03), 1e-4);
 }
 
 TEST(ContinuousDetection, AFastSheetDoesNotTunnelThroughAThinPlaneAtALargeStep) {
