@@ -742,8 +742,10 @@ bool Simulation::Impl::implicitStep(double h) {
     CgResult r;
     {
         StageTimer solveTimer(*timerSolve);
+        // Welded seam vertices are one unknown of the solve: solved apart, each was pulled by
+        // its own panel and the merge after the solve threw most of that motion away.
         r = cg.solve(jacobian, rhs, held, dv, scene.integrator.cgTolerance,
-                     scene.integrator.cgMaxIterations);
+                     scene.integrator.cgMaxIterations, &weldGroups);
     }
     stats.cgIterations += r.iterations;
     vNew = v + dv;

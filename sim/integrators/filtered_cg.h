@@ -17,14 +17,28 @@ struct CgResult {
 /// constrained ones (S = filter: identity on free vertices, zero on constrained).
 /// Block-Jacobi preconditioner (inverse of each 3×3 diagonal block). A must be symmetric
 /// positive definite on the free subspace. The workspace is reused between calls.
+///
+/// Merged vertices (welded seams): with `groups`, the vertices of each group share one
+/// unknown, x_i = x_g for every member i. The solve is then the reduced system
+/// \f$ P^T A P\,y = P^T b \f$ (P copies a group's unknown to its members), assembled on the
+/// fly: members' residuals are summed into the group's first vertex, its preconditioner
+/// block is the sum of the group's blocks. A group with a constrained member is constrained
+/// to that member's value.
 class FilteredCg {
   public:
     CgResult solve(const BlockSparseMatrix& A, const MatX3& b, const std::vector<char>& constrained,
-                   MatX3& x, double tolerance, int maxIterations);
+                   MatX3& x, double tolerance, int maxIterations,
+                   const std::vector<std::vector<int>>* groups = nullptr);
 
   private:
-    void filter(MatX3& r, const std::vector<char>& constrained) const;
-    MatX3 m_r, m_z, m_p, m_q;
+    void filter(MatX3& r) const;
+    /// P^T: members' rows summed into their group's first vertex, then zeroed.
+    void gather(MatX3& r) const;
+    /// P: the group's first vertex copied to its members.
+    void scatter(MatX3& x) const;
+    const std::vector<std::vector<int>>* m_groups = nullptr;
+    std::vector<char> m_constrained; ///< per vertex, with groups: the group's first vertex
+    MatX3 m_r, m_z, m_p, m_q, m_s;
     std::vector<Mat3> m_precond;
 };
 
