@@ -70,6 +70,24 @@ struct ObstacleSpec {
     double kineticFriction = 0.3; ///< Coulomb kinetic coefficient [-]
 };
 
+/// Contacts inside the implicit solve (CollisionOptions::solveContacts, sim/collision/contact_forces.h).
+struct ContactSolveOptions {
+    /// Normal stiffness of a contact as a multiple of m/h², m the contact's effective mass and
+    /// h the step [-]. A vertex carrying the weight of N others sinks by N·g·h²/κ into the layer.
+    double stiffness = 100.0;
+    /// Thickness of the layer above the contact distance in which the spring acts, as a
+    /// fraction of the distance [-]. The corrections after the solve still push anything
+    /// closer than the distance out; a contact at rest sits in this layer, where they do not act.
+    double margin = 0.25;
+    /// Friction: below this relative tangential speed ε the Coulomb force is a viscosity
+    /// μ_s·λ/ε (sticking: a creep of at most ε under any load within the static cone); above
+    /// it the kinetic force μ_k·λ against the slip [m/s].
+    double slipSpeed = 1e-4;
+    /// Cloth–cloth contacts in the solve too (each side's own blocks; the coupling between
+    /// the sides stays explicit). Off: only cloth–obstacle contacts.
+    bool selfContacts = false;
+};
+
 /// Collision stage settings (used only when the scene has obstacles or self-collision).
 struct CollisionOptions {
     /// Continuous detection over each step (vertex–triangle and edge–edge), so fast obstacles
@@ -88,6 +106,12 @@ struct CollisionOptions {
     /// the step's start, which was free of those crossings. No new self-intersection can
     /// appear, at the cost of one swept test per nearby primitive pair.
     bool failSafe = true;
+    /// Implicit Euler: contacts also act inside the linear solve (a stiff spring in a thin
+    /// layer above the contact distance and lagged Coulomb friction), so cloth resting on a
+    /// body is held up and stuck by the solve itself and the drape can come to rest. The
+    /// corrections after the step stay as they are. Off = contacts act only after the solve.
+    bool solveContacts = true;
+    ContactSolveOptions solve;
 };
 
 /// A vertex moved along a path: position keyframes, linearly interpolated in time.

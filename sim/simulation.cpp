@@ -1,6 +1,7 @@
 #include "sim/simulation.h"
 
 #include "sim/collision/collision_stage.h"
+#include "sim/collision/contact_forces.h"
 #include "sim/collision/obstacle.h"
 #include "sim/constraints/kinematic.h"
 #include "sim/constraints/seam_elastics.h"
@@ -132,8 +133,14 @@ struct Simulation::Impl {
     MatX3 xNew, vNew, acc, force, forceStart, accEnd, rhs, dv, scratch, xSave, vSave;
     std::vector<char> held; ///< implicit Euler: per vertex, whether CG keeps its Δv
     std::unique_ptr<CollisionStage> collision;
+    ContactForces contactForces; ///< implicit Euler: the contacts inside the solve
     double hStep = 0;        ///< the step being taken [s]
     double collisionPower = 0; ///< power of the contact corrections at the step's start [W]
+    /// Energy in the solve's contact springs at the step's start, free to become motion [J];
+    /// what it gained since the last accepted step counts as put in (the corrections place
+    /// vertices at the contact distance, inside the springs' layer).
+    double contactPotential = 0;
+    double lastContactPotential = 0;
     double* timerCollision = nullptr;
 
     double* timerForces = nullptr;
@@ -710,15 +717,28 @@ bool Simulation::Impl::implicitStep(double h) {
     for (int i = 0; i < n; ++i) {
         rhs.row(i) = mass[i] * acc.row(i);
     }
+    const bool contactsInSolve = collision && scene.collision.solveContacts;
+    if (contactsInSolve) {
+        StageTimer timer(*timerCollision);
+        collision->predictObstacleVelocities(t, h);
+        contactForces.prepare(collision->contacts(), x, v, invMass, dtNominal, scene.collision.solve);
+        contactForces.addForces(rhs);
+    }
     jacobian.setZero();
     for (const auto& m : models) {
         m->addJacobian(x, v, 1.0, 0.0, JacobianMode::Definite, jacobian);
+    }
+    if (contactsInSolve) {
+        contactForces.addJacobian(1.0, 0.0, jacobian);
     }
     jacobian.multiply(v, scratch); // (∂f/∂x) v
     rhs = h * (rhs + h * scratch);
     jacobian.setZero();
     for (const auto& m : models) {
         m->addJacobian(x, v, -h * h, -h, JacobianMode::Definite, jacobian);
+    }
+    if (contactsInSolve) {
+        contactForces.addJacobian(-h * h, -h, jacobian);
     }
     jacobian.addDiagonal(mass);
     held.assign(static_cast<std::size_t>(n), 0);
@@ -763,6 +783,10 @@ bool Simulation::Impl::implicitStep(double h) {
         collision->correctVelocities(vNew, invMass);
         const double after = 0.5 * (mass.array() * vNew.rowwise().squaredNorm().array()).sum();
         collisionPower = std::max(0.0, after - before) / h; // moving obstacles put energy in
+        if (contactsInSolve) {
+            collisionPower += std::max(0.0, contactForces.obstaclePower());
+            contactPotential = contactForces.potential();
+        }
     }
     xNew = x + h * vNew;
     return xNew.allFinite() && vNew.allFinite();
@@ -806,6 +830,7 @@ bool Simulation::Impl::step(double maxH) {
         hStep = h;
         collisionPower = 0;
         seamPower = 0;
+        contactPotential = 0;
         xSave = x; // members: no allocation after the first step
         vSave = v;
         applyCorrectionsA(h);
@@ -830,7 +855,7 @@ bool Simulation::Impl::step(double maxH) {
             const double ke = 0.5 * (mass.array() * vNew.rowwise().squaredNorm().array()).sum();
             // Contacts with moving obstacles do work too (B, or the implicit velocity pass).
             const double contactWork =
-                std::max(0.0, collisionPower * h) + std::max(0.0, seamPower * h);
+                std::max(0.0, collisionPower * h) + std::max(0.0, seamPower * h) + contactPotential;
             ok = ke <= opt.divergenceEnergyFactor *
                                (energyBound(xNew) + std::max(0.0, work) + contactWork) +
                            1e-6 * mass.sum(); // below ~1 mm/s of motion: never a divergence
@@ -851,8 +876,10 @@ bool Simulation::Impl::step(double maxH) {
             stats.contacts = collision->figures().contacts;
         }
         if (accept) {
-            work += std::max(0.0, seamPower * h);
+            work += std::max(0.0, seamPower * h) +
+                    std::max(0.0, contactPotential - lastContactPotential);
             seamPower = 0;
+            lastContactPotential = contactPotential;
         }
         if (!accept) {
             std::ostringstream why;

@@ -433,10 +433,20 @@ void CollisionStage::detectObstacle(std::size_t k, double h, const MatX3& xs, co
         return (o.moves && h > 0) ? Vec3((row(o.x1, v) - row(o.x0, v)) / h) : Vec3::Zero();
     };
     auto trapped = [&](int v) { return m_trapped[static_cast<std::size_t>(v)] == ki; };
+    // A cloth being carried out of this obstacle slides on it freely until it is out: held by
+    // friction where it enters, it would bunch there instead of being drawn out.
+    std::vector<char> extracting(m_scene.cloths.size(), 0);
+    for (std::size_t v = 0; v < n; ++v) {
+        if (m_trapped[v] == ki) {
+            extracting[static_cast<std::size_t>(m_clothOf[v])] = 1;
+        }
+    }
     auto friction = [&](Contact& c, int clothVertex) {
-        const Material& m = m_scene.cloths[static_cast<std::size_t>(m_clothOf[static_cast<std::size_t>(clothVertex)])].material;
-        c.staticFriction = scaledFriction(m.staticFriction, spec.staticFriction);
-        c.kineticFriction = scaledFriction(m.kineticFriction, spec.kineticFriction);
+        const std::size_t cloth = static_cast<std::size_t>(m_clothOf[static_cast<std::size_t>(clothVertex)]);
+        const Material& m = m_scene.cloths[cloth].material;
+        const double scale = extracting[cloth] != 0 ? 0.0 : 1.0;
+        c.staticFriction = scale * scaledFriction(m.staticFriction, spec.staticFriction);
+        c.kineticFriction = scale * scaledFriction(m.kineticFriction, spec.kineticFriction);
         c.obstacle = ki;
     };
     for (const auto& [a, b] : m_pairs) {
@@ -476,6 +486,7 @@ void CollisionStage::detectObstacle(std::size_t k, double h, const MatX3& xs, co
                 c.obstacleVelocity = cp.bary[0] * obstacleVelocity(ob[0]) +
                                      cp.bary[1] * obstacleVelocity(ob[1]) +
                                      cp.bary[2] * obstacleVelocity(ob[2]);
+                c.setObstaclePoint(ob, cp.bary.data(), 3);
             } else if (swept && (o.moves || ps != pe)) {
                 // The swept tests look for crossings (distance 0): a pair that ends near is the
                 // proximity test's; one that crossed during the step and ended apart is this one's.
@@ -492,6 +503,7 @@ void CollisionStage::detectObstacle(std::size_t k, double h, const MatX3& xs, co
                 c.obstacleVelocity = hit->coords[0] * obstacleVelocity(ob[0]) +
                                      hit->coords[1] * obstacleVelocity(ob[1]) +
                                      hit->coords[2] * obstacleVelocity(ob[2]);
+                c.setObstaclePoint(ob, hit->coords.data(), 3);
             } else {
                 continue;
             }
@@ -556,6 +568,8 @@ void CollisionStage::detectObstacle(std::size_t k, double h, const MatX3& xs, co
             }
             c.obstaclePoint = q1;
             c.obstacleVelocity = obstacleVelocity(q);
+            const double one = 1.0;
+            c.setObstaclePoint(&q, &one, 1);
             friction(c, ca[0]);
             m_contacts.push_back(c);
         }
@@ -624,6 +638,9 @@ void CollisionStage::detectObstacle(std::size_t k, double h, const MatX3& xs, co
                 c.normal = normal;
                 c.obstaclePoint = qe;
                 c.obstacleVelocity = (1 - t) * obstacleVelocity(g0) + t * obstacleVelocity(g1);
+                const int ge[2] = {g0, g1};
+                const double gw[2] = {1 - t, t};
+                c.setObstaclePoint(ge, gw, 2);
                 friction(c, e0);
                 m_contacts.push_back(c);
             }
@@ -964,11 +981,16 @@ void CollisionStage::project(MatX3& xe, MatX3& ve, const VecX& invMass, double h
             c.active = true;
         }
     }
+    // Contacts resting in the solve's layer (ContactForces) touch too, for the figures.
+    const double layer = m_scene.collision.solveContacts &&
+                                 m_scene.integrator.kind == IntegratorKind::ImplicitEuler
+                             ? std::max(TOUCH, m_scene.collision.solve.margin)
+                             : TOUCH;
     long active = 0;
     for (Contact& c : m_contacts) {
         const double gap = c.normal.dot(combination(c, xe) - c.obstaclePoint);
         c.active = c.active || gap <= c.distance * (1.0 + TOUCH) + TINY;
-        active += c.active ? 1 : 0;
+        active += c.active || gap <= c.distance * (1.0 + layer) + TINY ? 1 : 0;
     }
     // Velocities: touching contacts stop approaching, with friction; contacts still apart may
     // approach only as fast as closes their gap within a step of the same length, so the next
@@ -1187,6 +1209,36 @@ double CollisionStage::correctAccelerations(const MatX3& vs, MatX3& a, const Vec
         }
     }
     return power;
+}
+
+void CollisionStage::predictObstacleVelocities(double t, double h) {
+    if (!(h > 0)) {
+        return;
+    }
+    bool any = false;
+    for (ObstacleData& o : m_obstacles) {
+        if (o.moves) {
+            obstaclePositionsAt(*o.spec, t + h, o.xNext);
+            any = true;
+        }
+    }
+    if (!any) {
+        return;
+    }
+    for (Contact& c : m_contacts) {
+        if (c.obstacle < 0 || !m_obstacles[static_cast<std::size_t>(c.obstacle)].moves) {
+            continue;
+        }
+        const ObstacleData& o = m_obstacles[static_cast<std::size_t>(c.obstacle)];
+        Vec3 velocity = Vec3::Zero();
+        for (int k = 0; k < 3; ++k) {
+            const int q = c.obstacleVertex[k];
+            if (q >= 0) {
+                velocity += c.obstacleWeight[k] * (row(o.xNext, q) - row(o.x1, q)) / h;
+            }
+        }
+        c.obstacleVelocity = velocity;
+    }
 }
 
 void CollisionStage::correctVelocities(MatX3& v, const VecX& invMass) const {
