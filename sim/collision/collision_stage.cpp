@@ -245,6 +245,9 @@ CollisionStage::CollisionStage(const SceneSpec& scene, const std::vector<int>& o
     }
     m_trapped.assign(static_cast<std::size_t>(n), -1);
     m_openSide.assign(static_cast<std::size_t>(n) * m_obstacles.size(), 0);
+    m_distanceValue.assign(static_cast<std::size_t>(n) * m_obstacles.size(),
+                           std::numeric_limits<double>::quiet_NaN());
+    m_distancePoint.resize(static_cast<Eigen::Index>(n) * static_cast<Eigen::Index>(m_obstacles.size()), 3);
 }
 
 bool CollisionStage::routeAround(const Vec3& p, const Vec3& q, double clearance,
@@ -332,6 +335,24 @@ double CollisionStage::signedDistance(std::size_t k, const MatX3& xo, const Vec3
     return sign * cp.distance;
 }
 
+double CollisionStage::vertexSignedDistance(std::size_t k, int p, const Vec3& xp, double enough) {
+    const ObstacleData& o = m_obstacles[k];
+    const std::size_t i = k * static_cast<std::size_t>(m_clothOf.size()) + static_cast<std::size_t>(p);
+    if (!o.moves && std::isfinite(m_distanceValue[i])) {
+        const double bound =
+            m_distanceValue[i] - (xp - m_distancePoint.row(static_cast<Eigen::Index>(i)).transpose()).norm();
+        if (bound >= enough) {
+            return bound;
+        }
+    }
+    const double sd = signedDistance(k, o.x1, xp, INF);
+    if (!o.moves) {
+        m_distanceValue[i] = sd;
+        m_distancePoint.row(static_cast<Eigen::Index>(i)) = xp.transpose();
+    }
+    return sd;
+}
+
 void CollisionStage::findTrapped(std::size_t k, const MatX3& x) {
     const ObstacleData& o = m_obstacles[k];
     if (!o.spec->closed || o.bvh.empty()) {
@@ -344,7 +365,7 @@ void CollisionStage::findTrapped(std::size_t k, const MatX3& x) {
         }
         const double reach = (m_thickness[p] + o.spec->thickness) *
                              (1.0 + m_scene.collision.proximityFactor);
-        if (signedDistance(k, o.x1, row(x, p), INF) < -reach) {
+        if (vertexSignedDistance(k, p, row(x, p), -reach) < -reach) {
             m_trapped[static_cast<std::size_t>(p)] = static_cast<int>(k);
         }
     }
@@ -1257,8 +1278,10 @@ double CollisionStage::penetration(const MatX3& x) {
     for (std::size_t k = 0; k < m_obstacles.size(); ++k) {
         ObstacleData& o = m_obstacles[k];
         const double th = o.spec->thickness;
-        o.bvh.refit(o.x1, nullptr, th);
-        o.fittedMargin = o.moves ? -1.0 : th;
+        if (o.fittedMargin < 0 && !o.moves) {
+            o.bvh.refit(o.x1, nullptr, th); // the boxes of the last update hold x1 otherwise
+            o.fittedMargin = th;
+        }
         const Aabb& box = o.bvh.nodes()[static_cast<std::size_t>(o.bvh.root())].box;
         for (int p = 0; p < x.rows(); ++p) {
             const Vec3 xp = row(x, p);
@@ -1267,7 +1290,7 @@ double CollisionStage::penetration(const MatX3& x) {
             }
             double sd;
             if (o.spec->closed) {
-                sd = signedDistance(k, o.x1, xp, INF);
+                sd = vertexSignedDistance(k, p, xp, th);
             } else {
                 const auto [tri, cp] = o.bvh.closestTriangle(o.x1, xp, th);
                 if (tri < 0) {

@@ -3,10 +3,13 @@
 #include "sim/core/parallel.h"
 
 #include <algorithm>
+#include <atomic>
 
 namespace atelier::sim {
 
 BlockSparseMatrix::BlockSparseMatrix(int blockRows, const std::vector<std::pair<int, int>>& pairs) {
+    static std::atomic<std::uint64_t> patterns{0};
+    m_patternId = ++patterns;
     const auto n = static_cast<std::size_t>(blockRows);
     std::vector<std::vector<int>> rows(n);
     for (std::size_t i = 0; i < n; ++i) {

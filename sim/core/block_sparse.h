@@ -3,6 +3,7 @@
 
 #include "sim/core/types.h"
 
+#include <cstdint>
 #include <utility>
 #include <vector>
 
@@ -38,6 +39,9 @@ class BlockSparseMatrix {
     Eigen::MatrixXd toDense() const;
 
     const std::vector<int>& rowStart() const { return m_rowStart; }
+    /// Identifies the pattern: equal for a matrix and its copies, different for every matrix
+    /// built from pairs (0: the empty default). Lets callers cache slot indices.
+    std::uint64_t patternId() const { return m_patternId; }
     const std::vector<int>& columns() const { return m_col; }
 
   private:
@@ -45,6 +49,7 @@ class BlockSparseMatrix {
     std::vector<int> m_col;
     std::vector<int> m_diag;
     std::vector<Mat3> m_val;
+    std::uint64_t m_patternId = 0;
 };
 
 } // namespace atelier::sim

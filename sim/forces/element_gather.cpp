@@ -54,19 +54,31 @@ void ElementGather::gather(const MatX3& buffer, MatX3& f) const {
 
 void ElementGather::gatherJacobian(const std::vector<Mat3>& blocks, BlockSparseMatrix& J) const {
     const std::int64_t nv = vertexCount();
+    if (m_slotsFor != J.patternId() || J.patternId() == 0) {
+        m_slots.assign(m_incidence.size() * static_cast<std::size_t>(m_k), -1);
+        for (std::size_t v = 0; v + 1 < m_start.size(); ++v) {
+            const int row = m_offset + static_cast<int>(v);
+            for (int s = m_start[v]; s < m_start[v + 1]; ++s) {
+                const int e = m_incidence[static_cast<std::size_t>(s)] / m_k;
+                for (int b = 0; b < m_k; ++b) {
+                    const int local = m_elements[static_cast<std::size_t>(e * m_k + b)];
+                    m_slots[static_cast<std::size_t>(s * m_k + b)] =
+                        local < 0 ? -1 : J.slot(row, m_offset + local);
+                }
+            }
+        }
+        m_slotsFor = J.patternId();
+    }
     ATELIER_PARALLEL_FOR(nv)
     for (std::int64_t v = 0; v < nv; ++v) {
         const auto i = static_cast<std::size_t>(v);
-        const int row = m_offset + static_cast<int>(v);
         for (int s = m_start[i]; s < m_start[i + 1]; ++s) {
             const int slotIndex = m_incidence[static_cast<std::size_t>(s)]; // e·k + a
-            const int e = slotIndex / m_k;
             for (int b = 0; b < m_k; ++b) {
-                const int local = m_elements[static_cast<std::size_t>(e * m_k + b)];
-                if (local < 0) {
-                    continue;
+                const int slot = m_slots[static_cast<std::size_t>(s * m_k + b)];
+                if (slot >= 0) {
+                    J.addAt(slot, blocks[static_cast<std::size_t>(slotIndex * m_k + b)]);
                 }
-                J.add(row, m_offset + local, blocks[static_cast<std::size_t>(slotIndex * m_k + b)]);
             }
         }
     }
