@@ -878,6 +878,11 @@ class SceneParser {
         o.proximityFactor = r.nonNegative("proximity_factor", o.proximityFactor);
         o.extractionSpeed = r.positive("extraction_speed", o.extractionSpeed);
         o.failSafe = r.boolean("fail_safe", o.failSafe);
+        o.solveContacts = r.boolean("solve_contacts", o.solveContacts);
+        o.solve.stiffness = r.positive("contact_stiffness", o.solve.stiffness);
+        o.solve.margin = r.positive("contact_layer", o.solve.margin);
+        o.solve.slipSpeed = r.positive("friction_slip_speed", o.solve.slipSpeed);
+        o.solve.selfContacts = r.boolean("solve_self_contacts", o.solve.selfContacts);
         r.finish();
     }
 

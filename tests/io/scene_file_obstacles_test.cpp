@@ -238,7 +238,8 @@ TEST(SceneFileObstacles, ClothCollisionFieldsAndOptions) {
     const auto loaded = parse(
         sceneText(R"({"shape": {"type": "plane"}})",
                   R"(, "collision": {"continuous": false, "iterations": 7, "proximity_factor": 0.25,
-             "extraction_speed": 2.5})",
+             "extraction_speed": 2.5, "solve_contacts": false, "contact_stiffness": 40,
+             "contact_layer": 0.5, "friction_slip_speed": 0.002, "solve_self_contacts": true})",
                   R"(, "thickness": 0.004, "self_collision": true)"));
     ASSERT_TRUE(loaded.ok()) << loaded.error().toString();
     const sim::SceneSpec& scene = loaded.value();
@@ -248,6 +249,11 @@ TEST(SceneFileObstacles, ClothCollisionFieldsAndOptions) {
     EXPECT_EQ(scene.collision.iterations, 7);
     EXPECT_EQ(scene.collision.proximityFactor, 0.25);
     EXPECT_EQ(scene.collision.extractionSpeed, 2.5);
+    EXPECT_FALSE(scene.collision.solveContacts);
+    EXPECT_EQ(scene.collision.solve.stiffness, 40.0);
+    EXPECT_EQ(scene.collision.solve.margin, 0.5);
+    EXPECT_EQ(scene.collision.solve.slipSpeed, 0.002);
+    EXPECT_TRUE(scene.collision.solve.selfContacts);
 }
 
 TEST(SceneFileObstacles, ErrorsNameTheJsonPointer) {
@@ -323,6 +329,8 @@ TEST(SceneFileObstacles, ErrorsNameTheJsonPointer) {
                 "/collision/iterations", "integer");
     expectError(parse(sceneText("", R"(, "collision": {"extraction_speed": 0})")),
                 "/collision/extraction_speed", "positive");
+    expectError(parse(sceneText("", R"(, "collision": {"contact_layer": 0})")),
+                "/collision/contact_layer", "positive");
     expectError(parse(sceneText("", R"(, "collision": {"proximity_factor": -0.5})")),
                 "/collision/proximity_factor", "must not be negative");
     expectError(parse(sceneText("", R"(, "collision": {"continous": true})")),
