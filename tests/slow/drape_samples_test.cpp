@@ -160,34 +160,38 @@ void drapeAndCheck(const std::string& name, const std::string& args, const Bar& 
     EXPECT_LT(r["max_penetration_m"].get<double>(), bar.maxPenetration);
 }
 
-// The samples at 20 mm (4–6k triangles), 1 s of sewing then 3 s under gravity on the default
-// body: finite, every seam welded, area kept, the intersections counted from the written files
-// agreeing with the engine's. The tshirt, the skirt and the dress are also free of
-// intersections and under 1 mm of penetration (README, "Patterns, the mannequin and
-// draping"). Not yet asked for: rest (see the README: the implicit solve ignores contacts);
-// the trousers (their crotch does not close).
-TEST(SampleGarments, SkirtSewsAndHangsOnTheDefaultBody) {
-    drapeAndCheck("skirt", "--particle-distance 20 --threads 1", {false, true, 0.001});
+// The samples at 20 mm (4–6k triangles), 1 s of sewing then up to 3 s under gravity on the
+// default body: finite, every seam welded, area kept, the intersections counted from the written
+// files agreeing with the engine's; each comes to rest free of intersections and under 1 mm of
+// penetration (README, "Patterns, the mannequin and draping").
+class SampleGarmentCoarse : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(SampleGarmentCoarse, SewsAndDrapesToRestOnTheDefaultBody) {
+    drapeAndCheck(GetParam(), "--particle-distance 20 --threads 1", {true, true, 0.001});
 }
 
-TEST(SampleGarments, TshirtSewsAndHangsOnTheDefaultBody) {
-    drapeAndCheck("tshirt", "--particle-distance 20 --threads 1", {false, true, 0.001});
-}
+INSTANTIATE_TEST_SUITE_P(Garments, SampleGarmentCoarse,
+                         ::testing::Values("tshirt", "skirt", "dress", "trousers"));
 
-TEST(SampleGarments, DressSewsAndHangsOnTheDefaultBody) {
-    drapeAndCheck("dress", "--particle-distance 20 --threads 1", {false, true, 0.001});
-}
-
+// At the project's own 10 mm (16–25k triangles), as `atelier-cli drape` runs them.
 class SampleGarment : public ::testing::TestWithParam<std::string> {};
 
-// DISABLED until every sample drapes to rest at 10 mm within CI's time (README, "Draping");
-// run with --gtest_also_run_disabled_tests.
-TEST_P(SampleGarment, DISABLED_DrapesToRestOnTheDefaultBody) {
-    drapeAndCheck(GetParam(), "", {true, true, 0.001});
+TEST_P(SampleGarment, DrapesToRestOnTheDefaultBody) {
+    drapeAndCheck(GetParam(), "--threads 1", {true, true, 0.001});
 }
 
-INSTANTIATE_TEST_SUITE_P(Garments, SampleGarment,
-                         ::testing::Values("tshirt", "skirt", "dress", "trousers"));
+INSTANTIATE_TEST_SUITE_P(Garments, SampleGarment, ::testing::Values("tshirt", "skirt"));
+
+// Open (issue 4): at 10 mm the dress and the trousers are welded shut across gaps of 5–9 cm at
+// the end of sewing, which stretches the edges beside those pairs 2–4× and leaves 18 and 105
+// intersecting pairs; run with --gtest_also_run_disabled_tests.
+class SampleGarmentOpen : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(SampleGarmentOpen, DISABLED_DrapesToRestOnTheDefaultBody) {
+    drapeAndCheck(GetParam(), "--threads 1", {true, true, 0.001});
+}
+
+INSTANTIATE_TEST_SUITE_P(Garments, SampleGarmentOpen, ::testing::Values("dress", "trousers"));
 
 } // namespace
 } // namespace atelier
