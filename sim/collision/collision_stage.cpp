@@ -456,7 +456,8 @@ void CollisionStage::detectObstacle(std::size_t k, double h, const MatX3& xs, co
     auto trapped = [&](int v) { return m_trapped[static_cast<std::size_t>(v)] == ki; };
     // A cloth being carried out of this obstacle slides on it freely until it is out: held by
     // friction where it enters, it would bunch there instead of being drawn out.
-    std::vector<char> extracting(m_scene.cloths.size(), 0);
+    std::vector<char>& extracting = m_extracting;
+    extracting.assign(m_scene.cloths.size(), 0);
     for (std::size_t v = 0; v < n; ++v) {
         if (m_trapped[v] == ki) {
             extracting[static_cast<std::size_t>(m_clothOf[v])] = 1;

@@ -174,6 +174,7 @@ class CollisionStage {
     std::vector<char> m_contactReliable;     ///< side remembered or seen arriving (swept)
     std::unordered_map<std::uint64_t, signed char> m_memory; ///< side of each self pair in contact
     std::vector<int> m_trapped;       ///< per vertex: obstacle it is inside, or -1
+    std::vector<char> m_extracting;   ///< per cloth: has vertices trapped in the obstacle being detected
     std::vector<signed char> m_openSide; ///< per (obstacle, vertex): side of an open obstacle
     /// Per (obstacle, vertex): the last signed distance computed exactly (NaN: none) and
     /// where the vertex was then (static closed obstacles; vertexSignedDistance).
