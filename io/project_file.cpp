@@ -490,6 +490,7 @@ class ProjectParser {
         d.bodyStaticFriction = r.nonNegative("body_static_friction", d.bodyStaticFriction);
         d.bodyKineticFriction = r.nonNegative("body_kinetic_friction", d.bodyKineticFriction);
         d.seamTimeConstant = r.positive("seam_time_constant_s", d.seamTimeConstant);
+        d.seamStiffness = r.nonNegative("seam_stiffness_n_per_m2", d.seamStiffness);
         d.seamWeldDistance =
             lengthMm(r, "seam_weld_distance_mm", d.seamWeldDistance, Range::NonNegative);
         d.seamReach = lengthMm(r, "seam_reach_mm", d.seamReach, Range::NonNegative);
@@ -664,6 +665,7 @@ ordered_json simulationJson(const patterns::DrapeSettings& d) {
     out["body_static_friction"] = number(d.bodyStaticFriction);
     out["body_kinetic_friction"] = number(d.bodyKineticFriction);
     out["seam_time_constant_s"] = number(d.seamTimeConstant);
+    out["seam_stiffness_n_per_m2"] = number(d.seamStiffness);
     out["seam_weld_distance_mm"] = mm(d.seamWeldDistance);
     out["seam_reach_mm"] = mm(d.seamReach);
     out["seam_route_clearance_mm"] = mm(d.seamRouteClearance);

@@ -39,6 +39,27 @@ sim::VecX hingeRestAngles(const sim::ClothMesh& cloth, const PanelMesh& mesh) {
     return any ? angles : sim::VecX();
 }
 
+/// Per vertex of a panel mesh, half the rest length of the boundary edges it ends (0 inside):
+/// the length of outline the vertex stands for [m].
+std::vector<double> boundaryLengths(const PanelMesh& mesh) {
+    std::map<std::pair<int, int>, int> uses;
+    for (int f = 0; f < mesh.triangles.rows(); ++f) {
+        for (int k = 0; k < 3; ++k) {
+            const int a = mesh.triangles(f, k), b = mesh.triangles(f, (k + 1) % 3);
+            ++uses[{std::min(a, b), std::max(a, b)}];
+        }
+    }
+    std::vector<double> length(static_cast<std::size_t>(mesh.rest.rows()), 0.0);
+    for (const auto& [edge, count] : uses) {
+        if (count == 1) {
+            const double l = (mesh.rest.row(edge.first) - mesh.rest.row(edge.second)).norm();
+            length[static_cast<std::size_t>(edge.first)] += 0.5 * l;
+            length[static_cast<std::size_t>(edge.second)] += 0.5 * l;
+        }
+    }
+    return length;
+}
+
 } // namespace
 
 std::optional<std::string> assembleGarment(const Garment& garment, const GarmentMesh& mesh,
@@ -84,12 +105,23 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
         scene.cloths.push_back(std::move(cloth));
         out.panelOffsets.push_back(out.panelOffsets.back() + pm.pattern.rows());
     }
+    std::vector<std::vector<double>> outline;
+    for (const PanelMesh& pm : mesh.panels) {
+        outline.push_back(boundaryLengths(pm));
+    }
     for (std::size_t k = 0; k < mesh.seamPairs.size(); ++k) {
         const auto& pair = mesh.seamPairs[k];
         const int a = out.panelOffsets[static_cast<std::size_t>(pair[0].panel)] + pair[0].vertex;
         const int b = out.panelOffsets[static_cast<std::size_t>(pair[1].panel)] + pair[1].vertex;
         if (a != b) {
-            scene.seams.push_back({a, b});
+            // A pair stands for the outline around its two vertices (a corner vertex, the end
+            // of two seams, counts for both).
+            const double length =
+                0.5 * (outline[static_cast<std::size_t>(pair[0].panel)]
+                              [static_cast<std::size_t>(pair[0].vertex)] +
+                       outline[static_cast<std::size_t>(pair[1].panel)]
+                              [static_cast<std::size_t>(pair[1].vertex)]);
+            scene.seams.push_back({a, b, length});
             out.pairSeam.push_back(k < mesh.seamOfPair.size() ? mesh.seamOfPair[k] : -1);
         }
     }
@@ -102,6 +134,7 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
     scene.integrator.cgTolerance = settings.cgTolerance;
     scene.seamTimeConstant = settings.seamTimeConstant;
     scene.seamReach = settings.seamReach;
+    scene.seamStiffnessPerLength = settings.seamStiffness;
     scene.seamWeldDistance = settings.seamWeldDistance;
     // Seams whose chord crosses the body (a shirt's shoulders, a skirt's hips) are led around
     // it rather than pressed into it.
@@ -121,6 +154,8 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
     scene.gravityStartTime = settings.sewingTime;
     // The sewing phase ends with every seam sewn: pairs still apart are welded then.
     scene.seamWeldAllTime = settings.sewingTime;
+    // ... or earlier, once every seam is sewn: waiting longer only delays the drape.
+    scene.sewingEndsWhenSewn = true;
     scene.sewingFrictionScale = settings.sewingFrictionScale;
     if (settings.closingTime > 0) {
         scene.seamReachGrowthStart = std::max(0.0, settings.sewingTime - settings.closingTime);

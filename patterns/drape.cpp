@@ -17,7 +17,10 @@ DrapeOutcome drapeUntilRest(sim::Simulation& simulation, const DrapeSettings& se
         [&](int frame, double t) {
             const double ke = simulation.kineticEnergy() / vertices;
             out.kineticEnergyPerVertex = ke;
-            if (t >= settings.sewingTime && ke < settings.restKineticEnergy) {
+            // Rest counts after sewing: at its set end, or earlier once every seam is sewn.
+            const double sewn = simulation.stats().sewingEndTime;
+            const double sewingEnd = sewn >= 0 ? sewn : settings.sewingTime;
+            if (t >= sewingEnd - 1e-12 && ke < settings.restKineticEnergy) {
                 if (restSince < 0) {
                     restSince = t;
                 }

@@ -142,6 +142,9 @@ enum class SeamMode {
 struct SeamPair {
     int a = 0;
     int b = 0;
+    /// Length of seam the pair stands for (half its neighbours' spacing on each side,
+    /// averaged) [m], for SceneSpec::seamStiffnessPerLength; 0 = none.
+    double length = 0.0;
 };
 
 struct AirOptions {
@@ -187,6 +190,10 @@ struct SceneSpec {
     /// gaps close at about seamReach/(2τ) rather than snapping shut [m]; 0 = linear.
     double seamReach = 0.0;
     SeamMode seamMode = SeamMode::Elastic;
+    /// Elastic seams: stiffness added per metre of seam (SeamPair::length) to each pair's
+    /// μ/τ², damping 2τ times it: the seam's strength against the fabric's tension per length,
+    /// whatever the mesh resolution [N/m²]; 0 = μ/τ² only.
+    double seamStiffnessPerLength = 0.0;
     /// A seam pair whose gap closes below this distance is welded for good: from then on its
     /// vertices move as one (positions and velocities merged by mass, A; accelerations shared,
     /// B), so a closed seam stays closed under any tension [m]. 0 = elastics only.
@@ -194,6 +201,10 @@ struct SceneSpec {
     /// The end of a sewing phase: from this time on every seam pair is welded, whatever its
     /// gap (RunStats::largestForcedWeld says how far apart the worst pair was) [s]; < 0 = never.
     double seamWeldAllTime = -1.0;
+    /// The sewing phase ends as soon as every seam pair is welded (closed below
+    /// seamWeldDistance): seamWeldAllTime becomes that time, and so does gravityStartTime if it
+    /// was not after the phase's end (RunStats::sewingEndTime says when).
+    bool sewingEndsWhenSewn = false;
     /// Friction of every contact (cloth–obstacle and cloth–cloth) is multiplied by this during
     /// the sewing phase (before seamWeldAllTime), so panels slide around the body to close
     /// their seams instead of being held where they first touch it [-]; 1 = unchanged.

@@ -131,6 +131,7 @@ struct Simulation::Impl {
     FilteredCg cg;
     BlockSparseMatrix jacobian;
     MatX3 xNew, vNew, acc, force, forceStart, accEnd, rhs, dv, scratch, xSave, vSave;
+    MatX3 dampingForce; // implicitStep's (∂f/∂v)·v
     std::vector<char> held; ///< implicit Euler: per vertex, whether CG keeps its Δv
     std::unique_ptr<CollisionStage> collision;
     ContactForces contactForces; ///< implicit Euler: the contacts inside the solve
@@ -164,6 +165,8 @@ struct Simulation::Impl {
     }
     /// Welds the seam pairs that have closed; returns whether any did.
     bool weldClosedSeams();
+    /// SceneSpec::sewingEndsWhenSewn: ends the sewing phase at t once every pair is welded.
+    void endSewingIfSewn();
     /// A: each welded group takes its mass-weighted mean position and velocity (a held member
     /// imposes its own). Momentum-conserving and dissipative.
     void mergeWelds(MatX3* xs, MatX3& vs) const;
@@ -257,7 +260,8 @@ void Simulation::Impl::build() {
     }
     if (!scene.seams.empty() && scene.seamMode == SeamMode::Elastic) {
         auto seams = std::make_unique<SeamElastics>(scene.seams, mass, scene.seamTimeConstant,
-                                                    scene.seamReach);
+                                                    scene.seamReach,
+                                                    scene.seamStiffnessPerLength);
         seamElastics = seams.get();
         models.push_back(std::move(seams));
     }
@@ -533,8 +537,25 @@ void Simulation::Impl::routeSeams() {
     baseEnergyInput += std::max(0.0, seamElastics->energy(x) - before);
 }
 
+void Simulation::Impl::endSewingIfSewn() {
+    if (!(scene.seamWeldAllTime > t) || scene.seams.empty() ||
+        stats.weldedSeamPairs < static_cast<long>(scene.seams.size())) {
+        return;
+    }
+    // Every pair is sewn: what the rest of the phase waits for has happened. Gravity, if it
+    // was to start with the phase's end, starts now.
+    if (scene.gravityStartTime > t && scene.gravityStartTime <= scene.seamWeldAllTime + 1e-12) {
+        scene.gravityStartTime = t;
+    }
+    scene.seamWeldAllTime = t;
+    stats.sewingEndTime = t;
+}
+
 bool Simulation::Impl::weldClosedSeams() {
     const bool all = scene.seamWeldAllTime >= 0 && t >= scene.seamWeldAllTime - 1e-12;
+    if (all && stats.sewingEndTime < 0) {
+        stats.sewingEndTime = t;
+    }
     if (!(scene.seamWeldDistance > 0) && !all) {
         return false;
     }
@@ -726,20 +747,23 @@ bool Simulation::Impl::implicitStep(double h) {
     }
     jacobian.setZero();
     for (const auto& m : models) {
-        m->addJacobian(x, v, 1.0, 0.0, JacobianMode::Definite, jacobian);
-    }
-    if (contactsInSolve) {
-        contactForces.addJacobian(1.0, 0.0, jacobian);
-    }
-    jacobian.multiply(v, scratch); // (∂f/∂x) v
-    rhs = h * (rhs + h * scratch);
-    jacobian.setZero();
-    for (const auto& m : models) {
         m->addJacobian(x, v, -h * h, -h, JacobianMode::Definite, jacobian);
     }
     if (contactsInSolve) {
         contactForces.addJacobian(-h * h, -h, jacobian);
     }
+    // h² (∂f/∂x) v from the one assembly (it was assembled a second time for this, a tenth of a
+    // drape's time): J v = −h² (∂f/∂x) v − h (∂f/∂v) v, and (∂f/∂v) v comes from the models
+    // without assembly (for most, their damping force: check (g), tests/sim/forces).
+    jacobian.multiply(v, scratch);
+    dampingForce.setZero(n, 3);
+    for (const auto& m : models) {
+        m->addDampingProduct(x, v, dampingForce);
+    }
+    if (contactsInSolve) {
+        contactForces.addJacobianProduct(0.0, 1.0, v, dampingForce);
+    }
+    rhs = h * rhs - scratch - h * dampingForce;
     jacobian.addDiagonal(mass);
     held.assign(static_cast<std::size_t>(n), 0);
     for (int i = 0; i < n; ++i) {
@@ -916,6 +940,9 @@ bool Simulation::Impl::step(double maxH) {
         }
         const double forcedBefore = stats.largestForcedWeld;
         const bool newWelds = weldClosedSeams();
+        if (scene.sewingEndsWhenSewn) {
+            endSewingIfSewn();
+        }
         if (newWelds || !weldGroups.empty()) {
             // Also after the collision corrections, which move vertices one by one: a welded
             // group leaves every step as one point.

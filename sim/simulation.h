@@ -41,6 +41,9 @@ struct RunStats {
     /// Per seam pair (SceneSpec::seams): its gap when welded at SceneSpec::seamWeldAllTime
     /// beyond the weld distance, 0 if it closed by itself or is still open [m].
     std::vector<double> forcedWeldGaps;
+    /// When the sewing phase ended: every pair welded (SceneSpec::sewingEndsWhenSewn) or
+    /// SceneSpec::seamWeldAllTime reached [s]; < 0 while it lasts (or with no sewing phase).
+    double sewingEndTime = -1.0;
 };
 
 class CollisionStage;

@@ -243,6 +243,9 @@ int runDrape(const DrapeOptions& options) {
             {"largest_forced_weld_m", simulation->stats().largestForcedWeld},
             {"largest_forced_weld_seam",
              forced.empty() ? io::ReportValue(nullptr) : io::ReportValue(forced.front().seam)},
+            {"sewn_at_s", simulation->stats().sewingEndTime >= 0
+                              ? io::ReportValue(simulation->stats().sewingEndTime)
+                              : io::ReportValue(nullptr)},
             {"meshing_time_s", mesh.seconds},
             {"time_to_rest_s", outcome.wallSeconds},
             {"rested", outcome.rested},

@@ -110,4 +110,25 @@ void ContactForces::addJacobian(double kx, double kv, BlockSparseMatrix& J) cons
     }
 }
 
+void ContactForces::addJacobianProduct(double kx, double kv, const MatX3& p, MatX3& out) const {
+    for (const Term& t : m_terms) {
+        const Mat3 nn = t.normal * t.normal.transpose();
+        const Mat3 block = -kx * t.stiffness * nn - kv * t.damping * (Mat3::Identity() - nn);
+        // Per side (the sign of the weights), as in addJacobian: Σ_b w_b p_b over the side,
+        // then w_a·block times it for each vertex a of that side.
+        Vec3 side[2] = {Vec3::Zero(), Vec3::Zero()};
+        for (int b = 0; b < 4; ++b) {
+            if (t.vertex[b] >= 0) {
+                side[t.weight[b] < 0 ? 1 : 0] += t.weight[b] * p.row(t.vertex[b]).transpose();
+            }
+        }
+        const Vec3 product[2] = {block * side[0], block * side[1]};
+        for (int a = 0; a < 4; ++a) {
+            if (t.vertex[a] >= 0) {
+                out.row(t.vertex[a]) += (t.weight[a] * product[t.weight[a] < 0 ? 1 : 0]).transpose();
+            }
+        }
+    }
+}
+
 } // namespace atelier::sim

@@ -40,6 +40,9 @@ class ContactForces {
     void addForces(MatX3& f) const;
     /// J += kx·∂f/∂x + kv·∂f/∂v for the blocks in J's pattern.
     void addJacobian(double kx, double kv, BlockSparseMatrix& J) const;
+    /// out += (kx·∂f/∂x + kv·∂f/∂v)·p with the blocks `addJacobian` adds (|V|×3), without
+    /// assembling them.
+    void addJacobianProduct(double kx, double kv, const MatX3& p, MatX3& out) const;
 
     /// Power the obstacles deliver through these forces, Σ f·q̇ over the contacts [W]: moving
     /// obstacles put energy into the cloth (the spring itself stores at most κ(margin·d)²/2

@@ -1,5 +1,6 @@
 #include "sim/constraints/seam_elastics.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace atelier::sim {
@@ -32,13 +33,15 @@ Mat3 pullDerivative(const Vec3& r, double reach) {
 } // namespace
 
 SeamElastics::SeamElastics(const std::vector<SeamPair>& pairs, const VecX& masses,
-                           double timeConstant, double reach)
+                           double timeConstant, double reach, double stiffnessPerLength)
     : m_pairs(pairs), m_tau(timeConstant), m_reach(reach) {
-    m_reducedMass.reserve(pairs.size());
+    m_stiffness.reserve(pairs.size());
     for (const SeamPair& p : pairs) {
         const double ma = masses[p.a];
         const double mb = masses[p.b];
-        m_reducedMass.push_back(ma + mb > 0 ? ma * mb / (ma + mb) : 0.0);
+        const double mu = ma + mb > 0 ? ma * mb / (ma + mb) : 0.0;
+        m_stiffness.push_back(mu / (timeConstant * timeConstant) +
+                              stiffnessPerLength * std::max(0.0, p.length));
     }
     m_via.assign(pairs.size(), Vec3::Zero());
     m_routed.assign(pairs.size(), 0);
@@ -52,22 +55,21 @@ void SeamElastics::setVia(std::size_t s, const Vec3* via) {
 }
 
 void SeamElastics::addForces(const MatX3& x, const MatX3& v, MatX3& f) const {
-    const double k = 1.0 / (m_tau * m_tau);
-    const double c = 2.0 / m_tau;
     for (std::size_t s = 0; s < m_pairs.size(); ++s) {
         const int a = m_pairs[s].a;
         const int b = m_pairs[s].b;
-        const double mu = m_reducedMass[s];
+        const double k = m_stiffness[s];
+        const double c = 2.0 * m_tau * k;
         if (m_routed[s] != 0) {
             for (const int i : {a, b}) {
                 const Vec3 r = x.row(i).transpose() - m_via[s];
-                f.row(i) += (mu * (-k * pulled(r, m_reach) - c * v.row(i).transpose())).transpose();
+                f.row(i) += (-k * pulled(r, m_reach) - c * v.row(i).transpose()).transpose();
             }
             continue;
         }
         const Vec3 r = (x.row(a) - x.row(b)).transpose();
         const Vec3 rv = (v.row(a) - v.row(b)).transpose();
-        const Vec3 fa = mu * (-k * pulled(r, m_reach) - c * rv);
+        const Vec3 fa = -k * pulled(r, m_reach) - c * rv;
         f.row(a) += fa.transpose();
         f.row(b) -= fa.transpose();
     }
@@ -76,7 +78,7 @@ void SeamElastics::addForces(const MatX3& x, const MatX3& v, MatX3& f) const {
 double SeamElastics::energy(const MatX3& x) const {
     double e = 0;
     for (std::size_t s = 0; s < m_pairs.size(); ++s) {
-        const double k = m_reducedMass[s] / (m_tau * m_tau);
+        const double k = m_stiffness[s];
         const int a = m_pairs[s].a;
         const int b = m_pairs[s].b;
         if (m_routed[s] != 0) {
@@ -100,9 +102,8 @@ void SeamElastics::addJacobian(const MatX3& x, const MatX3& /*v*/, double kx, do
     // The pull's derivative is symmetric positive semi-definite, so the exact Jacobian is
     // already the definite one.
     for (std::size_t s = 0; s < m_pairs.size(); ++s) {
-        const double mu = m_reducedMass[s];
-        const double stiffness = kx * mu / (m_tau * m_tau);
-        const Mat3 damping = kv * 2.0 * mu / m_tau * Mat3::Identity();
+        const double stiffness = kx * m_stiffness[s];
+        const Mat3 damping = kv * 2.0 * m_tau * m_stiffness[s] * Mat3::Identity();
         const int a = m_pairs[s].a;
         const int b = m_pairs[s].b;
         if (m_routed[s] != 0) {

@@ -26,8 +26,14 @@ class SeamElastics : public ForceModel {
     /// `reach` > 0 saturates the pull: beyond a gap of `reach` the spring pulls with the
     /// constant force it has at `reach`, so a wide gap closes at about reach/(2τ) instead of
     /// snapping shut at gap/τ (which crumples the panels).
+    ///
+    /// `stiffnessPerLength` > 0 adds to each pair's stiffness μ/τ² that many N/m per metre of
+    /// seam the pair stands for (SeamPair::length), with damping 2τ times the stiffness, so
+    /// the law's closing speed is unchanged and only its strength grows: a pull per length of
+    /// seam, the same at every mesh resolution (μ/τ² alone, per pair ∝ the vertex mass, halves
+    /// per metre of seam when the spacing halves, and loses against the fabric's tension).
     SeamElastics(const std::vector<SeamPair>& pairs, const VecX& masses, double timeConstant,
-                 double reach = 0.0);
+                 double reach = 0.0, double stiffnessPerLength = 0.0);
 
     std::string_view name() const override { return "seams"; }
     void addForces(const MatX3& x, const MatX3& v, MatX3& f) const override;
@@ -49,7 +55,7 @@ class SeamElastics : public ForceModel {
     std::vector<SeamPair> m_pairs;
     std::vector<Vec3> m_via;      ///< per pair: via point when routed [m]
     std::vector<char> m_routed;   ///< per pair
-    std::vector<double> m_reducedMass; ///< [kg]
+    std::vector<double> m_stiffness; ///< per pair: k [N/m]; damping is 2τk [N·s/m]
     double m_tau;
     double m_reach; ///< [m], 0 = linear
 };

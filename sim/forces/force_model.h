@@ -43,6 +43,17 @@ class ForceModel {
     virtual void addJacobian(const MatX3& x, const MatX3& v, double kx, double kv,
                              JacobianMode mode, BlockSparseMatrix& J) const = 0;
 
+    /// f += (∂f/∂v)·v with Definite-mode ∂f/∂v, as `addJacobian` assembles it (the implicit
+    /// step's (∂f/∂x)·v comes from one assembly and this). Default: f(x, v) − f(x, 0), exact
+    /// for damping linear in v whose Definite ∂f/∂v is not projected (checked per model).
+    virtual void addDampingProduct(const MatX3& x, const MatX3& v, MatX3& f) const {
+        const MatX3 zero = MatX3::Zero(x.rows(), 3);
+        MatX3 atRest = MatX3::Zero(x.rows(), 3);
+        addForces(x, zero, atRest);
+        addForces(x, v, f);
+        f -= atRest;
+    }
+
     /// Called once per accepted step for models with internal state (plasticity). Default: none.
     virtual void acceptStep(const MatX3& x, double dt) {
         (void)x;

@@ -215,4 +215,27 @@ void VolinoStretch::addJacobian(const MatX3& x, const MatX3& v, double kx, doubl
     }
 }
 
+void VolinoStretch::addDampingProduct(const MatX3& x, const MatX3& v, MatX3& f) const {
+    // (−τ g G⁺ gᵀ) v per element: gᵀv is each edge's rate of lengthening.
+    for (const Element& el : m_elements) {
+        Vec3 u[3];
+        Eigen::Vector3d rate;
+        for (int I = 0; I < 3; ++I) {
+            const int p = el.v[static_cast<std::size_t>((I + 1) % 3)];
+            const int q = el.v[static_cast<std::size_t>((I + 2) % 3)];
+            const Vec3 d = x.row(q) - x.row(p);
+            const double l = d.norm();
+            u[I] = l > LENGTH_EPS ? Vec3(d / l) : Vec3::Zero();
+            rate[I] = u[I].dot(Vec3(v.row(q) - v.row(p)));
+        }
+        const Eigen::Vector3d T = -m_damping * (el.Gdefinite * rate);
+        for (int I = 0; I < 3; ++I) {
+            const int p = el.v[static_cast<std::size_t>((I + 1) % 3)];
+            const int q = el.v[static_cast<std::size_t>((I + 2) % 3)];
+            f.row(p) -= (T[I] * u[I]).transpose();
+            f.row(q) += (T[I] * u[I]).transpose();
+        }
+    }
+}
+
 } // namespace atelier::sim

@@ -47,6 +47,8 @@ class VolinoStretch : public ForceModel {
     void jacobianPattern(std::vector<std::pair<int, int>>& pairs) const override;
     void addJacobian(const MatX3& x, const MatX3& v, double kx, double kv, JacobianMode mode,
                      BlockSparseMatrix& J) const override;
+    /// Definite ∂f/∂v uses the projected coupling matrix, so it is not the damping force.
+    void addDampingProduct(const MatX3& x, const MatX3& v, MatX3& f) const override;
 
   private:
     struct Element {

@@ -173,6 +173,7 @@ const char* const MINIMAL_CANONICAL = R"({
     "body_static_friction": 0.5,
     "body_kinetic_friction": 0.4,
     "seam_time_constant_s": 0.004,
+    "seam_stiffness_n_per_m2": 16000,
     "seam_weld_distance_mm": 1,
     "seam_reach_mm": 10,
     "seam_route_clearance_mm": 10,

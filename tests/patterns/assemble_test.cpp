@@ -127,6 +127,12 @@ TEST(Drape, BandSewsShutAroundTheBody) {
     ASSERT_EQ(outcome.status, sim::RunStatus::Finished) << simulation.stats().error;
     EXPECT_EQ(seamGapMax(a, simulation.positions()), 0.0);
     EXPECT_EQ(simulation.stats().weldedSeamPairs, static_cast<long>(a.scene.seams.size()));
+    // Sewing ended when the last pair closed, not at its set end (gravity started then).
+    EXPECT_GT(simulation.stats().sewingEndTime, 0.0);
+    EXPECT_LT(simulation.stats().sewingEndTime, settings.sewingTime);
+    for (const sim::SeamPair& p : a.scene.seams) {
+        EXPECT_GT(p.length, 0.0); // the length of seam each pair stands for, for its pull
+    }
     EXPECT_EQ(simulation.intersectingTrianglePairs(), 0);
     EXPECT_LT(simulation.stats().maxPenetration, 0.001);
     // Closed into a ring of 0.68 m around: radius 0.108 about the capsule's axis.
@@ -149,6 +155,7 @@ TEST(Drape, ForcedWeldsNameTheSeamsWidestFirst) {
     DrapeSettings settings;
     settings.timeLimit = 0.02;
     settings.sewingTime = 0.01;
+    settings.seamStiffness = 0; // the slow mass-proportional pull: nothing closes in 0.01 s
     ASSERT_FALSE(assembleGarment(t.garment, t.mesh, t.body, settings, a).has_value());
     ASSERT_EQ(a.pairSeam.size(), a.scene.seams.size());
     const sim::MatX3 start = [&] {

@@ -157,6 +157,33 @@ TEST(ContactForces, JacobiansMatchFiniteDifferencesOnEachSide) {
     }
 }
 
+TEST(ContactForces, ProductIsTheAssembledJacobianTimesTheVector) {
+    // The implicit step takes (∂f/∂v)·v of the contacts from this product instead of a second
+    // assembly: it must be exactly what the matrix would give, across-side blocks left out.
+    ThreeContacts s;
+    MatX3 v = MatX3::Zero(N, 3);
+    MatX3 p = MatX3::Zero(N, 3);
+    for (int i = 0; i < N; ++i) {
+        v.row(i) << 1e-3 * (i % 3), -2e-4 * i, 3e-4;
+        p.row(i) << std::sin(1.0 + i), std::cos(2.0 * i), 0.5 - 0.1 * i;
+    }
+    sim::ContactForces f;
+    f.prepare(s.contacts, s.x, v, s.invMass, H, s.options);
+    for (const auto& [kx, kv] : {std::pair{1.0, 0.0}, {0.0, 1.0}, {-H * H, -H}}) {
+        sim::BlockSparseMatrix J = s.pattern();
+        J.setZero();
+        f.addJacobian(kx, kv, J);
+        const Eigen::VectorXd expected =
+            J.toDense() * Eigen::Map<const Eigen::VectorXd>(p.data(), 3 * N);
+        MatX3 out = MatX3::Zero(N, 3);
+        f.addJacobianProduct(kx, kv, p, out);
+        const Eigen::VectorXd got = Eigen::Map<const Eigen::VectorXd>(out.data(), 3 * N);
+        EXPECT_GT(expected.norm(), 0.0);
+        EXPECT_LE((got - expected).cwiseAbs().maxCoeff(), 1e-12 * expected.cwiseAbs().maxCoeff())
+            << "kx " << kx << " kv " << kv;
+    }
+}
+
 TEST(ContactForces, NothingBeyondTheLayerOrWithoutAMovableVertex) {
     ThreeContacts s;
     s.contacts.resize(1);

@@ -293,6 +293,20 @@ inline void expectOnlyClothRows(const ForceModel& model, const PlacedCloth& c, c
     }
 }
 
+/// (g) `addDampingProduct` is (Definite ∂f/∂v)·v as assembled: the implicit step relies on it
+/// to get (∂f/∂x)·v from its one assembly of M − h ∂f/∂v − h² ∂f/∂x.
+inline void expectDampingProduct(const ForceModel& model, const MatX3& x, const MatX3& v,
+                                 double tolerance) {
+    MatX3 f = MatX3::Zero(x.rows(), 3);
+    model.addDampingProduct(x, v, f);
+    const VecX got = flat(f);
+    const Eigen::MatrixXd jv = denseJacobian(model, x, v, 0.0, 1.0, JacobianMode::Definite);
+    const VecX product = jv * flat(v);
+    EXPECT_LE((got - product).cwiseAbs().maxCoeff(),
+              tolerance * std::max(scaleOf(got), scaleOf(product)))
+        << model.name() << ": addDampingProduct is not (Definite ∂f/∂v)·v";
+}
+
 /// What `checkForceModel` runs.
 struct ForceCheckOptions {
     double stepSize = 1e-6;          ///< finite-difference step [m] or [m/s]
@@ -305,7 +319,7 @@ struct ForceCheckOptions {
     double rigidTolerance = 1e-9;    ///< relative tolerance of invariance and momentum
 };
 
-/// Runs (a)–(f) on `model` for the cloth `c`: rest state placed with a rotation, and the
+/// Runs (a)–(g) on `model` for the cloth `c`: rest state placed with a rotation, and the
 /// perturbed state (x, v).
 inline void checkForceModel(const ForceModel& model, const PlacedCloth& c, const MatX3& x,
                             const MatX3& v, const ForceCheckOptions& o = {}) {
@@ -331,6 +345,7 @@ inline void checkForceModel(const ForceModel& model, const PlacedCloth& c, const
     if (o.internal) {
         expectMomentumConserved(model, x, v, o.rigidTolerance); // (f)
     }
+    expectDampingProduct(model, x, v, o.rigidTolerance); // (g)
 }
 
 } // namespace atelier::sim::test

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <tuple>
+
 namespace atelier::sim {
 namespace {
 
@@ -24,6 +26,7 @@ void expectConsistent(const SeamElastics& seams, const TwoPairs& state, double t
     test::expectForcesAreEnergyGradient(seams, state.x, 1e-6, 0.1 * tolerance);
     test::expectExactJacobianMatchesFiniteDifferences(seams, state.x, state.v, 1e-6, tolerance);
     test::expectDefiniteJacobian(seams, state.x, state.v);
+    test::expectDampingProduct(seams, state.x, state.v, 1e-12);
 }
 
 TEST(SeamElastics, RoutedPairsAreTheGradientOfTheirEnergyWithExactJacobians) {
@@ -74,6 +77,29 @@ TEST(SeamElastics, SaturatedBeyondTheirReachWithExactJacobians) {
     linear.addForces(x, state.v, f1);
     plain.addForces(x, state.v, f2);
     EXPECT_EQ((f1 - f2).cwiseAbs().maxCoeff(), 0.0);
+}
+
+TEST(SeamElastics, StiffnessPerLengthOfSeamAddsToTheMassLaw) {
+    // Each pair's stiffness is μ/τ² plus S times the seam length it stands for, with damping 2τ
+    // times the stiffness (the same closing speed, more strength): a pull per metre of seam,
+    // so two pairs standing for 1 cm pull half as hard as one standing for 2 cm.
+    const TwoPairs state;
+    const MatX3& x = state.x;
+    const double tau = 0.004, reach = 0.5, S = 16000;
+    SeamElastics seams({{0, 1, 0.01}, {2, 3, 0.02}}, state.masses, tau, reach, S);
+    expectConsistent(seams, state, 1e-6);
+    MatX3 f = MatX3::Zero(4, 3);
+    seams.addForces(x, state.v, f);
+    for (const auto& [a, b, length] : {std::tuple{0, 1, 0.01}, std::tuple{2, 3, 0.02}}) {
+        const double mu = state.masses[a] * state.masses[b] / (state.masses[a] + state.masses[b]);
+        const double k = mu / (tau * tau) + S * length;
+        const Vec3 r = (x.row(a) - x.row(b)).transpose();
+        const Vec3 rv = (state.v.row(a) - state.v.row(b)).transpose();
+        ASSERT_LT(r.norm(), reach);
+        const Vec3 expected = -k * r - 2.0 * tau * k * rv;
+        EXPECT_LT((f.row(a).transpose() - expected).norm(), 1e-12 * expected.norm()) << a;
+        EXPECT_LT((f.row(a) + f.row(b)).norm(), 1e-12 * expected.norm()) << a;
+    }
 }
 
 } // namespace
