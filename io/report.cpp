@@ -62,7 +62,9 @@ std::string formatReport(const sim::Simulation& simulation, const ReportFields& 
     j["cloths"] = std::move(cloths);
     // Collision figures (0 and [] without a collision stage).
     j["max_penetration_m"] = number(stats.maxPenetration);
-    j["intersecting_triangle_pairs"] = simulation.intersectingTrianglePairs();
+    long withObstacles = 0;
+    j["intersecting_triangle_pairs"] = simulation.intersectingTrianglePairs(&withObstacles);
+    j["intersecting_pairs_with_obstacles"] = withObstacles; // of which cloth–obstacle
     double collisionFraction = 0;
     if (const auto it = stats.stageSeconds.find("collision");
         it != stats.stageSeconds.end() && stats.wallTime > 0) {

@@ -165,6 +165,15 @@ struct Simulation::Impl {
     }
     /// Welds the seam pairs that have closed; returns whether any did.
     bool weldClosedSeams();
+    std::vector<std::size_t> newlyWelded; ///< pairs weldClosedSeams welded this step
+    MatX3 xPreMerge, vPreMerge;           ///< the state before this step's merge
+    std::vector<int> mergeMoved;          ///< vertices the merge moved
+    /// Weld groups (weldGroups) from weldParent.
+    void rebuildWeldGroups();
+    /// Where this step's merge (xPreMerge → x) makes cloth cross cloth: un-welds the new pairs
+    /// involved and merges again without them; members of older groups involved stay where
+    /// they were before the merge.
+    void unweldCrossingMerges();
     /// SceneSpec::sewingEndsWhenSewn: ends the sewing phase at t once every pair is welded.
     void endSewingIfSewn();
     /// A: each welded group takes its mass-weighted mean position and velocity (a held member
@@ -566,6 +575,7 @@ bool Simulation::Impl::weldClosedSeams() {
     }
     const double d2 = scene.seamWeldDistance * scene.seamWeldDistance;
     bool changed = false;
+    newlyWelded.clear();
     for (std::size_t k = 0; k < scene.seams.size(); ++k) {
         const SeamPair& p = scene.seams[k];
         if (pairWelded[k]) {
@@ -582,6 +592,7 @@ bool Simulation::Impl::weldClosedSeams() {
         }
         pairWelded[k] = 1;
         ++stats.weldedSeamPairs;
+        newlyWelded.push_back(k);
         const int ra = weldRoot(p.a), rb = weldRoot(p.b);
         if (ra != rb) {
             weldParent[static_cast<std::size_t>(std::max(ra, rb))] = std::min(ra, rb);
@@ -589,22 +600,89 @@ bool Simulation::Impl::weldClosedSeams() {
         }
     }
     if (changed) {
-        std::map<int, std::vector<int>> groups;
-        for (const SeamPair& p : scene.seams) {
-            for (int v : {p.a, p.b}) {
-                groups[weldRoot(v)].push_back(v);
-            }
-        }
-        weldGroups.clear();
-        for (auto& [root, members] : groups) {
-            std::sort(members.begin(), members.end());
-            members.erase(std::unique(members.begin(), members.end()), members.end());
-            if (members.size() >= 2) {
-                weldGroups.push_back(std::move(members));
-            }
-        }
+        rebuildWeldGroups();
     }
     return changed;
+}
+
+void Simulation::Impl::rebuildWeldGroups() {
+    std::map<int, std::vector<int>> groups;
+    for (const SeamPair& p : scene.seams) {
+        for (int v : {p.a, p.b}) {
+            groups[weldRoot(v)].push_back(v);
+        }
+    }
+    weldGroups.clear();
+    for (auto& [root, members] : groups) {
+        std::sort(members.begin(), members.end());
+        members.erase(std::unique(members.begin(), members.end()), members.end());
+        if (members.size() >= 2) {
+            weldGroups.push_back(std::move(members));
+        }
+    }
+}
+
+void Simulation::Impl::unweldCrossingMerges() {
+    for (int round = 0; round < 8; ++round) {
+        mergeMoved.clear();
+        for (const std::vector<int>& g : weldGroups) {
+            for (int i : g) {
+                if (x.row(i) != xPreMerge.row(i)) {
+                    mergeMoved.push_back(i);
+                }
+            }
+        }
+        const std::vector<int> crossing = collision->crossingVertices(xPreMerge, x, mergeMoved);
+        if (crossing.empty()) {
+            return;
+        }
+        std::vector<char> rootCrosses(static_cast<std::size_t>(n), 0);
+        for (int v : crossing) {
+            rootCrosses[static_cast<std::size_t>(weldRoot(v))] = 1;
+        }
+        std::vector<std::size_t> kept;
+        bool undone = false;
+        for (std::size_t k : newlyWelded) {
+            if (!rootCrosses[static_cast<std::size_t>(weldRoot(scene.seams[k].a))]) {
+                kept.push_back(k);
+                continue;
+            }
+            pairWelded[k] = 0;
+            --stats.weldedSeamPairs;
+            ++stats.deferredWelds;
+            if (k < stats.forcedWeldGaps.size()) {
+                stats.forcedWeldGaps[k] = 0;
+            }
+            undone = true;
+        }
+        if (!undone) {
+            // Older groups brought back together after the collision corrections moved their
+            // members apart: where that crosses, those members stay where the corrections put
+            // them (the group keeps one velocity and is merged again at a later step).
+            for (int i : crossing) {
+                x.row(i) = xPreMerge.row(i);
+            }
+            continue;
+        }
+        newlyWelded = std::move(kept);
+        std::iota(weldParent.begin(), weldParent.end(), 0);
+        for (std::size_t k = 0; k < scene.seams.size(); ++k) {
+            if (pairWelded[k]) {
+                const int ra = weldRoot(scene.seams[k].a), rb = weldRoot(scene.seams[k].b);
+                if (ra != rb) {
+                    weldParent[static_cast<std::size_t>(std::max(ra, rb))] = std::min(ra, rb);
+                }
+            }
+        }
+        rebuildWeldGroups();
+        stats.largestForcedWeld = stats.forcedWeldGaps.empty()
+                                      ? 0.0
+                                      : *std::max_element(stats.forcedWeldGaps.begin(),
+                                                          stats.forcedWeldGaps.end());
+        x = xPreMerge;
+        v = vPreMerge;
+        mergeWelds(&x, v);
+    }
 }
 
 void Simulation::Impl::mergeWelds(MatX3* xs, MatX3& vs) const {
@@ -940,9 +1018,6 @@ bool Simulation::Impl::step(double maxH) {
         }
         const double forcedBefore = stats.largestForcedWeld;
         const bool newWelds = weldClosedSeams();
-        if (scene.sewingEndsWhenSewn) {
-            endSewingIfSewn();
-        }
         if (newWelds || !weldGroups.empty()) {
             // Also after the collision corrections, which move vertices one by one: a welded
             // group leaves every step as one point.
@@ -956,7 +1031,15 @@ bool Simulation::Impl::step(double maxH) {
                     elasticBefore += m->hasEnergy() ? m->energy(x) : 0.0;
                 }
             }
+            xPreMerge = x;
+            vPreMerge = v;
             mergeWelds(&x, v);
+            if (collision && collision->selfCollision()) {
+                // A weld moves both sides of the pair onto their common point: where that
+                // carries a triangle through the cloth beside the seam, the pair is not welded
+                // this step (its elastic keeps pulling), so welds never make intersections.
+                unweldCrossingMerges();
+            }
             if (forced) {
                 double elasticAfter = 0;
                 for (const auto& m : models) {
@@ -964,6 +1047,9 @@ bool Simulation::Impl::step(double maxH) {
                 }
                 baseEnergyInput += std::max(0.0, elasticAfter - elasticBefore);
             }
+        }
+        if (scene.sewingEndsWhenSewn) {
+            endSewingIfSewn();
         }
         ++stats.steps;
         stats.minDt = stats.steps == 1 ? h : std::min(stats.minDt, h);
@@ -1235,8 +1321,12 @@ std::vector<std::string> Simulation::activeStages() const { return m_impl->stage
 const std::string& Simulation::error() const { return m_impl->error; }
 const CollisionStage* Simulation::collision() const { return m_impl->collision.get(); }
 
-long Simulation::intersectingTrianglePairs() const {
-    return m_impl->collision ? m_impl->collision->intersectingTrianglePairs(m_impl->x) : 0;
+long Simulation::intersectingTrianglePairs(long* withObstacles) const {
+    if (withObstacles != nullptr) {
+        *withObstacles = 0;
+    }
+    return m_impl->collision ? m_impl->collision->intersectingTrianglePairs(m_impl->x, withObstacles)
+                             : 0;
 }
 
 double Simulation::penetration() const {

@@ -38,6 +38,9 @@ struct RunStats {
     long weldedSeamPairs = 0; ///< seam pairs welded so far (see SceneSpec::seamWeldDistance)
     /// Largest gap of a pair welded at SceneSpec::seamWeldAllTime, beyond the weld distance [m]
     double largestForcedWeld = 0;
+    /// Welds put off because merging the pair would have carried cloth through cloth (the
+    /// pair stays an elastic and is welded at a later step) [-].
+    long deferredWelds = 0;
     /// Per seam pair (SceneSpec::seams): its gap when welded at SceneSpec::seamWeldAllTime
     /// beyond the weld distance, 0 if it closed by itself or is still open [m].
     std::vector<double> forcedWeldGaps;
@@ -100,7 +103,8 @@ class Simulation {
     const CollisionStage* collision() const;
     /// Exact count of intersecting triangle pairs now (cloth–cloth and cloth–obstacle;
     /// triangles sharing a vertex excluded); 0 without a collision stage.
-    long intersectingTrianglePairs() const;
+    /// `withObstacles`, if given, receives how many of them are cloth–obstacle pairs.
+    long intersectingTrianglePairs(long* withObstacles = nullptr) const;
     /// Deepest penetration now (see RunStats::maxPenetration) [m].
     double penetration() const;
     /// World positions of obstacle k now (|V_k|×3).

@@ -241,6 +241,7 @@ int runDrape(const DrapeOptions& options) {
             {"seam_pairs", static_cast<std::int64_t>(assembled.scene.seams.size())},
             {"welded_seam_pairs", static_cast<std::int64_t>(simulation->stats().weldedSeamPairs)},
             {"largest_forced_weld_m", simulation->stats().largestForcedWeld},
+            {"deferred_welds", static_cast<std::int64_t>(simulation->stats().deferredWelds)},
             {"largest_forced_weld_seam",
              forced.empty() ? io::ReportValue(nullptr) : io::ReportValue(forced.front().seam)},
             {"sewn_at_s", simulation->stats().sewingEndTime >= 0

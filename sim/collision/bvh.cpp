@@ -737,6 +737,31 @@ bool SurfaceBvh::adjacent(int a, int b) const {
     return false;
 }
 
+void SurfaceBvh::query(const Aabb& box, std::vector<int>& out) const {
+    if (empty()) {
+        return;
+    }
+    std::vector<int> stack;
+    stack.reserve(64);
+    stack.push_back(m_root);
+    while (!stack.empty()) {
+        const Node& node = m_nodes[static_cast<std::size_t>(stack.back())];
+        stack.pop_back();
+        if (!node.box.overlaps(box)) {
+            continue;
+        }
+        if (node.isLeaf()) {
+            out.push_back(node.triangle);
+            continue;
+        }
+        for (const int c : node.children) {
+            if (c >= 0) {
+                stack.push_back(c);
+            }
+        }
+    }
+}
+
 void SurfaceBvh::overlaps(const SurfaceBvh& other, std::vector<std::pair<int, int>>& out) const {
     if (empty() || other.empty() ||
         !m_nodes[static_cast<std::size_t>(m_root)].box.overlaps(

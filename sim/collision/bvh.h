@@ -85,6 +85,8 @@ class SurfaceBvh {
 
     /// Triangle pairs (a of this, b of other) whose leaf boxes overlap, appended to `out`.
     void overlaps(const SurfaceBvh& other, std::vector<std::pair<int, int>>& out) const;
+    /// Appends the triangles whose (refitted) leaf box overlaps `box`.
+    void query(const Aabb& box, std::vector<int>& out) const;
     /// Triangle pairs (a < b) of this mesh whose leaf boxes overlap, with curvature culling:
     /// a node is descended into itself only if its cone is wide enough, two adjacent nodes
     /// only if their merged cone is; pairs sharing a vertex are reported too (the narrow phase

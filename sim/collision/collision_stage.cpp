@@ -1030,64 +1030,74 @@ void CollisionStage::project(MatX3& xe, MatX3& ve, const VecX& invMass, double h
     m_figures.contacts = active;
 }
 
-void CollisionStage::rollBackCrossings(const MatX3& xs, MatX3& xe, MatX3& ve,
-                                       const VecX& invMass) {
-    std::vector<char>& back = m_putBack;
-    std::vector<int>& marked = m_putBackList;
-    back.resize(static_cast<std::size_t>(xe.rows()), 0);
-    std::vector<int> all; // every vertex put back this step, to clear the flags at the end
-    for (int round = 0; round < 32; ++round) {
-        m_clothBvh.refit(xs, &xe, 0.0);
-        m_pairs.clear();
-        SelfQueryOptions noCulling;
-        noCulling.cullingAngle = 4.0; // exact: the cone test is only a heuristic (see README)
-        m_clothBvh.selfOverlaps(m_pairs, noCulling);
-        marked.clear();
-        auto mark = [&](std::initializer_list<int> vs) {
-            for (int v : vs) {
-                if (!back[static_cast<std::size_t>(v)] && invMass[v] > 0) {
-                    back[static_cast<std::size_t>(v)] = 1;
-                    marked.push_back(v);
-                }
-            }
-        };
-        for (const auto& [ta, tb] : m_pairs) {
-            if (!m_selfCloth[static_cast<std::size_t>(m_triangleCloth[static_cast<std::size_t>(ta)])] ||
-                !m_selfCloth[static_cast<std::size_t>(m_triangleCloth[static_cast<std::size_t>(tb)])]) {
+void CollisionStage::pairCrossings(int ta, int tb, const MatX3& xs, const MatX3& xe,
+                                   std::vector<int>& hits) const {
+    if (!m_selfCloth[static_cast<std::size_t>(m_triangleCloth[static_cast<std::size_t>(ta)])] ||
+        !m_selfCloth[static_cast<std::size_t>(m_triangleCloth[static_cast<std::size_t>(tb)])]) {
+        return;
+    }
+    for (int dir = 0; dir < 2; ++dir) {
+        const int a = dir == 0 ? ta : tb;
+        const int b = dir == 0 ? tb : ta;
+        const int f0 = m_triangles(b, 0), f1 = m_triangles(b, 1), f2 = m_triangles(b, 2);
+        for (int p : m_ownedVertices[static_cast<std::size_t>(a)]) {
+            if (same(p, f0) || same(p, f1) || same(p, f2)) {
                 continue;
             }
-            for (int dir = 0; dir < 2; ++dir) {
-                const int a = dir == 0 ? ta : tb;
-                const int b = dir == 0 ? tb : ta;
-                const int f0 = m_triangles(b, 0), f1 = m_triangles(b, 1), f2 = m_triangles(b, 2);
-                for (int p : m_ownedVertices[static_cast<std::size_t>(a)]) {
-                    if (same(p, f0) || same(p, f1) || same(p, f2)) {
-                        continue;
-                    }
-                    const Vec3 p0 = row(xs, p), p1 = row(xe, p), a0 = row(xs, f0), a1 = row(xe, f0),
-                               b0 = row(xs, f1), b1 = row(xe, f1), c0 = row(xs, f2), c1 = row(xe, f2);
-                    if (sweptBoxesNear<2, 6>({&p0, &p1}, {&a0, &a1, &b0, &b1, &c0, &c1}, 0.0) &&
-                        sweptVertexTriangle(p0, p1, a0, a1, b0, b1, c0, c1, 0.0)) {
-                        mark({p, f0, f1, f2});
-                    }
-                }
-            }
-            for (int e : m_ownedEdges[static_cast<std::size_t>(ta)]) {
-                const int e0 = m_edges(e, 0), e1 = m_edges(e, 1);
-                for (int g : m_ownedEdges[static_cast<std::size_t>(tb)]) {
-                    const int g0 = m_edges(g, 0), g1 = m_edges(g, 1);
-                    if (same(e0, g0) || same(e0, g1) || same(e1, g0) || same(e1, g1)) {
-                        continue;
-                    }
-                    const Vec3 p0 = row(xs, e0), p1 = row(xe, e0), p2 = row(xs, e1), p3 = row(xe, e1),
-                               q0 = row(xs, g0), q1 = row(xe, g0), q2 = row(xs, g1), q3 = row(xe, g1);
-                    if (sweptBoxesNear<4, 4>({&p0, &p1, &p2, &p3}, {&q0, &q1, &q2, &q3}, 0.0) &&
-                        sweptEdgeEdge(p0, p1, p2, p3, q0, q1, q2, q3, 0.0)) {
-                        mark({e0, e1, g0, g1});
-                    }
-                }
+            const Vec3 p0 = row(xs, p), p1 = row(xe, p), a0 = row(xs, f0), a1 = row(xe, f0),
+                       b0 = row(xs, f1), b1 = row(xe, f1), c0 = row(xs, f2), c1 = row(xe, f2);
+            if (sweptBoxesNear<2, 6>({&p0, &p1}, {&a0, &a1, &b0, &b1, &c0, &c1}, 0.0) &&
+                sweptVertexTriangle(p0, p1, a0, a1, b0, b1, c0, c1, 0.0)) {
+                hits.insert(hits.end(), {p, f0, f1, f2});
             }
         }
+    }
+    for (int e : m_ownedEdges[static_cast<std::size_t>(ta)]) {
+        const int e0 = m_edges(e, 0), e1 = m_edges(e, 1);
+        for (int g : m_ownedEdges[static_cast<std::size_t>(tb)]) {
+            const int g0 = m_edges(g, 0), g1 = m_edges(g, 1);
+            if (same(e0, g0) || same(e0, g1) || same(e1, g0) || same(e1, g1)) {
+                continue;
+            }
+            const Vec3 p0 = row(xs, e0), p1 = row(xe, e0), p2 = row(xs, e1), p3 = row(xe, e1),
+                       q0 = row(xs, g0), q1 = row(xe, g0), q2 = row(xs, g1), q3 = row(xe, g1);
+            if (sweptBoxesNear<4, 4>({&p0, &p1, &p2, &p3}, {&q0, &q1, &q2, &q3}, 0.0) &&
+                sweptEdgeEdge(p0, p1, p2, p3, q0, q1, q2, q3, 0.0)) {
+                hits.insert(hits.end(), {e0, e1, g0, g1});
+            }
+        }
+    }
+}
+
+void CollisionStage::markCrossings(const MatX3& xs, const MatX3& xe, const VecX* invMass,
+                                   std::vector<int>& marked) {
+    std::vector<char>& back = m_putBack;
+    back.resize(static_cast<std::size_t>(xe.rows()), 0);
+    m_clothBvh.refit(xs, &xe, 0.0);
+    m_pairs.clear();
+    SelfQueryOptions noCulling;
+    noCulling.cullingAngle = 4.0; // exact: the cone test is only a heuristic (see README)
+    m_clothBvh.selfOverlaps(m_pairs, noCulling);
+    std::vector<int>& hits = m_crossingHits;
+    for (const auto& [ta, tb] : m_pairs) {
+        hits.clear();
+        pairCrossings(ta, tb, xs, xe, hits);
+        for (int v : hits) {
+            if (!back[static_cast<std::size_t>(v)] && (invMass == nullptr || (*invMass)[v] > 0)) {
+                back[static_cast<std::size_t>(v)] = 1;
+                marked.push_back(v);
+            }
+        }
+    }
+}
+
+void CollisionStage::rollBackCrossings(const MatX3& xs, MatX3& xe, MatX3& ve,
+                                       const VecX& invMass) {
+    std::vector<int>& marked = m_putBackList;
+    std::vector<int> all; // every vertex put back this step, to clear the flags at the end
+    for (int round = 0; round < 32; ++round) {
+        marked.clear();
+        markCrossings(xs, xe, &invMass, marked);
         if (marked.empty()) {
             break;
         }
@@ -1099,8 +1109,65 @@ void CollisionStage::rollBackCrossings(const MatX3& xs, MatX3& xe, MatX3& ve,
         m_figures.rolledBack += static_cast<long>(marked.size());
     }
     for (int v : all) {
-        back[static_cast<std::size_t>(v)] = 0;
+        m_putBack[static_cast<std::size_t>(v)] = 0;
     }
+}
+
+std::vector<int> CollisionStage::crossingVertices(const MatX3& xs, const MatX3& xe,
+                                                  const std::vector<int>& moved) {
+    std::vector<int> marked;
+    if (!m_anySelf || moved.empty()) {
+        return marked;
+    }
+    const std::size_t nv = static_cast<std::size_t>(xe.rows());
+    if (m_clothVertexTriangles.size() != nv) {
+        m_clothVertexTriangles.assign(nv, {});
+        for (int f = 0; f < m_triangles.rows(); ++f) {
+            for (int k = 0; k < 3; ++k) {
+                m_clothVertexTriangles[static_cast<std::size_t>(m_triangles(f, k))].push_back(f);
+            }
+        }
+    }
+    // Only triangles with a moved corner can cross anything: each is tested against the
+    // triangles its swept box overlaps.
+    m_clothBvh.refit(xs, &xe, 0.0);
+    std::vector<int> triangles;
+    for (int v : moved) {
+        const auto& incident = m_clothVertexTriangles[static_cast<std::size_t>(v)];
+        triangles.insert(triangles.end(), incident.begin(), incident.end());
+    }
+    std::sort(triangles.begin(), triangles.end());
+    triangles.erase(std::unique(triangles.begin(), triangles.end()), triangles.end());
+    std::vector<char>& flagged = m_putBack;
+    flagged.resize(nv, 0);
+    std::vector<int>& hits = m_crossingHits;
+    std::vector<int> candidates;
+    for (int t : triangles) {
+        Aabb box;
+        for (int k = 0; k < 3; ++k) {
+            box.add(row(xs, m_triangles(t, k)));
+            box.add(row(xe, m_triangles(t, k)));
+        }
+        candidates.clear();
+        m_clothBvh.query(box, candidates);
+        for (int u : candidates) {
+            if (u == t) {
+                continue;
+            }
+            hits.clear();
+            pairCrossings(t, u, xs, xe, hits);
+            for (int v : hits) {
+                if (!flagged[static_cast<std::size_t>(v)]) {
+                    flagged[static_cast<std::size_t>(v)] = 1;
+                    marked.push_back(v);
+                }
+            }
+        }
+    }
+    for (int v : marked) {
+        flagged[static_cast<std::size_t>(v)] = 0;
+    }
+    return marked;
 }
 
 void CollisionStage::update(double t0, double t1, const MatX3& xs, MatX3& xe, MatX3& ve,

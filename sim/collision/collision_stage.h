@@ -100,6 +100,13 @@ class CollisionStage {
     /// around the obstacle instead of into it.
     bool routeAround(const Vec3& p, const Vec3& q, double clearance, Vec3& via) const;
 
+    /// Vertices of the cloth–cloth features (self-colliding cloths) that cross each other when
+    /// the cloth moves in a straight line from xs to xe, exactly (swept tests, as the
+    /// fail-safe's). Empty without self-collision. For motions outside a step: welding.
+    /// Only the triangles around `moved` (the vertices whose position differs) are tested.
+    std::vector<int> crossingVertices(const MatX3& xs, const MatX3& xe,
+                                      const std::vector<int>& moved);
+
     const std::vector<Contact>& contacts() const { return m_contacts; }
     const CollisionFigures& figures() const { return m_figures; }
     /// World positions of obstacle k at the last update (|V_k|×3).
@@ -140,6 +147,15 @@ class CollisionStage {
     /// over the step are put back at their start (which was free of those crossings) and
     /// stopped, repeatedly, until no crossing is left.
     void rollBackCrossings(const MatX3& xs, MatX3& xe, MatX3& ve, const VecX& invMass);
+    /// One detection pass of the fail-safe: appends to `marked` the vertices (movable ones only
+    /// if `invMass` is given) of features crossing over xs → xe that are not flagged in
+    /// m_putBack yet, flagging them.
+    void markCrossings(const MatX3& xs, const MatX3& xe, const VecX* invMass,
+                       std::vector<int>& marked);
+    /// Appends the four vertices of every feature pair of triangles ta, tb (vertex–triangle
+    /// both ways, edge–edge; sewn or shared vertices excluded) that crosses over xs → xe.
+    void pairCrossings(int ta, int tb, const MatX3& xs, const MatX3& xe,
+                       std::vector<int>& hits) const;
     /// Signed distance of cloth vertex p at xp to closed obstacle k, exact, or a lower bound of
     /// it when that bound is at least `enough`. The distance is 1-Lipschitz, so on a static
     /// obstacle it is at least its value last computed for p minus how far p has moved since:
@@ -190,6 +206,8 @@ class CollisionStage {
     double m_lastInsideCheck = -1e300;
     CollisionFigures m_figures;
     std::vector<int> m_alias; ///< (|V|) representative of each vertex's sewn group
+    std::vector<std::vector<int>> m_clothVertexTriangles; ///< per cloth vertex, lazily
+    std::vector<int> m_crossingHits; ///< scratch of pairCrossings
 };
 
 } // namespace atelier::sim

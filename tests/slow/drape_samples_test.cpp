@@ -170,21 +170,20 @@ TEST_P(SampleGarmentCoarse, SewsAndDrapesToRestOnTheDefaultBody) {
     drapeAndCheck(GetParam(), "--particle-distance 20 --threads 1", {true, true, 0.001});
 }
 
-INSTANTIATE_TEST_SUITE_P(Garments, SampleGarmentCoarse, ::testing::Values("skirt", "dress"));
+INSTANTIATE_TEST_SUITE_P(Garments, SampleGarmentCoarse,
+                         ::testing::Values("skirt", "dress", "trousers"));
 
-// Open (issue 4): at 20 mm, with the seams' pull per length of seam that closes every seam of
-// the 10 mm tshirt, skirt and dress, a few pairs of the tshirt (armhole, side: 1–2 cm) and of
-// the trousers (inseams, centre back: 3–5 cm) are still open when sewing ends and are welded
-// across their gap, which leaves 3 and 10 intersecting pairs and no rest by 4 s (README,
-// "What is open"); run with --gtest_also_run_disabled_tests.
+// Open (issue 4): the 20 mm tshirt ends with one intersecting pair: a welded group that the
+// collision corrections moved apart is merged back at the next step's start, where the merge
+// is not checked against crossing (README, "What is open"); run with
+// --gtest_also_run_disabled_tests.
 class SampleGarmentCoarseOpen : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(SampleGarmentCoarseOpen, DISABLED_SewsAndDrapesToRestOnTheDefaultBody) {
     drapeAndCheck(GetParam(), "--particle-distance 20 --threads 1", {true, true, 0.001});
 }
 
-INSTANTIATE_TEST_SUITE_P(Garments, SampleGarmentCoarseOpen,
-                         ::testing::Values("tshirt", "trousers"));
+INSTANTIATE_TEST_SUITE_P(Garments, SampleGarmentCoarseOpen, ::testing::Values("tshirt"));
 
 // At the project's own 10 mm (16–25k triangles), as `atelier-cli drape` runs them.
 class SampleGarment : public ::testing::TestWithParam<std::string> {};

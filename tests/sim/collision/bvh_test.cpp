@@ -572,6 +572,37 @@ TEST(MergeCones, SpecialCases) {
     EXPECT_EQ(mergeCones(narrow, wide).halfAngle, 1.0);
 }
 
+TEST(SurfaceBvh, BoxQueryReturnsExactlyTheOverlappingTriangles) {
+    // Against brute force on a crumpled sheet: every triangle whose own bounding box overlaps
+    // the query box, and no other (leaf boxes are the triangles' boxes with no margin).
+    const TestMesh m = crumpledSheet(16, 0.3, 5);
+    SurfaceBvh bvh(m.triangles, m.x);
+    bvh.refit(m.x, nullptr, 0.0);
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<double> u(-0.1, 1.1);
+    std::uniform_real_distribution<double> size(0.0, 0.3);
+    for (int q = 0; q < 50; ++q) {
+        Aabb box;
+        const Vec3 c(u(rng), u(rng), 0.2 * u(rng));
+        box.add(c);
+        box.add(c + Vec3(size(rng), size(rng), size(rng)));
+        std::vector<int> got;
+        bvh.query(box, got);
+        std::sort(got.begin(), got.end());
+        std::vector<int> expected;
+        for (int f = 0; f < m.triangles.rows(); ++f) {
+            Aabb t;
+            for (int k = 0; k < 3; ++k) {
+                t.add(m.x.row(m.triangles(f, k)).transpose());
+            }
+            if (t.overlaps(box)) {
+                expected.push_back(f);
+            }
+        }
+        EXPECT_EQ(got, expected) << "query " << q;
+    }
+}
+
 TEST(SurfaceBvh, EmptyMesh) {
     const SurfaceBvh bvh(MatX3i(0, 3), MatX3(0, 3));
     EXPECT_TRUE(bvh.empty());

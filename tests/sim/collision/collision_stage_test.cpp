@@ -77,6 +77,40 @@ TEST(CollisionStage, OnlyInThePipelineWhenTheSceneNeedsIt) {
     EXPECT_EQ(std::find(stagesC.begin(), stagesC.end(), "collision.obstacles"), stagesC.end());
 }
 
+TEST(CollisionStage, CrossingVerticesFindsAMotionThroughTheCloth) {
+    // Two self-colliding sheets 1 cm apart: moving one vertex of the upper sheet 2 cm down
+    // carries it (and its triangles) through the lower one; 5 mm down does not. Only the
+    // triangles around the listed moved vertices are tested (a weld's merge moves a few).
+    sim::SceneSpec s = sheetAbove(0.2, 4, 0.0);
+    sim::ClothSpec upper = s.cloths[0];
+    upper.position.col(1).array() += 0.01;
+    s.cloths.push_back(upper);
+    for (sim::ClothSpec& c : s.cloths) {
+        c.selfCollision = true;
+    }
+    const int n = s.cloths[0].position.rows();
+    sim::MatX3 x(2 * n, 3);
+    x << s.cloths[0].position, s.cloths[1].position;
+    sim::CollisionStage stage(s, {0, n, 2 * n}, x);
+    const int centre = n + 12; // the upper sheet's middle vertex (5×5 grid)
+    ASSERT_NEAR(x(centre, 0), 0.0, 1e-12);
+    sim::MatX3 through = x;
+    through(centre, 1) -= 0.02;
+    const std::vector<int> crossing = stage.crossingVertices(x, through, {centre});
+    EXPECT_NE(std::find(crossing.begin(), crossing.end(), centre), crossing.end());
+    bool lower = false;
+    for (int v : crossing) {
+        lower = lower || v < n;
+        // The vertex, its edges' other ends (edge–edge crossings), and the lower sheet.
+        EXPECT_TRUE(v < n || (x.row(v) - x.row(centre)).norm() < 0.0708) << v; // a cell diagonal
+    }
+    EXPECT_TRUE(lower);
+    EXPECT_TRUE(stage.crossingVertices(x, through, {}).empty());
+    sim::MatX3 short_ = x;
+    short_(centre, 1) -= 0.005;
+    EXPECT_TRUE(stage.crossingVertices(x, short_, {centre}).empty());
+}
+
 class SheetOnSphere : public ::testing::TestWithParam<sim::IntegratorKind> {};
 
 TEST_P(SheetOnSphere, NeverPenetratesBeyondTenPercentOfThickness) {
