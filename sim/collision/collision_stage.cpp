@@ -680,8 +680,7 @@ void CollisionStage::detectSelf(const MatX3& xs, const MatX3& xe) {
         return m_scene.cloths[static_cast<std::size_t>(m_clothOf[static_cast<std::size_t>(v)])].material;
     };
     for (const auto& [ta, tb] : m_pairs) {
-        if (!m_selfCloth[static_cast<std::size_t>(m_triangleCloth[static_cast<std::size_t>(ta)])] ||
-            !m_selfCloth[static_cast<std::size_t>(m_triangleCloth[static_cast<std::size_t>(tb)])]) {
+        if (!selfPair(ta, tb)) {
             continue;
         }
         for (int dir = 0; dir < 2; ++dir) {
@@ -1032,8 +1031,7 @@ void CollisionStage::project(MatX3& xe, MatX3& ve, const VecX& invMass, double h
 
 void CollisionStage::pairCrossings(int ta, int tb, const MatX3& xs, const MatX3& xe,
                                    std::vector<int>& hits) const {
-    if (!m_selfCloth[static_cast<std::size_t>(m_triangleCloth[static_cast<std::size_t>(ta)])] ||
-        !m_selfCloth[static_cast<std::size_t>(m_triangleCloth[static_cast<std::size_t>(tb)])]) {
+    if (!selfPair(ta, tb)) {
         return;
     }
     for (int dir = 0; dir < 2; ++dir) {

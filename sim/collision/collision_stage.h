@@ -119,6 +119,11 @@ class CollisionStage {
     bool same(int a, int b) const {
         return m_alias[static_cast<std::size_t>(a)] == m_alias[static_cast<std::size_t>(b)];
     }
+    /// Whether both triangles belong to self-colliding cloths.
+    bool selfPair(int ta, int tb) const {
+        return m_selfCloth[static_cast<std::size_t>(m_triangleCloth[static_cast<std::size_t>(ta)])] &&
+               m_selfCloth[static_cast<std::size_t>(m_triangleCloth[static_cast<std::size_t>(tb)])];
+    }
 
     struct ObstacleData {
         const ObstacleSpec* spec = nullptr;
