@@ -199,7 +199,9 @@ struct SceneSpec {
     /// B), so a closed seam stays closed under any tension [m]. 0 = elastics only.
     double seamWeldDistance = 0.0;
     /// The end of a sewing phase: from this time on every seam pair is welded, whatever its
-    /// gap (RunStats::largestForcedWeld says how far apart the worst pair was) [s]; < 0 = never.
+    /// gap (RunStats::largestForcedWeld says how far apart the worst pair was), except a pair
+    /// whose merge would carry cloth through cloth (with self-collision): that one is tried
+    /// again at every step (RunStats::deferredWelds) [s]; < 0 = never.
     double seamWeldAllTime = -1.0;
     /// The sewing phase ends as soon as every seam pair is welded (closed below
     /// seamWeldDistance): seamWeldAllTime becomes that time, and so does gravityStartTime if it

@@ -168,6 +168,8 @@ struct Simulation::Impl {
     std::vector<std::size_t> newlyWelded; ///< pairs weldClosedSeams welded this step
     MatX3 xPreMerge, vPreMerge;           ///< the state before this step's merge
     std::vector<int> mergeMoved;          ///< vertices the merge moved
+    /// Vertices crossing cloth in the merge xPreMerge → x (only weld-group members move).
+    std::vector<int> mergeCrossings();
     /// Weld groups (weldGroups) from weldParent.
     void rebuildWeldGroups();
     /// Where this step's merge (xPreMerge → x) makes cloth cross cloth: un-welds the new pairs
@@ -624,15 +626,7 @@ void Simulation::Impl::rebuildWeldGroups() {
 
 void Simulation::Impl::unweldCrossingMerges() {
     for (int round = 0; round < 8; ++round) {
-        mergeMoved.clear();
-        for (const std::vector<int>& g : weldGroups) {
-            for (int i : g) {
-                if (x.row(i) != xPreMerge.row(i)) {
-                    mergeMoved.push_back(i);
-                }
-            }
-        }
-        const std::vector<int> crossing = collision->crossingVertices(xPreMerge, x, mergeMoved);
+        const std::vector<int> crossing = mergeCrossings();
         if (crossing.empty()) {
             return;
         }
@@ -683,6 +677,23 @@ void Simulation::Impl::unweldCrossingMerges() {
         v = vPreMerge;
         mergeWelds(&x, v);
     }
+    // Rounds exhausted (or the last one merged again): whatever still crosses stays where it
+    // was before the merge.
+    for (int i : mergeCrossings()) {
+        x.row(i) = xPreMerge.row(i);
+    }
+}
+
+std::vector<int> Simulation::Impl::mergeCrossings() {
+    mergeMoved.clear();
+    for (const std::vector<int>& g : weldGroups) {
+        for (int i : g) {
+            if (x.row(i) != xPreMerge.row(i)) {
+                mergeMoved.push_back(i);
+            }
+        }
+    }
+    return collision->crossingVertices(xPreMerge, x, mergeMoved);
 }
 
 void Simulation::Impl::mergeWelds(MatX3* xs, MatX3& vs) const {
@@ -1016,6 +1027,7 @@ bool Simulation::Impl::step(double maxH) {
         for (const auto& m : models) {
             m->acceptStep(x, h);
         }
+        const auto weldStart = Clock::now(); // the welds are part of the step's wall time
         const double forcedBefore = stats.largestForcedWeld;
         const bool newWelds = weldClosedSeams();
         if (newWelds || !weldGroups.empty()) {
@@ -1038,6 +1050,7 @@ bool Simulation::Impl::step(double maxH) {
                 // A weld moves both sides of the pair onto their common point: where that
                 // carries a triangle through the cloth beside the seam, the pair is not welded
                 // this step (its elastic keeps pulling), so welds never make intersections.
+                StageTimer collisionTimer(*timerCollision); // collision work (nested here)
                 unweldCrossingMerges();
             }
             if (forced) {
@@ -1051,6 +1064,7 @@ bool Simulation::Impl::step(double maxH) {
         if (scene.sewingEndsWhenSewn) {
             endSewingIfSewn();
         }
+        stats.wallTime += seconds(weldStart, Clock::now());
         ++stats.steps;
         stats.minDt = stats.steps == 1 ? h : std::min(stats.minDt, h);
         stats.maxDt = std::max(stats.maxDt, h);
@@ -1178,6 +1192,14 @@ std::optional<std::string> Simulation::validate(const SceneSpec& s) {
     }
     if (!(s.seamRouteClearance >= 0) || !std::isfinite(s.seamRouteClearance)) {
         return std::string("seam route clearance must be zero or positive");
+    }
+    if (!(s.seamStiffnessPerLength >= 0) || !std::isfinite(s.seamStiffnessPerLength)) {
+        return std::string("seam stiffness per length must be zero or positive");
+    }
+    for (std::size_t k = 0; k < s.seams.size(); ++k) {
+        if (!(s.seams[k].length >= 0) || !std::isfinite(s.seams[k].length)) {
+            return "seam pair " + std::to_string(k) + ": length must be zero or positive";
+        }
     }
     if (!s.seams.empty() && !(s.seamTimeConstant > 0)) {
         return std::string("seam time constant must be positive");

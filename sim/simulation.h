@@ -39,7 +39,8 @@ struct RunStats {
     /// Largest gap of a pair welded at SceneSpec::seamWeldAllTime, beyond the weld distance [m]
     double largestForcedWeld = 0;
     /// Welds put off because merging the pair would have carried cloth through cloth (the
-    /// pair stays an elastic and is welded at a later step) [-].
+    /// pair stays an elastic and is tried again at the next step), counted per pair and step:
+    /// a pair blocked for 100 steps counts 100 [-].
     long deferredWelds = 0;
     /// Per seam pair (SceneSpec::seams): its gap when welded at SceneSpec::seamWeldAllTime
     /// beyond the weld distance, 0 if it closed by itself or is still open [m].

@@ -29,9 +29,12 @@ class SeamElastics : public ForceModel {
     ///
     /// `stiffnessPerLength` > 0 adds to each pair's stiffness μ/τ² that many N/m per metre of
     /// seam the pair stands for (SeamPair::length), with damping 2τ times the stiffness, so
-    /// the law's closing speed is unchanged and only its strength grows: a pull per length of
-    /// seam, the same at every mesh resolution (μ/τ² alone, per pair ∝ the vertex mass, halves
-    /// per metre of seam when the spacing halves, and loses against the fabric's tension).
+    /// the law's closing speed (gap/2τ, at most reach/2τ) is unchanged and only its strength
+    /// grows: a pull per length of seam, the same at every mesh resolution (μ/τ² alone, per
+    /// pair ∝ the vertex mass, halves per metre of seam when the spacing halves, and loses
+    /// against the fabric's tension). The pair is then no longer critically damped but
+    /// overdamped: it closes like e^{−t/2τ}, and a routed vertex (damped on its own velocity)
+    /// barely moves except along its pull.
     SeamElastics(const std::vector<SeamPair>& pairs, const VecX& masses, double timeConstant,
                  double reach = 0.0, double stiffnessPerLength = 0.0);
 

@@ -1,6 +1,8 @@
 // Seam elastics as a force model: straight pairs and pairs routed through a via point.
 #include "sim/constraints/seam_elastics.h"
 #include "sim/forces/force_check.h"
+#include "sim/simulation.h"
+#include "sim/test_scenes.h"
 
 #include <gtest/gtest.h>
 
@@ -100,6 +102,19 @@ TEST(SeamElastics, StiffnessPerLengthOfSeamAddsToTheMassLaw) {
         EXPECT_LT((f.row(a).transpose() - expected).norm(), 1e-12 * expected.norm()) << a;
         EXPECT_LT((f.row(a) + f.row(b)).norm(), 1e-12 * expected.norm()) << a;
     }
+}
+
+TEST(SeamElastics, NegativeStrengthOrLengthIsRefusedWithItsName) {
+    SceneSpec s = ::atelier::test::smallSheet(StretchModel::Fem, 2, 0.2);
+    s.pins.clear();
+    s.seams.push_back({0, 8, 0.01});
+    s.seamStiffnessPerLength = -1;
+    Simulation a(s);
+    EXPECT_NE(a.error().find("seam stiffness per length"), std::string::npos) << a.error();
+    s.seamStiffnessPerLength = 100;
+    s.seams[0].length = -0.01;
+    Simulation b(s);
+    EXPECT_NE(b.error().find("seam pair 0: length"), std::string::npos) << b.error();
 }
 
 } // namespace
