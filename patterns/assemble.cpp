@@ -39,22 +39,16 @@ sim::VecX hingeRestAngles(const sim::ClothMesh& cloth, const PanelMesh& mesh) {
     return any ? angles : sim::VecX();
 }
 
-/// Per vertex of a panel mesh, half the rest length of the boundary edges it ends (0 inside):
-/// the length of outline the vertex stands for [m].
-std::vector<double> boundaryLengths(const PanelMesh& mesh) {
-    std::map<std::pair<int, int>, int> uses;
-    for (int f = 0; f < mesh.triangles.rows(); ++f) {
-        for (int k = 0; k < 3; ++k) {
-            const int a = mesh.triangles(f, k), b = mesh.triangles(f, (k + 1) % 3);
-            ++uses[{std::min(a, b), std::max(a, b)}];
-        }
-    }
-    std::vector<double> length(static_cast<std::size_t>(mesh.rest.rows()), 0.0);
-    for (const auto& [edge, count] : uses) {
-        if (count == 1) {
-            const double l = (mesh.rest.row(edge.first) - mesh.rest.row(edge.second)).norm();
-            length[static_cast<std::size_t>(edge.first)] += 0.5 * l;
-            length[static_cast<std::size_t>(edge.second)] += 0.5 * l;
+/// Per vertex of a cloth mesh, half the rest length of the border edges it ends (0 inside): the
+/// length of outline the vertex stands for [m].
+std::vector<double> boundaryLengths(const sim::ClothMesh& mesh) {
+    std::vector<double> length(static_cast<std::size_t>(mesh.vertexCount()), 0.0);
+    for (int e = 0; e < mesh.edges.rows(); ++e) {
+        if (mesh.edgeTriangles(e, 1) < 0) {
+            const int a = mesh.edges(e, 0), b = mesh.edges(e, 1);
+            const double half = 0.5 * (mesh.rest.row(a) - mesh.rest.row(b)).norm();
+            length[static_cast<std::size_t>(a)] += half;
+            length[static_cast<std::size_t>(b)] += half;
         }
     }
     return length;
@@ -106,8 +100,8 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
         out.panelOffsets.push_back(out.panelOffsets.back() + pm.pattern.rows());
     }
     std::vector<std::vector<double>> outline;
-    for (const PanelMesh& pm : mesh.panels) {
-        outline.push_back(boundaryLengths(pm));
+    for (const sim::ClothSpec& cloth : scene.cloths) {
+        outline.push_back(boundaryLengths(cloth.mesh));
     }
     for (std::size_t k = 0; k < mesh.seamPairs.size(); ++k) {
         const auto& pair = mesh.seamPairs[k];

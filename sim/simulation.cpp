@@ -170,6 +170,15 @@ struct Simulation::Impl {
     std::vector<int> mergeMoved;          ///< vertices the merge moved
     /// Vertices crossing cloth in the merge xPreMerge → x (only weld-group members move).
     std::vector<int> mergeCrossings();
+    /// Joins the weld sets of the pair's two vertices; returns whether they were apart.
+    bool joinWeld(const SeamPair& p) {
+        const int ra = weldRoot(p.a), rb = weldRoot(p.b);
+        if (ra == rb) {
+            return false;
+        }
+        weldParent[static_cast<std::size_t>(std::max(ra, rb))] = std::min(ra, rb);
+        return true;
+    }
     /// Weld groups (weldGroups) from weldParent.
     void rebuildWeldGroups();
     /// Where this step's merge (xPreMerge → x) makes cloth cross cloth: un-welds the new pairs
@@ -595,11 +604,7 @@ bool Simulation::Impl::weldClosedSeams() {
         pairWelded[k] = 1;
         ++stats.weldedSeamPairs;
         newlyWelded.push_back(k);
-        const int ra = weldRoot(p.a), rb = weldRoot(p.b);
-        if (ra != rb) {
-            weldParent[static_cast<std::size_t>(std::max(ra, rb))] = std::min(ra, rb);
-            changed = true;
-        }
+        changed = joinWeld(p) || changed;
     }
     if (changed) {
         rebuildWeldGroups();
@@ -662,10 +667,7 @@ void Simulation::Impl::unweldCrossingMerges() {
         std::iota(weldParent.begin(), weldParent.end(), 0);
         for (std::size_t k = 0; k < scene.seams.size(); ++k) {
             if (pairWelded[k]) {
-                const int ra = weldRoot(scene.seams[k].a), rb = weldRoot(scene.seams[k].b);
-                if (ra != rb) {
-                    weldParent[static_cast<std::size_t>(std::max(ra, rb))] = std::min(ra, rb);
-                }
+                joinWeld(scene.seams[k]);
             }
         }
         rebuildWeldGroups();

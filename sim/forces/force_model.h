@@ -47,8 +47,10 @@ class ForceModel {
     /// step's (∂f/∂x)·v comes from one assembly and this). Default: f(x, v) − f(x, 0), exact
     /// for damping linear in v whose Definite ∂f/∂v is not projected (checked per model).
     virtual void addDampingProduct(const MatX3& x, const MatX3& v, MatX3& f) const {
-        const MatX3 zero = MatX3::Zero(x.rows(), 3);
-        MatX3 atRest = MatX3::Zero(x.rows(), 3);
+        // Reused per thread: called every implicit step, for every model.
+        thread_local MatX3 zero, atRest;
+        zero.setZero(x.rows(), 3);
+        atRest.setZero(x.rows(), 3);
         addForces(x, zero, atRest);
         addForces(x, v, f);
         f -= atRest;
