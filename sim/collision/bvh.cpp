@@ -762,23 +762,78 @@ void SurfaceBvh::query(const Aabb& box, std::vector<int>& out) const {
     }
 }
 
+namespace {
+
+using Task = std::pair<int, int>;
+
+/// Pairs a traversal gives, in exactly the order of one depth-first pass with a LIFO stack,
+/// computed in parallel. `expand(task, out, children)` processes one task: it appends the
+/// triangle pair it finds to `out`, or pushes the tasks under it to `children` (the order the
+/// stack would take them: the last is taken first), or neither (culled).
+/// With the stack [t0 .. tk] the pass outputs DFS(tk), ..., DFS(t0); so the root is replaced,
+/// level by level, by its tasks in that output order until there are enough to share among
+/// the threads, and each task is then descended on its own and the outputs are concatenated.
+template <class Expand>
+void orderedTraversal(const Task& root, bool parallel, std::vector<std::pair<int, int>>& out,
+                      const Expand& expand) {
+    constexpr std::size_t ENOUGH_TASKS = 256;
+    std::vector<Task> tasks{root};
+    std::vector<Task> children;
+    std::vector<std::pair<int, int>> found;
+    if (parallel) {
+        std::vector<Task> next;
+        bool expanded = true;
+        while (expanded && tasks.size() < ENOUGH_TASKS) {
+            expanded = false;
+            next.clear();
+            for (const Task& t : tasks) {
+                children.clear();
+                found.clear();
+                expand(t, found, children);
+                if (!found.empty()) {
+                    next.push_back(t); // a leaf pair: gives the same pair again below
+                } else {
+                    next.insert(next.end(), children.rbegin(), children.rend());
+                    expanded = true;
+                }
+            }
+            tasks.swap(next);
+        }
+    }
+    const std::int64_t count = static_cast<std::int64_t>(tasks.size());
+    std::vector<std::vector<std::pair<int, int>>> outputs(tasks.size());
+    ATELIER_PARALLEL_FOR_DYNAMIC(count, parallel && count > 1)
+    for (std::int64_t i = 0; i < count; ++i) {
+        std::vector<Task> stack{tasks[static_cast<std::size_t>(i)]};
+        stack.reserve(256);
+        std::vector<std::pair<int, int>>& o = outputs[static_cast<std::size_t>(i)];
+        while (!stack.empty()) {
+            const Task t = stack.back();
+            stack.pop_back();
+            expand(t, o, stack);
+        }
+    }
+    for (const auto& o : outputs) {
+        out.insert(out.end(), o.begin(), o.end());
+    }
+}
+
+} // namespace
+
 void SurfaceBvh::overlaps(const SurfaceBvh& other, std::vector<std::pair<int, int>>& out) const {
     if (empty() || other.empty() ||
         !m_nodes[static_cast<std::size_t>(m_root)].box.overlaps(
             other.m_nodes[static_cast<std::size_t>(other.m_root)].box)) {
         return;
     }
-    std::vector<std::pair<int, int>> stack;
-    stack.reserve(256);
-    stack.emplace_back(m_root, other.m_root);
-    while (!stack.empty()) {
-        const auto [i, j] = stack.back();
-        stack.pop_back();
+    const auto expand = [&](const Task& task, std::vector<std::pair<int, int>>& found,
+                            std::vector<Task>& stack) {
+        const auto [i, j] = task;
         const Node& a = m_nodes[static_cast<std::size_t>(i)];
         const Node& b = other.m_nodes[static_cast<std::size_t>(j)];
         if (a.isLeaf() && b.isLeaf()) {
-            out.emplace_back(a.triangle, b.triangle);
-            continue;
+            found.emplace_back(a.triangle, b.triangle);
+            return;
         }
         // Descend into the larger node (a leaf cannot be descended).
         if (b.isLeaf() || (!a.isLeaf() && surfaceArea(a.box) >= surfaceArea(b.box))) {
@@ -794,7 +849,10 @@ void SurfaceBvh::overlaps(const SurfaceBvh& other, std::vector<std::pair<int, in
                 }
             }
         }
-    }
+    };
+    const bool parallel =
+        static_cast<std::int64_t>(m_nodes.size() + other.m_nodes.size()) >= PARALLEL_GRAIN;
+    orderedTraversal({m_root, other.m_root}, parallel, out, expand);
 }
 
 void SurfaceBvh::selfOverlaps(std::vector<std::pair<int, int>>& out,
@@ -807,16 +865,13 @@ void SurfaceBvh::selfOverlaps(std::vector<std::pair<int, int>>& out,
     const bool culling = options.cullingAngle <= PI;
     const double cullingAngle = options.cullingAngle;
     // A task is a node against itself (second = -1) or two disjoint nodes whose boxes overlap.
-    std::vector<std::pair<int, int>> stack;
-    stack.reserve(256);
-    stack.emplace_back(m_root, -1);
-    while (!stack.empty()) {
-        const auto [i, j] = stack.back();
-        stack.pop_back();
+    const auto expand = [&](const Task& task, std::vector<std::pair<int, int>>& found,
+                            std::vector<Task>& stack) {
+        const auto [i, j] = task;
         const Node& a = m_nodes[static_cast<std::size_t>(i)];
         if (j < 0) {
             if (a.isLeaf() || (culling && a.connected && a.cone.halfAngle < cullingAngle)) {
-                continue; // a flat enough patch cannot fold onto itself
+                return; // a flat enough patch cannot fold onto itself
             }
             for (int k = 0; k < 3 && a.children[k] >= 0; ++k) {
                 const int ck = a.children[k];
@@ -829,17 +884,17 @@ void SurfaceBvh::selfOverlaps(std::vector<std::pair<int, int>>& out,
                     }
                 }
             }
-            continue;
+            return;
         }
         const Node& b = m_nodes[static_cast<std::size_t>(j)];
         // Cheapest tests first: the merged cone is at least as wide as either cone.
         if (culling && a.cone.halfAngle < cullingAngle && b.cone.halfAngle < cullingAngle &&
             adjacent(i, j) && mergeConesInline(a.cone, b.cone).halfAngle < cullingAngle) {
-            continue; // two adjacent patches forming a flat enough surface
+            return; // two adjacent patches forming a flat enough surface
         }
         if (a.isLeaf() && b.isLeaf()) {
-            out.emplace_back(std::min(a.triangle, b.triangle), std::max(a.triangle, b.triangle));
-            continue;
+            found.emplace_back(std::min(a.triangle, b.triangle), std::max(a.triangle, b.triangle));
+            return;
         }
         if (b.isLeaf() || (!a.isLeaf() && surfaceArea(a.box) >= surfaceArea(b.box))) {
             for (const int c : a.children) {
@@ -854,7 +909,9 @@ void SurfaceBvh::selfOverlaps(std::vector<std::pair<int, int>>& out,
                 }
             }
         }
-    }
+    };
+    orderedTraversal({m_root, -1}, static_cast<std::int64_t>(m_nodes.size()) >= PARALLEL_GRAIN,
+                     out, expand);
 }
 
 std::pair<int, TrianglePoint> SurfaceBvh::closestTriangle(const MatX3& x, const Vec3& p,

@@ -2,6 +2,7 @@
 
 #include "sim/collision/geometry.h"
 #include "sim/collision/obstacle.h"
+#include "sim/core/parallel.h"
 
 #include <algorithm>
 #include <cmath>
@@ -438,6 +439,44 @@ void CollisionStage::extractTrapped(std::size_t k, double h, MatX3& xe, MatX3& v
     }
 }
 
+template <class Body>
+std::size_t CollisionStage::detectInChunks(Body&& body) {
+    const std::int64_t n = static_cast<std::int64_t>(m_pairs.size());
+    const std::size_t used = static_cast<std::size_t>(chunkCount(n));
+    if (m_chunks.size() < used) {
+        m_chunks.resize(used);
+    }
+    parallelChunks(n, [&](std::int64_t c, std::int64_t begin, std::int64_t end) {
+        DetectionChunk& out = m_chunks[static_cast<std::size_t>(c)];
+        out.clear();
+        for (std::int64_t i = begin; i < end; ++i) {
+            body(out, m_pairs[static_cast<std::size_t>(i)]);
+        }
+    });
+    return used;
+}
+
+void CollisionStage::gatherChunks(std::size_t used) {
+    // Self contacts carry keys, sides and reliability; obstacle contacts none (0, 0, 1).
+    m_contactKey.resize(m_contacts.size(), 0);
+    m_contactSide.resize(m_contacts.size(), 0);
+    m_contactReliable.resize(m_contacts.size(), 1);
+    for (std::size_t c = 0; c < used; ++c) {
+        const DetectionChunk& chunk = m_chunks[c];
+        m_contacts.insert(m_contacts.end(), chunk.contacts.begin(), chunk.contacts.end());
+        if (chunk.keys.size() == chunk.contacts.size()) {
+            m_contactKey.insert(m_contactKey.end(), chunk.keys.begin(), chunk.keys.end());
+            m_contactSide.insert(m_contactSide.end(), chunk.sides.begin(), chunk.sides.end());
+            m_contactReliable.insert(m_contactReliable.end(), chunk.reliable.begin(), chunk.reliable.end());
+        } else {
+            m_contactKey.resize(m_contacts.size(), 0);
+            m_contactSide.resize(m_contacts.size(), 0);
+            m_contactReliable.resize(m_contacts.size(), 1);
+        }
+        m_figures.continuousHits += chunk.continuousHits;
+    }
+}
+
 void CollisionStage::detectObstacle(std::size_t k, double h, const MatX3& xs, const MatX3& xe,
                                     bool allowSwept) {
     ObstacleData& o = m_obstacles[k];
@@ -471,12 +510,28 @@ void CollisionStage::detectObstacle(std::size_t k, double h, const MatX3& xs, co
         c.kineticFriction = scale * scaledFriction(m.kineticFriction, spec.kineticFriction);
         c.obstacle = ki;
     };
-    for (const auto& [a, b] : m_pairs) {
+    // The side of an open obstacle each vertex starts on is set by the first pair (in m_pairs
+    // order) that meets it, before the pairs are examined in parallel.
+    if (!spec.closed) {
+        for (const auto& [a, b] : m_pairs) {
+            for (int p : m_ownedVertices[static_cast<std::size_t>(a)]) {
+                signed char& open = m_openSide[k * n + static_cast<std::size_t>(p)];
+                if (open == 0 && !trapped(p)) {
+                    const Vec3 ps = row(xs, p);
+                    const Vec3 b0[3] = {row(o.x0, f(b, 0)), row(o.x0, f(b, 1)), row(o.x0, f(b, 2))};
+                    const TrianglePoint cs = closestPointOnTriangle(ps, b0[0], b0[1], b0[2]);
+                    open = signOf(triangleNormal(b0[0], b0[1], b0[2]).dot(ps - cs.point));
+                    open = open == 0 ? 1 : open;
+                }
+            }
+        }
+    }
+    const std::size_t used = detectInChunks([&](DetectionChunk& out, const std::pair<int, int>& pair) {
+        const auto [a, b] = pair;
         const int ob[3] = {f(b, 0), f(b, 1), f(b, 2)};
         const Vec3 b0[3] = {row(o.x0, ob[0]), row(o.x0, ob[1]), row(o.x0, ob[2])};
         const Vec3 b1[3] = {row(o.x1, ob[0]), row(o.x1, ob[1]), row(o.x1, ob[2])};
         const Vec3 nb1 = triangleNormal(b1[0], b1[1], b1[2]);
-        const Vec3 nb0 = triangleNormal(b0[0], b0[1], b0[2]);
         // Cloth vertices against the obstacle's face.
         for (int p : m_ownedVertices[static_cast<std::size_t>(a)]) {
             if (trapped(p)) {
@@ -484,16 +539,7 @@ void CollisionStage::detectObstacle(std::size_t k, double h, const MatX3& xs, co
             }
             const double d0 = m_thickness[p] + spec.thickness;
             const Vec3 pe = row(xe, p), ps = row(xs, p);
-            signed char& open = m_openSide[k * n + static_cast<std::size_t>(p)];
-            signed char side = 1;
-            if (!spec.closed) {
-                if (open == 0) {
-                    const TrianglePoint cs = closestPointOnTriangle(ps, b0[0], b0[1], b0[2]);
-                    open = signOf(nb0.dot(ps - cs.point));
-                    open = open == 0 ? 1 : open;
-                }
-                side = open;
-            }
+            const signed char side = spec.closed ? 1 : m_openSide[k * n + static_cast<std::size_t>(p)];
             const Vec3 faceSide = side * nb1;
             const TrianglePoint cp = closestPointOnTriangle(pe, b1[0], b1[1], b1[2]);
             Contact c;
@@ -519,7 +565,7 @@ void CollisionStage::detectObstacle(std::size_t k, double h, const MatX3& xs, co
                 if (!hit) {
                     continue;
                 }
-                ++m_figures.continuousHits;
+                ++out.continuousHits;
                 c.normal = faceSide;
                 c.obstaclePoint = hit->coords[0] * b1[0] + hit->coords[1] * b1[1] + hit->coords[2] * b1[2];
                 c.obstacleVelocity = hit->coords[0] * obstacleVelocity(ob[0]) +
@@ -530,11 +576,11 @@ void CollisionStage::detectObstacle(std::size_t k, double h, const MatX3& xs, co
                 continue;
             }
             friction(c, p);
-            m_contacts.push_back(c);
+            out.contacts.push_back(c);
         }
         const int ca[3] = {m_triangles(a, 0), m_triangles(a, 1), m_triangles(a, 2)};
         if (trapped(ca[0]) || trapped(ca[1]) || trapped(ca[2])) {
-            continue;
+            return;
         }
         const Vec3 as[3] = {row(xs, ca[0]), row(xs, ca[1]), row(xs, ca[2])};
         const Vec3 ae[3] = {row(xe, ca[0]), row(xe, ca[1]), row(xe, ca[2])};
@@ -557,7 +603,7 @@ void CollisionStage::detectObstacle(std::size_t k, double h, const MatX3& xs, co
                 if (!hit) {
                     continue;
                 }
-                ++m_figures.continuousHits;
+                ++out.continuousHits;
             }
             // The cloth stays on the side of the obstacle vertex where it was at the start.
             const Vec3 nas = triangleNormal(as[0], as[1], as[2]);
@@ -593,7 +639,7 @@ void CollisionStage::detectObstacle(std::size_t k, double h, const MatX3& xs, co
             const double one = 1.0;
             c.setObstaclePoint(&q, &one, 1);
             friction(c, ca[0]);
-            m_contacts.push_back(c);
+            out.contacts.push_back(c);
         }
         // Cloth edges against obstacle edges.
         for (int e : m_ownedEdges[static_cast<std::size_t>(a)]) {
@@ -625,7 +671,7 @@ void CollisionStage::detectObstacle(std::size_t k, double h, const MatX3& xs, co
                     if (!hit || !interior(hit->coords[0]) || !interior(hit->coords[1])) {
                         continue;
                     }
-                    ++m_figures.continuousHits;
+                    ++out.continuousHits;
                     s = hit->coords[0];
                     t = hit->coords[1];
                 }
@@ -664,10 +710,11 @@ void CollisionStage::detectObstacle(std::size_t k, double h, const MatX3& xs, co
                 const double gw[2] = {1 - t, t};
                 c.setObstaclePoint(ge, gw, 2);
                 friction(c, e0);
-                m_contacts.push_back(c);
+                out.contacts.push_back(c);
             }
         }
-    }
+    });
+    gatherChunks(used);
 }
 
 void CollisionStage::detectSelf(const MatX3& xs, const MatX3& xe) {
@@ -679,9 +726,10 @@ void CollisionStage::detectSelf(const MatX3& xs, const MatX3& xe) {
     auto material = [&](int v) -> const Material& {
         return m_scene.cloths[static_cast<std::size_t>(m_clothOf[static_cast<std::size_t>(v)])].material;
     };
-    for (const auto& [ta, tb] : m_pairs) {
+    const std::size_t used = detectInChunks([&](DetectionChunk& out, const std::pair<int, int>& pair) {
+        const auto [ta, tb] = pair;
         if (!selfPair(ta, tb)) {
-            continue;
+            return;
         }
         for (int dir = 0; dir < 2; ++dir) {
             const int a = dir == 0 ? ta : tb;
@@ -710,7 +758,7 @@ void CollisionStage::detectSelf(const MatX3& xs, const MatX3& xe) {
                     if (!hit) {
                         continue;
                     }
-                    ++m_figures.continuousHits;
+                    ++out.continuousHits;
                     bary = hit->coords;
                 }
                 // Side: remembered, else where the vertex was at the step's start.
@@ -746,13 +794,10 @@ void CollisionStage::detectSelf(const MatX3& xs, const MatX3& xe) {
                 c.normal = side * nb;
                 c.staticFriction = scaledFriction(material(p).staticFriction, material(fb[0]).staticFriction);
                 c.kineticFriction = scaledFriction(material(p).kineticFriction, material(fb[0]).kineticFriction);
-                m_contacts.push_back(c);
-                m_contactKey.resize(m_contacts.size(), 0);
-                m_contactSide.resize(m_contacts.size(), 0);
-                m_contactKey.back() = key;
-                m_contactSide.back() = side;
-                m_contactReliable.resize(m_contacts.size(), 0);
-                m_contactReliable.back() = reliable ? 1 : 0;
+                out.contacts.push_back(c);
+                out.keys.push_back(key);
+                out.sides.push_back(side);
+                out.reliable.push_back(reliable ? 1 : 0);
             }
         }
         // Edge–edge, each unordered pair of owned edges once.
@@ -784,7 +829,7 @@ void CollisionStage::detectSelf(const MatX3& xs, const MatX3& xe) {
                     if (!hit || !interior(hit->coords[0]) || !interior(hit->coords[1])) {
                         continue;
                     }
-                    ++m_figures.continuousHits;
+                    ++out.continuousHits;
                     s = hit->coords[0];
                     t = hit->coords[1];
                 }
@@ -812,13 +857,14 @@ void CollisionStage::detectSelf(const MatX3& xs, const MatX3& xe) {
                 c.normal = normal;
                 c.staticFriction = scaledFriction(material(e0).staticFriction, material(g0).staticFriction);
                 c.kineticFriction = scaledFriction(material(e0).kineticFriction, material(g0).kineticFriction);
-                m_contacts.push_back(c);
+                out.contacts.push_back(c);
+                out.keys.push_back(0);
+                out.sides.push_back(0);
+                out.reliable.push_back(1);
             }
         }
-    }
-    m_contactKey.resize(m_contacts.size(), 0);
-    m_contactSide.resize(m_contacts.size(), 0);
-    m_contactReliable.resize(m_contacts.size(), 1);
+    });
+    gatherChunks(used);
 }
 
 void CollisionStage::voteRegions(const MatX3& xe) {
@@ -1076,11 +1122,11 @@ void CollisionStage::markCrossings(const MatX3& xs, const MatX3& xe, const VecX*
     SelfQueryOptions noCulling;
     noCulling.cullingAngle = 4.0; // exact: the cone test is only a heuristic (see README)
     m_clothBvh.selfOverlaps(m_pairs, noCulling);
-    std::vector<int>& hits = m_crossingHits;
-    for (const auto& [ta, tb] : m_pairs) {
-        hits.clear();
-        pairCrossings(ta, tb, xs, xe, hits);
-        for (int v : hits) {
+    const std::size_t used = detectInChunks([&](DetectionChunk& out, const std::pair<int, int>& pair) {
+        pairCrossings(pair.first, pair.second, xs, xe, out.hits);
+    });
+    for (std::size_t c = 0; c < used; ++c) {
+        for (int v : m_chunks[c].hits) {
             if (!back[static_cast<std::size_t>(v)] && (invMass == nullptr || (*invMass)[v] > 0)) {
                 back[static_cast<std::size_t>(v)] = 1;
                 marked.push_back(v);

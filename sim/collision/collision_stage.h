@@ -213,6 +213,32 @@ class CollisionStage {
     std::vector<int> m_alias; ///< (|V|) representative of each vertex's sewn group
     std::vector<std::vector<int>> m_clothVertexTriangles; ///< per cloth vertex, lazily
     std::vector<int> m_crossingHits; ///< scratch of pairCrossings
+    /// What one piece of a parallel detection loop found (parallelChunks): concatenated in
+    /// piece order, the pieces give what a serial loop gives.
+    struct DetectionChunk {
+        std::vector<Contact> contacts;
+        std::vector<std::uint64_t> keys;  ///< per contact, as m_contactKey
+        std::vector<signed char> sides;   ///< per contact, as m_contactSide
+        std::vector<char> reliable;       ///< per contact, as m_contactReliable
+        std::vector<int> hits;            ///< fail-safe: vertices of crossing features
+        long continuousHits = 0;
+        void clear() {
+            contacts.clear();
+            keys.clear();
+            sides.clear();
+            reliable.clear();
+            hits.clear();
+            continuousHits = 0;
+        }
+    };
+    std::vector<DetectionChunk> m_chunks;
+    /// Runs body(chunk, pair) over m_pairs in parallel pieces, each piece into its own cleared
+    /// DetectionChunk; returns the number of pieces used (the first ones of m_chunks).
+    template <class Body>
+    std::size_t detectInChunks(Body&& body);
+    /// Appends the pieces' contacts (and self-contact keys, sides, reliability) to m_contacts,
+    /// in piece order, and adds up their continuous hits.
+    void gatherChunks(std::size_t used);
 };
 
 } // namespace atelier::sim

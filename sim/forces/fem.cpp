@@ -138,7 +138,8 @@ void FemStretch::addJacobian(const MatX3& x, const MatX3& v, double kx, double k
                              JacobianMode mode, BlockSparseMatrix& J) const {
     const std::int64_t nf = m_triangles.rows();
     const bool exact = mode == JacobianMode::Exact;
-    std::vector<Mat3> blocks(static_cast<std::size_t>(nf) * 9);
+    std::vector<Mat3>& blocks = m_blocks; // every block is written below
+    blocks.resize(static_cast<std::size_t>(nf) * 9);
     ATELIER_PARALLEL_FOR(nf)
     for (std::int64_t tt = 0; tt < nf; ++tt) {
         const int t = static_cast<int>(tt);
