@@ -1,5 +1,6 @@
 #include "sim/collision/bvh.h"
 #include "sim/collision/geometry.h"
+#include "sim/core/parallel.h"
 #include "sim/mesh/cloth_mesh.h"
 
 #include <Eigen/Geometry>
@@ -863,6 +864,38 @@ TEST(SurfaceBvh, SelfOverlapsWithoutCullingMatchBruteForce) {
         out.clear();
         bvh.selfOverlaps(out, {.cullingAngle = 4.0});
         EXPECT_EQ(sorted(out), bruteSelf(leafBoxes(m, &x1, 0.003)));
+    }
+}
+
+TEST(SurfaceBvh, TraversalsGiveTheSameOrderForAnyThreadCount) {
+    // Large enough for the parallel traversal (split into tasks, outputs concatenated in the
+    // depth-first order): the pairs and their order must not depend on the threads, or
+    // detection and everything after it would not be reproducible.
+    const TestMesh m = crumpledSheet(60, 1.0, 45);
+    const TestMesh sphere = sphereMesh(Vec3(0.5, 0.5, 0.0), 0.3, 24, 32);
+    SurfaceBvh bvh(m.triangles, m.x);
+    MatX3 x1 = m.x;
+    x1.col(2).array() += 0.02 * x1.col(0).array();
+    bvh.refit(m.x, &x1, 0.003);
+    const SurfaceBvh other(sphere.triangles, sphere.x);
+    const int threads = threadCount();
+    std::vector<std::array<Pairs, 3>> runs;
+    for (int t : {1, 2, 3}) {
+        setThreadCount(t);
+        std::array<Pairs, 3> r;
+        bvh.selfOverlaps(r[0]);
+        bvh.selfOverlaps(r[1], {.cullingAngle = 4.0});
+        bvh.overlaps(other, r[2]);
+        runs.push_back(r);
+    }
+    setThreadCount(threads);
+    EXPECT_GT(runs[0][0].size(), 1000u);
+    EXPECT_GT(runs[0][1].size(), runs[0][0].size());
+    EXPECT_GT(runs[0][2].size(), 1000u);
+    EXPECT_EQ(sorted(runs[0][1]), bruteSelf(leafBoxes(m, &x1, 0.003)));
+    for (std::size_t k = 0; k < 3; ++k) {
+        EXPECT_EQ(runs[1][k], runs[0][k]) << "query " << k;
+        EXPECT_EQ(runs[2][k], runs[0][k]) << "query " << k;
     }
 }
 
