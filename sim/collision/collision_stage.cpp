@@ -1139,12 +1139,20 @@ void CollisionStage::rollBackCrossings(const MatX3& xs, MatX3& xe, MatX3& ve,
                                        const VecX& invMass) {
     std::vector<int>& marked = m_putBackList;
     std::vector<int> all; // every vertex put back this step, to clear the flags at the end
+    std::vector<int> changed;
     for (int round = 0; round < 32; ++round) {
         marked.clear();
-        markCrossings(xs, xe, &invMass, marked);
+        if (round == 0) {
+            markCrossings(xs, xe, &invMass, marked);
+        } else {
+            // Only the vertices put back last round moved since: a feature pair without one
+            // crosses now exactly as it did then, and then its vertices were marked already.
+            markCrossingsAround(xs, xe, changed, &invMass, marked);
+        }
         if (marked.empty()) {
             break;
         }
+        changed = marked;
         for (int v : marked) {
             xe.row(v) = xs.row(v);
             ve.row(v).setZero();
@@ -1163,6 +1171,17 @@ std::vector<int> CollisionStage::crossingVertices(const MatX3& xs, const MatX3& 
     if (!m_anySelf || moved.empty()) {
         return marked;
     }
+    m_putBack.resize(static_cast<std::size_t>(xe.rows()), 0);
+    markCrossingsAround(xs, xe, moved, nullptr, marked);
+    for (int v : marked) {
+        m_putBack[static_cast<std::size_t>(v)] = 0;
+    }
+    return marked;
+}
+
+void CollisionStage::markCrossingsAround(const MatX3& xs, const MatX3& xe,
+                                         const std::vector<int>& moved, const VecX* invMass,
+                                         std::vector<int>& marked) {
     const std::size_t nv = static_cast<std::size_t>(xe.rows());
     if (m_clothVertexTriangles.size() != nv) {
         m_clothVertexTriangles.assign(nv, {});
@@ -1183,7 +1202,6 @@ std::vector<int> CollisionStage::crossingVertices(const MatX3& xs, const MatX3& 
     std::sort(triangles.begin(), triangles.end());
     triangles.erase(std::unique(triangles.begin(), triangles.end()), triangles.end());
     std::vector<char>& flagged = m_putBack;
-    flagged.resize(nv, 0);
     std::vector<int>& hits = m_crossingHits;
     std::vector<int> candidates;
     for (int t : triangles) {
@@ -1201,17 +1219,13 @@ std::vector<int> CollisionStage::crossingVertices(const MatX3& xs, const MatX3& 
             hits.clear();
             pairCrossings(t, u, xs, xe, hits);
             for (int v : hits) {
-                if (!flagged[static_cast<std::size_t>(v)]) {
+                if (!flagged[static_cast<std::size_t>(v)] && (invMass == nullptr || (*invMass)[v] > 0)) {
                     flagged[static_cast<std::size_t>(v)] = 1;
                     marked.push_back(v);
                 }
             }
         }
     }
-    for (int v : marked) {
-        flagged[static_cast<std::size_t>(v)] = 0;
-    }
-    return marked;
 }
 
 void CollisionStage::update(double t0, double t1, const MatX3& xs, MatX3& xe, MatX3& ve,

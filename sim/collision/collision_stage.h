@@ -157,6 +157,10 @@ class CollisionStage {
     /// m_putBack yet, flagging them.
     void markCrossings(const MatX3& xs, const MatX3& xe, const VecX* invMass,
                        std::vector<int>& marked);
+    /// As markCrossings, over the feature pairs of the triangles with a corner in `moved` only
+    /// (each against the triangles its swept box overlaps).
+    void markCrossingsAround(const MatX3& xs, const MatX3& xe, const std::vector<int>& moved,
+                             const VecX* invMass, std::vector<int>& marked);
     /// Appends the four vertices of every feature pair of triangles ta, tb (vertex–triangle
     /// both ways, edge–edge; sewn or shared vertices excluded) that crosses over xs → xe.
     void pairCrossings(int ta, int tb, const MatX3& xs, const MatX3& xe,
