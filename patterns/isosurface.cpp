@@ -1,5 +1,7 @@
 #include "patterns/isosurface.h"
 
+#include "sim/core/parallel.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -159,18 +161,15 @@ Isosurface extractIsosurface(const ImplicitFunction& f, const IsosurfaceOptions&
         return {};
     }
     grid.value.resize(static_cast<std::size_t>(cells));
-    for (int k = 0; k < grid.nz; ++k) {
-        for (int j = 0; j < grid.ny; ++j) {
-            for (int i = 0; i < grid.nx; ++i) {
-                const std::int64_t id = grid.index(i, j, k);
-                double v = f(grid.point(id));
-                // A zero on the grid would make a degenerate crossing: count it outside.
-                if (v == 0 || !std::isfinite(v)) {
-                    v = std::isfinite(v) ? 1e-300 : 1.0;
-                }
-                grid.value[static_cast<std::size_t>(id)] = v;
-            }
+    // Every sample on its own (f is pure), in parallel: the same values for any thread count.
+    ATELIER_PARALLEL_FOR(cells)
+    for (std::int64_t id = 0; id < cells; ++id) {
+        double v = f(grid.point(id));
+        // A zero on the grid would make a degenerate crossing: count it outside.
+        if (v == 0 || !std::isfinite(v)) {
+            v = std::isfinite(v) ? 1e-300 : 1.0;
         }
+        grid.value[static_cast<std::size_t>(id)] = v;
     }
 
     std::vector<Vec3> x;
@@ -251,6 +250,7 @@ Isosurface extractIsosurface(const ImplicitFunction& f, const IsosurfaceOptions&
     // Relaxation: tangential smoothing toward the neighbours' centroid, edge flips, projection.
     const double hGrad = grid.h * 0.05;
     const int nv = static_cast<int>(x.size());
+    ATELIER_PARALLEL_FOR(nv)
     for (int v = 0; v < nv; ++v) {
         x[static_cast<std::size_t>(v)] = project(f, x[static_cast<std::size_t>(v)], hGrad, 2);
     }
@@ -266,6 +266,7 @@ Isosurface extractIsosurface(const ImplicitFunction& f, const IsosurfaceOptions&
             }
         }
         std::vector<Vec3> next = x;
+        ATELIER_PARALLEL_FOR(nv)
         for (int v = 0; v < nv; ++v) {
             const auto& nb = neighbours[static_cast<std::size_t>(v)];
             if (nb.empty()) {
@@ -289,6 +290,7 @@ Isosurface extractIsosurface(const ImplicitFunction& f, const IsosurfaceOptions&
     Isosurface out;
     out.vertices.resize(nv, 3);
     out.normals.resize(nv, 3);
+    ATELIER_PARALLEL_FOR(nv)
     for (int v = 0; v < nv; ++v) {
         const Vec3 p = project(f, x[static_cast<std::size_t>(v)], hGrad, 2);
         out.vertices.row(v) = p.transpose();
