@@ -2,6 +2,7 @@
 // 1 cm of the requested ones (measured here by an independent ray-casting tape), slots in place.
 #include "patterns/body_measure.h"
 #include "patterns/mannequin.h"
+#include "sim/core/parallel.h"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -158,6 +159,25 @@ TEST(Mannequin, DefaultFemaleIsClosedWithItsMeasurements) {
     ASSERT_TRUE(baseMeasurements("female", m));
     EXPECT_TRUE(checkMeasurements(m).empty());
     expectMannequin("female", m);
+}
+
+TEST(Mannequin, TheSameMeshForAnyThreadCount) {
+    // The surface is sampled, projected and relaxed in parallel: one thread and two must give
+    // the same mesh, bit for bit (a coarse grid and one fitting round keep this quick).
+    MannequinOptions coarse;
+    coarse.cell = 0.05;
+    coarse.fitIterations = 1;
+    const int threads = sim::threadCount();
+    sim::setThreadCount(1);
+    const Mannequin one = makeMannequin("female", BodyMeasurements{}, coarse);
+    sim::setThreadCount(2);
+    const Mannequin two = makeMannequin("female", BodyMeasurements{}, coarse);
+    sim::setThreadCount(threads);
+    ASSERT_GT(one.body.triangles.rows(), 1000);
+    ASSERT_EQ(two.body.vertices.rows(), one.body.vertices.rows());
+    ASSERT_EQ(two.body.triangles.rows(), one.body.triangles.rows());
+    EXPECT_TRUE((two.body.vertices.array() == one.body.vertices.array()).all());
+    EXPECT_TRUE((two.body.triangles.array() == one.body.triangles.array()).all());
 }
 
 TEST(Mannequin, CheckMeasurementsNamesTheField) {
