@@ -360,7 +360,11 @@ void CollisionStage::findTrapped(std::size_t k, const MatX3& x) {
         return;
     }
     const Aabb& box = o.bvh.nodes()[static_cast<std::size_t>(o.bvh.root())].box;
-    for (int p = 0; p < x.rows(); ++p) {
+    // Each vertex on its own (its own slots of m_trapped and of the distance cache).
+    const std::int64_t nv = x.rows();
+    ATELIER_PARALLEL_FOR(nv)
+    for (std::int64_t pp = 0; pp < nv; ++pp) {
+        const int p = static_cast<int>(pp);
         if (m_trapped[static_cast<std::size_t>(p)] >= 0 || box.squaredDistance(row(x, p)) > 0) {
             continue;
         }
@@ -1409,7 +1413,14 @@ double CollisionStage::penetration(const MatX3& x) {
             o.fittedMargin = th;
         }
         const Aabb& box = o.bvh.nodes()[static_cast<std::size_t>(o.bvh.root())].box;
-        for (int p = 0; p < x.rows(); ++p) {
+        // Each vertex on its own (its own slot of the distance cache); the largest depth is
+        // then taken serially (a maximum: the same for any order).
+        std::vector<double>& depth = m_depthScratch;
+        depth.assign(n, 0.0);
+        const std::int64_t nv = x.rows();
+        ATELIER_PARALLEL_FOR(nv)
+        for (std::int64_t pp = 0; pp < nv; ++pp) {
+            const int p = static_cast<int>(pp);
             const Vec3 xp = row(x, p);
             if (box.squaredDistance(xp) > 0) {
                 continue;
@@ -1428,7 +1439,10 @@ double CollisionStage::penetration(const MatX3& x) {
                 const double along = nf.dot(xp - cp.point);
                 sd = side == 0 ? cp.distance : (along * side >= 0 ? cp.distance : -cp.distance);
             }
-            worst = std::max(worst, th - sd);
+            depth[static_cast<std::size_t>(p)] = th - sd;
+        }
+        for (double d : depth) {
+            worst = std::max(worst, d);
         }
     }
     return worst;

@@ -217,6 +217,7 @@ class CollisionStage {
     std::vector<int> m_alias; ///< (|V|) representative of each vertex's sewn group
     std::vector<std::vector<int>> m_clothVertexTriangles; ///< per cloth vertex, lazily
     std::vector<int> m_crossingHits; ///< scratch of pairCrossings
+    std::vector<double> m_depthScratch; ///< penetration(): per vertex, depth beyond the thickness
     /// What one piece of a parallel detection loop found (parallelChunks): concatenated in
     /// piece order, the pieces give what a serial loop gives.
     struct DetectionChunk {
