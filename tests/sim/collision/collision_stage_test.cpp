@@ -55,6 +55,22 @@ sim::SceneSpec sheetAbove(double size, int cells, double height) {
     return s;
 }
 
+/// Two self-colliding horizontal sheets of 0.2 m, `cells` per side, the second 1 cm above the
+/// first; `x` gets both sheets' positions (the lower first).
+sim::SceneSpec twoSheets(int cells, sim::MatX3& x) {
+    sim::SceneSpec s = sheetAbove(0.2, cells, 0.0);
+    sim::ClothSpec upper = s.cloths[0];
+    upper.position.col(1).array() += 0.01;
+    s.cloths.push_back(upper);
+    for (sim::ClothSpec& c : s.cloths) {
+        c.selfCollision = true;
+    }
+    const int n = s.cloths[0].position.rows();
+    x.resize(2 * n, 3);
+    x << s.cloths[0].position, s.cloths[1].position;
+    return s;
+}
+
 TEST(CollisionStage, OnlyInThePipelineWhenTheSceneNeedsIt) {
     sim::SceneSpec plain = sheetAbove(0.5, 4, 1.0);
     sim::Simulation a(plain);
@@ -83,16 +99,9 @@ TEST(CollisionStage, CrossingVerticesFindsAMotionThroughTheCloth) {
     // Two self-colliding sheets 1 cm apart: moving one vertex of the upper sheet 2 cm down
     // carries it (and its triangles) through the lower one; 5 mm down does not. Only the
     // triangles around the listed moved vertices are tested (a weld's merge moves a few).
-    sim::SceneSpec s = sheetAbove(0.2, 4, 0.0);
-    sim::ClothSpec upper = s.cloths[0];
-    upper.position.col(1).array() += 0.01;
-    s.cloths.push_back(upper);
-    for (sim::ClothSpec& c : s.cloths) {
-        c.selfCollision = true;
-    }
+    sim::MatX3 x;
+    const sim::SceneSpec s = twoSheets(4, x);
     const int n = s.cloths[0].position.rows();
-    sim::MatX3 x(2 * n, 3);
-    x << s.cloths[0].position, s.cloths[1].position;
     sim::CollisionStage stage(s, {0, n, 2 * n}, x);
     const int centre = n + 12; // the upper sheet's middle vertex (5×5 grid)
     ASSERT_NEAR(x(centre, 0), 0.0, 1e-12);
@@ -141,16 +150,9 @@ TEST(CollisionStage, FailSafeLeavesNoCrossingOverTheStep) {
     // down (tilted), through the lower one. Whatever the corrections do, the fail-safe's rounds
     // (the first over every pair, the later ones only around the vertices put back) must leave
     // no feature crossing over xs → xe.
-    sim::SceneSpec s = sheetAbove(0.2, 8, 0.0);
-    sim::ClothSpec upper = s.cloths[0];
-    upper.position.col(1).array() += 0.01;
-    s.cloths.push_back(upper);
-    for (sim::ClothSpec& c : s.cloths) {
-        c.selfCollision = true;
-    }
+    sim::MatX3 xs;
+    const sim::SceneSpec s = twoSheets(8, xs);
     const int n = s.cloths[0].position.rows();
-    sim::MatX3 xs(2 * n, 3);
-    xs << s.cloths[0].position, s.cloths[1].position;
     sim::CollisionStage stage(s, {0, n, 2 * n}, xs);
     sim::MatX3 xe = xs;
     for (int i = n; i < 2 * n; ++i) {
