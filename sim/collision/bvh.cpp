@@ -801,19 +801,28 @@ void orderedTraversal(const Task& root, bool parallel, std::vector<std::pair<int
         }
     }
     const std::int64_t count = static_cast<std::int64_t>(tasks.size());
-    std::vector<std::vector<std::pair<int, int>>> outputs(tasks.size());
+    // Buffers kept per thread between calls: several traversals run every step.
+    // (The calling thread's outputs, by reference: inside the parallel loop the name would
+    // mean each worker's own.)
+    thread_local std::vector<std::vector<std::pair<int, int>>> callerOutputs;
+    std::vector<std::vector<std::pair<int, int>>>& outputs = callerOutputs;
+    if (outputs.size() < tasks.size()) {
+        outputs.resize(tasks.size());
+    }
     ATELIER_PARALLEL_FOR_DYNAMIC(count, parallel && count > 1)
     for (std::int64_t i = 0; i < count; ++i) {
-        std::vector<Task> stack{tasks[static_cast<std::size_t>(i)]};
-        stack.reserve(256);
+        thread_local std::vector<Task> stack;
+        stack.assign(1, tasks[static_cast<std::size_t>(i)]);
         std::vector<std::pair<int, int>>& o = outputs[static_cast<std::size_t>(i)];
+        o.clear();
         while (!stack.empty()) {
             const Task t = stack.back();
             stack.pop_back();
             expand(t, o, stack);
         }
     }
-    for (const auto& o : outputs) {
+    for (std::int64_t i = 0; i < count; ++i) {
+        const auto& o = outputs[static_cast<std::size_t>(i)];
         out.insert(out.end(), o.begin(), o.end());
     }
 }
