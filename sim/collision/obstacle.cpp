@@ -175,7 +175,9 @@ void makeCapsuleMesh(double radius, double length, int segments, MatX3& vertices
                      MatX3i& triangles) {
     segments = std::max(segments, 6);
     const int rings = std::max(2, segments / 4); // latitude rings per hemisphere
-    const int body = std::max(1, static_cast<int>(std::round(length / (2 * M_PI * radius / segments))));
+    // Length 0: a latitude–longitude sphere (no cylinder rows, which would repeat the equator).
+    const int body = length > 0 ? std::max(1, static_cast<int>(std::round(length / (2 * M_PI * radius / segments))))
+                                : 0;
     std::vector<Vec3> pts;
     std::vector<std::array<int, 3>> tris;
     // Latitude rows from the top pole (excluded) to the bottom pole.

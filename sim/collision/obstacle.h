@@ -17,6 +17,7 @@ void makeSphereMesh(double radius, int subdivisions, MatX3& vertices, MatX3i& tr
 void makeBoxMesh(const Vec3& size, int cells, MatX3& vertices, MatX3i& triangles);
 /// Capsule along Y: a cylinder of `radius` and `length` [m] (between the hemisphere centres)
 /// capped by hemispheres, centred at the origin, `segments` around. Closed, outward normals.
+/// Length 0 gives a latitude–longitude sphere (`segments` around, `segments`/2 from pole to pole).
 void makeCapsuleMesh(double radius, double length, int segments, MatX3& vertices,
                      MatX3i& triangles);
 

@@ -416,6 +416,14 @@ TEST(Obstacles, GeneratedShapesAreClosedAndOriented) {
     EXPECT_TRUE(sim::isClosedOriented(f, static_cast<int>(v.rows())));
     EXPECT_NEAR(volume(), M_PI * 0.25 * 1.0 + 4.0 / 3.0 * M_PI * 0.125, 0.05);
     EXPECT_GT(volume(), 0);
+    // Length 0: a latitude–longitude sphere, with no degenerate band at the equator.
+    sim::makeCapsuleMesh(0.5, 0.0, 48, v, f);
+    EXPECT_TRUE(sim::isClosedOriented(f, static_cast<int>(v.rows())));
+    EXPECT_NEAR(volume(), 4.0 / 3.0 * M_PI * 0.125, 0.01);
+    for (int t = 0; t < f.rows(); ++t) {
+        const Vec3 a = v.row(f(t, 0)), b = v.row(f(t, 1)), c = v.row(f(t, 2));
+        EXPECT_GT((b - a).cross(c - a).norm(), 1e-6) << "triangle " << t;
+    }
     sim::makePlaneMesh(2.0, 3, v, f);
     EXPECT_FALSE(sim::isClosedOriented(f, static_cast<int>(v.rows())));
     for (int t = 0; t < f.rows(); ++t) {
