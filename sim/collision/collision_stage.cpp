@@ -100,10 +100,10 @@ void velocityCorrection(const Contact& c, const VecX& invMass, MatX3& v, double 
     }
     const double jn = minNormal - un;
     Vec3 delta = jn * c.normal;
-    if (friction) {
+    if (friction && c.grip != Contact::Grip::Slip) {
         const Vec3 ut = u - un * c.normal;
         const double utn = ut.norm();
-        if (utn <= c.staticFriction * jn) {
+        if ((c.grip == Contact::Grip::Stick && c.staticFriction > 0) || utn <= c.staticFriction * jn) {
             delta -= ut;
         } else if (utn > 0) {
             delta -= (c.kineticFriction * jn / utn) * ut;
@@ -1009,7 +1009,7 @@ void CollisionStage::voteRegions(const MatX3& xe) {
     }
 }
 
-void CollisionStage::project(MatX3& xe, MatX3& ve, const VecX& invMass, double h) {
+void CollisionStage::project(const MatX3& xs, MatX3& xe, MatX3& ve, const VecX& invMass, double h) {
     for (Contact& c : m_contacts) {
         c.active = false;
     }
@@ -1063,6 +1063,7 @@ void CollisionStage::project(MatX3& xe, MatX3& ve, const VecX& invMass, double h
         c.active = c.active || gap <= c.distance * (1.0 + TOUCH) + TINY;
         active += c.active || gap <= c.distance * (1.0 + layer) + TINY ? 1 : 0;
     }
+    markPinches(xs, xe, h);
     // Velocities: touching contacts stop approaching, with friction; contacts still apart may
     // approach only as fast as closes their gap within a step of the same length, so the next
     // step does not carry them into each other (no friction until they touch).
@@ -1077,6 +1078,64 @@ void CollisionStage::project(MatX3& xe, MatX3& ve, const VecX& invMass, double h
         }
     }
     m_figures.contacts = active;
+}
+
+void CollisionStage::markPinches(const MatX3& xs, MatX3& xe, double h) {
+    // A vertex squeezed between two obstacles (touching vertex–face contacts with opposing
+    // normals, closer together than the two contact distances) is pressed by both with the same
+    // force, as large as the squeeze makes it: by Coulomb's law it slides on the surface that
+    // grips less and is held by the one that grips more, positions included (held by velocities
+    // alone, the cloth's pull moved it back a little at every step). Taken one contact at a time,
+    // each with the friction of its own small normal impulse, the last contact applied won: a
+    // sheet squeezed under a sweeping press stayed with the floor and was torn apart.
+    std::vector<std::pair<int, std::size_t>>& touching = m_pinchScratch;
+    touching.clear();
+    for (std::size_t i = 0; i < m_contacts.size(); ++i) {
+        Contact& c = m_contacts[i];
+        c.grip = Contact::Grip::Coulomb;
+        if (c.active && c.obstacle >= 0 && c.kind == Contact::Kind::VertexFace) {
+            touching.emplace_back(c.vertex[0], i);
+        }
+    }
+    std::sort(touching.begin(), touching.end());
+    for (std::size_t a = 0; a < touching.size();) {
+        std::size_t b = a + 1;
+        while (b < touching.size() && touching[b].first == touching[a].first) {
+            ++b;
+        }
+        bool squeezed = false;
+        for (std::size_t i = a; i < b && !squeezed; ++i) {
+            for (std::size_t j = i + 1; j < b; ++j) {
+                const Contact& ci = m_contacts[touching[i].second];
+                const Contact& cj = m_contacts[touching[j].second];
+                if (ci.obstacle != cj.obstacle && ci.normal.dot(cj.normal) < -0.5 &&
+                    (ci.obstaclePoint - cj.obstaclePoint).dot(cj.normal) < ci.distance + cj.distance) {
+                    squeezed = true;
+                    break;
+                }
+            }
+        }
+        if (squeezed) {
+            std::size_t grip = touching[a].second;
+            for (std::size_t i = a; i < b; ++i) {
+                if (m_contacts[touching[i].second].staticFriction > m_contacts[grip].staticFriction) {
+                    grip = touching[i].second;
+                }
+            }
+            for (std::size_t i = a; i < b; ++i) {
+                m_contacts[touching[i].second].grip =
+                    touching[i].second == grip ? Contact::Grip::Stick : Contact::Grip::Slip;
+            }
+            // Held: no tangential motion relative to the gripping obstacle over the step.
+            const Contact& c = m_contacts[grip];
+            if (h > 0 && c.staticFriction > 0) {
+                const int p = c.vertex[0];
+                const Vec3 slip = (row(xe, p) - row(xs, p)) - h * c.obstacleVelocity;
+                xe.row(p) -= (slip - slip.dot(c.normal) * c.normal).transpose();
+            }
+        }
+        a = b;
+    }
 }
 
 void CollisionStage::pairCrossings(int ta, int tb, const MatX3& xs, const MatX3& xe,
@@ -1265,7 +1324,7 @@ void CollisionStage::update(double t0, double t1, const MatX3& xs, MatX3& xe, Ma
         detectSelf(xs, xe);
         voteRegions(xe);
     }
-    project(xe, ve, invMass, h);
+    project(xs, xe, ve, invMass, h);
     if (m_anySelf && !m_obstacles.empty()) {
         // Cloth–cloth corrections may have carried vertices toward an obstacle from farther
         // than its proximity margin: detect against obstacles again where the cloth is now and

@@ -28,6 +28,11 @@ struct Contact {
     double distance = 0;                  ///< contact distance (sum of thicknesses) [m]
     double staticFriction = 0;
     double kineticFriction = 0;
+    /// Friction of a touching contact: Coulomb's law, or, for a vertex pinched between two
+    /// obstacles (CollisionStage::markPinches), stuck to the one that grips harder and sliding
+    /// freely on the other.
+    enum class Grip : std::uint8_t { Coulomb, Stick, Slip };
+    Grip grip = Grip::Coulomb;
     bool active = false; ///< touching after the position correction (B acts on it)
     int obstacle = -1;   ///< obstacle index, or -1 for cloth–cloth
     /// q as a combination of the obstacle's vertices (up to three: a face point, an edge
@@ -147,7 +152,10 @@ class CollisionStage {
     void voteRegions(const MatX3& xe);
     void extractTrapped(std::size_t k, double h, MatX3& xe, MatX3& ve);
     void findTrapped(std::size_t k, const MatX3& x);
-    void project(MatX3& xe, MatX3& ve, const VecX& invMass, double h);
+    void project(const MatX3& xs, MatX3& xe, MatX3& ve, const VecX& invMass, double h);
+    /// Sets Contact::grip of the touching vertex–face obstacle contacts of pinched vertices and
+    /// holds each such vertex where the gripping obstacle carried it over the step (xs → xe).
+    void markPinches(const MatX3& xs, MatX3& xe, double h);
     /// Fail-safe after the corrections: vertices of cloth primitives that still cross each other
     /// over the step are put back at their start (which was free of those crossings) and
     /// stopped, repeatedly, until no crossing is left.
@@ -200,6 +208,7 @@ class CollisionStage {
     std::unordered_map<std::uint64_t, signed char> m_memory; ///< side of each self pair in contact
     std::vector<int> m_trapped;       ///< per vertex: obstacle it is inside, or -1
     std::vector<char> m_extracting;   ///< per cloth: has vertices trapped in the obstacle being detected
+    std::vector<std::pair<int, std::size_t>> m_pinchScratch; ///< (vertex, contact) for markPinches
     std::vector<signed char> m_openSide; ///< per (obstacle, vertex): side of an open obstacle
     /// Per (obstacle, vertex): the last signed distance computed exactly (NaN: none) and
     /// where the vertex was then (static closed obstacles; vertexSignedDistance).

@@ -294,6 +294,42 @@ INSTANTIATE_TEST_SUITE_P(
                (info.param.friction > 0.3 ? "_sticks" : "_slides");
     });
 
+/// A 0.2 m sheet on a floor, squeezed by a box 7 mm above the floor (it needs 8 mm: its own
+/// and the two obstacles' thicknesses), the box sweeping 0.1 m along x in 0.25 s: how far the
+/// sheet's centroid moved along x after 0.35 s.
+double squeezedSheetMoves(double boxFriction, double floorFriction) {
+    sim::SceneSpec s = sheetAbove(0.2, 8, 0.004);
+    s.cloths[0].material.staticFriction = 1.0; // the obstacles' coefficients decide
+    s.cloths[0].material.kineticFriction = 1.0;
+    s.cloths[0].selfCollision = false;
+    sim::ObstacleSpec box;
+    box.name = "press";
+    sim::makeBoxMesh(Vec3(0.6, 0.1, 0.4), 2, box.vertices, box.triangles);
+    box.closed = true;
+    box.thickness = 0.002;
+    box.staticFriction = box.kineticFriction = boxFriction;
+    box.keys.push_back(sim::ObstacleKey{0.0, Vec3(0, 0.057, 0), Vec3::Zero()});
+    box.keys.push_back(sim::ObstacleKey{0.05, Vec3(0, 0.057, 0), Vec3::Zero()});
+    box.keys.push_back(sim::ObstacleKey{0.30, Vec3(0.1, 0.057, 0), Vec3::Zero()});
+    s.obstacles.push_back(box);
+    s.obstacles.push_back(planeObstacle(2.0, Vec3::Zero(), Vec3::Zero(), floorFriction));
+    sim::Simulation simulation(s);
+    EXPECT_TRUE(simulation.error().empty()) << simulation.error();
+    const Vec3 start = centroid(simulation.positions());
+    EXPECT_EQ(simulation.run(0.35), sim::RunStatus::Finished) << simulation.stats().error;
+    EXPECT_EQ(simulation.intersectingTrianglePairs(), 0);
+    EXPECT_LT(simulation.maxEdgeStrain(), 0.05);
+    return (centroid(simulation.positions()) - start).x();
+}
+
+TEST(SqueezeFriction, ASqueezedSheetMovesWithTheSurfaceThatGripsHarder) {
+    // Pressed by both with the same force, the sheet slides on the surface with the lower
+    // coefficient: carried along by a press that grips harder than the floor, left in place
+    // by one that grips less.
+    EXPECT_NEAR(squeezedSheetMoves(0.8, 0.2), 0.1, 0.01);
+    EXPECT_NEAR(squeezedSheetMoves(0.2, 0.8), 0.0, 0.005);
+}
+
 TEST(SewingFriction, ScalesFrictionWhileSewingAndRestoresItAfter) {
     const double theta = 20.0 * M_PI / 180.0;
     // μ = 0.5 holds the sheet; while sewing with a scale of 0.4 it slides at the μ = 0.2 rate.
