@@ -57,14 +57,10 @@ void runHardScene(const sim::SceneSpec& scene, const std::string& label) {
 /// Hard scenes that do not pass yet (issue 3 is open): in pulled-through-self, self-collision lets
 /// the dragged fold cross the curtain (and the run takes minutes); in stack-on-box, contact
 /// corrections leave the piled sheets stretched (max edge strain 0.34 at the end). Both are
-/// covered by collision_scenes_test where they do hold (no intersection with the box). In
-/// through-body the trapped part comes out on its side (collision_scenes_test), but 14–16 cloth
-/// triangles stay pierced by the body's surface after 0.45 s with all their vertices outside
-/// (strain 2.8): a rounding-level change of the implicit step's right-hand side (10⁻¹⁵, the
-/// one-assembly Jacobian) turned this scene from clean into that, so it was only passing by luck.
+/// covered by collision_scenes_test where they do hold (no intersection with the box).
 bool knownOpen(const std::string& name) {
     return std::getenv("ATELIER_RUN_OPEN") == nullptr &&
-           (name == "pulled-through-self" || name == "stack-on-box" || name == "through-body");
+           (name == "pulled-through-self" || name == "stack-on-box");
 }
 
 TEST_P(HardCase, EndsFiniteBoundedAndSane) {
