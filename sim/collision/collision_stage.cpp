@@ -408,8 +408,12 @@ void CollisionStage::extractTrapped(std::size_t k, double h, MatX3& xe, MatX3& v
     const std::size_t n = static_cast<std::size_t>(xe.rows());
     auto isTrapped = [&](int v) { return m_trapped[static_cast<std::size_t>(v)] == ki; };
     std::vector<Vec3> entries;
-    std::vector<double> dist(n, INF);
-    std::vector<int> source(n, -1);
+    std::vector<double>& dist = m_extractDistance;
+    std::vector<int>& source = m_extractSource;
+    std::vector<int>& slot = m_extractSlot;
+    dist.assign(n, INF);
+    source.assign(n, -1);
+    slot.assign(n, -1);
     using Item = std::pair<double, int>;
     std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
     for (int p : trapped) {
@@ -445,7 +449,6 @@ void CollisionStage::extractTrapped(std::size_t k, double h, MatX3& xe, MatX3& v
     // Target and heading of each trapped vertex (a part with no free border, wholly inside,
     // heads for the nearest surface).
     std::vector<Vec3> target(trapped.size()), heading(trapped.size());
-    std::vector<int> slot(n, -1);
     for (std::size_t i = 0; i < trapped.size(); ++i) {
         const int p = trapped[i];
         slot[static_cast<std::size_t>(p)] = static_cast<int>(i);
@@ -1134,11 +1137,13 @@ void CollisionStage::markPinches(const MatX3& xs, MatX3& xe, double h) {
     // alone, the cloth's pull moved it back a little at every step). Taken one contact at a time,
     // each with the friction of its own small normal impulse, the last contact applied won: a
     // sheet squeezed under a sweeping press stayed with the floor and was torn apart.
+    if (m_obstacles.size() < 2) {
+        return; // every contact keeps Coulomb's law (Contact::grip's default)
+    }
     std::vector<std::pair<int, std::size_t>>& touching = m_pinchScratch;
     touching.clear();
     for (std::size_t i = 0; i < m_contacts.size(); ++i) {
-        Contact& c = m_contacts[i];
-        c.grip = Contact::Grip::Coulomb;
+        const Contact& c = m_contacts[i];
         if (c.active && c.obstacle >= 0 && c.kind == Contact::Kind::VertexFace) {
             touching.emplace_back(c.vertex[0], i);
         }

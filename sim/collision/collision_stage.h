@@ -209,6 +209,10 @@ class CollisionStage {
     std::vector<int> m_trapped;       ///< per vertex: obstacle it is inside, or -1
     std::vector<char> m_extracting;   ///< per cloth: has vertices trapped in the obstacle being detected
     std::vector<std::pair<int, std::size_t>> m_pinchScratch; ///< (vertex, contact) for markPinches
+    /// extractTrapped scratch, per vertex: distance along the cloth to the nearest entry, that
+    /// entry's index, the vertex's index among the trapped ones.
+    std::vector<double> m_extractDistance;
+    std::vector<int> m_extractSource, m_extractSlot;
     std::vector<signed char> m_openSide; ///< per (obstacle, vertex): side of an open obstacle
     /// Per (obstacle, vertex): the last signed distance computed exactly (NaN: none) and
     /// where the vertex was then (static closed obstacles; vertexSignedDistance).

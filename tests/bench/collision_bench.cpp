@@ -120,7 +120,10 @@ void dome(benchmark::State& state) {
     // contacts per triangle scale together): a latitude–longitude sphere with cell-sized quads at
     // its equator, turned so that the equator runs under the sheet (the poles, where its
     // triangles crowd, are off to the sides).
-    sim::ObstacleSpec o = sphere(radius, 1, sim::Vec3::Zero());
+    sim::ObstacleSpec o;
+    o.closed = true;
+    o.keys.push_back(sim::ObstacleKey{0.0, sim::Vec3::Zero(), sim::Vec3::Zero()});
+    o.thickness = 0.003;
     const int segments = std::max(8, static_cast<int>(std::lround(2 * M_PI * radius / CELL)));
     sim::makeCapsuleMesh(radius, 0.0, segments, o.vertices, o.triangles);
     for (int i = 0; i < o.vertices.rows(); ++i) { // a quarter turn about z: the poles go to ±x

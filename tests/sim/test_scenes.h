@@ -1,6 +1,7 @@
 #pragma once
 // Small generated scenes shared by the engine tests.
 
+#include "sim/collision/collision_stage.h"
 #include "sim/simulation.h"
 
 namespace atelier::test {
@@ -35,6 +36,18 @@ inline sim::SceneSpec smallSheet(sim::StretchModel model, int cells = 4, double 
         s.pins = {cells * (cells + 1), (cells + 1) * (cells + 1) - 1};
     }
     return s;
+}
+
+/// Exact triangle–triangle intersections at the simulation's current positions: all of them,
+/// and in `withObstacles` (if given) those between cloth and obstacles.
+inline long intersections(const sim::Simulation& simulation, long* withObstacles = nullptr) {
+    long obstacles = -1;
+    const long all = const_cast<sim::CollisionStage*>(simulation.collision())
+                         ->intersectingTrianglePairs(simulation.positions(), &obstacles);
+    if (withObstacles != nullptr) {
+        *withObstacles = obstacles;
+    }
+    return all;
 }
 
 } // namespace atelier::test

@@ -5,6 +5,7 @@
 #include "io/scene_file.h"
 #include "sim/collision/collision_stage.h"
 #include "sim/simulation.h"
+#include "sim/test_scenes.h"
 
 #include <gtest/gtest.h>
 
@@ -39,8 +40,7 @@ double smallestObstacleThickness(const sim::SceneSpec& s) {
 /// run without self-collision, or self-collision does not yet keep every dense fold apart).
 long obstacleIntersections(const sim::Simulation& simulation) {
     long withObstacles = -1;
-    const_cast<sim::CollisionStage*>(simulation.collision())
-        ->intersectingTrianglePairs(simulation.positions(), &withObstacles);
+    test::intersections(simulation, &withObstacles);
     return withObstacles;
 }
 

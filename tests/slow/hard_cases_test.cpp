@@ -4,6 +4,7 @@
 #include "io/scene_file.h"
 #include "sim/collision/collision_stage.h"
 #include "sim/simulation.h"
+#include "sim/test_scenes.h"
 
 #include <gtest/gtest.h>
 
@@ -43,8 +44,7 @@ void runHardScene(const sim::SceneSpec& scene, const std::string& label) {
         // Cloth–obstacle intersections must be gone; cloth–cloth ones are counted in the report
         // (not yet zero on every scene: see the README's open points).
         long withObstacles = -1;
-        const_cast<sim::CollisionStage*>(simulation.collision())
-            ->intersectingTrianglePairs(simulation.positions(), &withObstacles);
+        test::intersections(simulation, &withObstacles);
         EXPECT_EQ(withObstacles, 0) << label;
         const bool self = std::any_of(scene.cloths.begin(), scene.cloths.end(),
                                       [](const sim::ClothSpec& c) { return c.selfCollision; });

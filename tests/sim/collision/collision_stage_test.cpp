@@ -197,8 +197,7 @@ TEST_P(SheetOnSphere, NeverPenetratesBeyondTenPercentOfThickness) {
     EXPECT_LE(simulation.stats().maxPenetration, 0.1 * 0.003);
     EXPECT_GT(simulation.stats().contacts, 3); // it rests on the sphere
     long withObstacle = -1;
-    const long all = const_cast<sim::CollisionStage*>(simulation.collision())
-                         ->intersectingTrianglePairs(simulation.positions(), &withObstacle);
+    const long all = test::intersections(simulation, &withObstacle);
     EXPECT_EQ(all, 0);
     EXPECT_EQ(withObstacle, 0);
     // The centre vertex sits on top of the sphere at the contact distance, or a little above
@@ -434,8 +433,7 @@ TEST(TrappedCloth, ComesOutOnItsEntrySideUnstretched) {
     EXPECT_EQ(simulation.collision()->figures().trappedVertices, 0);
     EXPECT_GT(simulation.positions().col(0).minCoeff(), -0.1) << "out on the entry side (+x)";
     long withObstacles = -1;
-    const_cast<sim::CollisionStage*>(simulation.collision())
-        ->intersectingTrianglePairs(simulation.positions(), &withObstacles);
+    test::intersections(simulation, &withObstacles);
     EXPECT_EQ(withObstacles, 0);
     EXPECT_LT(simulation.maxEdgeStrain(), 0.1);
 }

@@ -216,8 +216,7 @@ double sheetOnSphereEnergy(bool solveContacts, double seconds) {
     sim::Simulation simulation(s);
     EXPECT_EQ(simulation.run(seconds), sim::RunStatus::Finished) << simulation.stats().error;
     long withObstacle = -1;
-    const_cast<sim::CollisionStage*>(simulation.collision())
-        ->intersectingTrianglePairs(simulation.positions(), &withObstacle);
+    test::intersections(simulation, &withObstacle);
     EXPECT_EQ(withObstacle, 0);
     return simulation.kineticEnergy() / static_cast<double>(simulation.positions().rows());
 }
