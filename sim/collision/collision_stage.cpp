@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <queue>
 
 namespace atelier::sim {
@@ -531,17 +532,22 @@ void CollisionStage::gatherChunks(std::size_t used) {
 }
 
 void CollisionStage::detectObstacle(std::size_t k, double h, const MatX3& xs, const MatX3& xe,
-                                    bool allowSwept) {
+                                    Detection which) {
     ObstacleData& o = m_obstacles[k];
     const ObstacleSpec& spec = *o.spec;
     const int ki = static_cast<int>(k);
     const double factor = 1.0 + m_scene.collision.proximityFactor;
-    const bool swept = allowSwept && m_scene.collision.continuous && h > 0;
+    const bool swept = which == Detection::First && m_scene.collision.continuous && h > 0;
     const MatX3i& f = spec.triangles;
     const std::size_t n = static_cast<std::size_t>(xe.rows());
-    m_pairs.clear();
-    m_clothBvh.overlaps(o.bvh, m_pairs);
-    m_figures.candidatePairs += static_cast<long>(m_pairs.size());
+    // Again: the hierarchies have not been refitted since First, so its pairs are the same.
+    if (which == Detection::First) {
+        m_pairs.clear();
+        m_clothBvh.overlaps(o.bvh, m_pairs);
+        m_figures.candidatePairs += static_cast<long>(m_pairs.size());
+    } else {
+        m_pairs = o.firstPairs;
+    }
     auto obstacleVelocity = [&](int v) -> Vec3 {
         return (o.moves && h > 0) ? Vec3((row(o.x1, v) - row(o.x0, v)) / h) : Vec3::Zero();
     };
@@ -579,195 +585,318 @@ void CollisionStage::detectObstacle(std::size_t k, double h, const MatX3& xs, co
             }
         }
     }
-    const std::size_t used = detectInChunks([&](DetectionChunk& out, const std::pair<int, int>& pair) {
-        const auto [a, b] = pair;
-        const int ob[3] = {f(b, 0), f(b, 1), f(b, 2)};
-        const Vec3 b0[3] = {row(o.x0, ob[0]), row(o.x0, ob[1]), row(o.x0, ob[2])};
-        const Vec3 b1[3] = {row(o.x1, ob[0]), row(o.x1, ob[1]), row(o.x1, ob[2])};
-        const Vec3 nb1 = triangleNormal(b1[0], b1[1], b1[2]);
-        // Cloth vertices against the obstacle's face.
-        for (int p : m_ownedVertices[static_cast<std::size_t>(a)]) {
-            if (trapped(p)) {
-                continue;
-            }
-            const double d0 = m_thickness[p] + spec.thickness;
-            const Vec3 pe = row(xe, p), ps = row(xs, p);
-            const signed char side = spec.closed ? 1 : m_openSide[k * n + static_cast<std::size_t>(p)];
-            const Vec3 faceSide = side * nb1;
-            const TrianglePoint cp = closestPointOnTriangle(pe, b1[0], b1[1], b1[2]);
-            Contact c;
-            c.kind = Contact::Kind::VertexFace;
-            c.vertex[0] = p;
-            c.weight[0] = 1.0;
-            c.distance = d0;
-            if (cp.distance < d0 * factor) {
-                const Vec3 d = pe - cp.point;
-                c.normal = (d.dot(faceSide) > 0 && cp.distance > TINY) ? Vec3(d / cp.distance) : faceSide;
-                c.obstaclePoint = cp.point;
-                c.obstacleVelocity = cp.bary[0] * obstacleVelocity(ob[0]) +
-                                     cp.bary[1] * obstacleVelocity(ob[1]) +
-                                     cp.bary[2] * obstacleVelocity(ob[2]);
-                c.setObstaclePoint(ob, cp.bary.data(), 3);
-            } else if (swept && (o.moves || ps != pe)) {
-                // The swept tests look for crossings (distance 0): a pair that ends near is the
-                // proximity test's; one that crossed during the step and ended apart is this one's.
-                if (!sweptBoxesNear<2, 6>({&ps, &pe}, {&b0[0], &b0[1], &b0[2], &b1[0], &b1[1], &b1[2]}, d0)) {
-                    continue;
-                }
-                const auto hit = sweptVertexTriangle(ps, pe, b0[0], b1[0], b0[1], b1[1], b0[2], b1[2], 0.0);
-                if (!hit) {
-                    continue;
-                }
-                ++out.continuousHits;
-                c.normal = faceSide;
-                c.obstaclePoint = hit->coords[0] * b1[0] + hit->coords[1] * b1[1] + hit->coords[2] * b1[2];
-                c.obstacleVelocity = hit->coords[0] * obstacleVelocity(ob[0]) +
-                                     hit->coords[1] * obstacleVelocity(ob[1]) +
-                                     hit->coords[2] * obstacleVelocity(ob[2]);
-                c.setObstaclePoint(ob, hit->coords.data(), 3);
-            } else {
-                continue;
-            }
-            friction(c, p);
-            out.contacts.push_back(c);
+    // What the feature tests of one candidate pair (cloth triangle a, obstacle triangle b) share.
+    struct Frame {
+        int a = -1, b = -1;
+        int ob[3];
+        Vec3 b0[3], b1[3], nb1;
+        int ca[3];
+        Vec3 as[3], ae[3];
+        double d0 = 0;              ///< the cloth triangle's thickness + the obstacle's
+        bool trappedCorner = false; ///< a corner of a is trapped: only its vertex–face tests
+    };
+    const auto frameOf = [&](const std::pair<int, int>& pair) {
+        Frame fr;
+        fr.a = pair.first;
+        fr.b = pair.second;
+        for (int i = 0; i < 3; ++i) {
+            fr.ob[i] = f(fr.b, i);
+            fr.b0[i] = row(o.x0, fr.ob[i]);
+            fr.b1[i] = row(o.x1, fr.ob[i]);
+            fr.ca[i] = m_triangles(fr.a, i);
+            fr.as[i] = row(xs, fr.ca[i]);
+            fr.ae[i] = row(xe, fr.ca[i]);
         }
-        const int ca[3] = {m_triangles(a, 0), m_triangles(a, 1), m_triangles(a, 2)};
-        if (trapped(ca[0]) || trapped(ca[1]) || trapped(ca[2])) {
+        fr.nb1 = triangleNormal(fr.b1[0], fr.b1[1], fr.b1[2]);
+        fr.trappedCorner = trapped(fr.ca[0]) || trapped(fr.ca[1]) || trapped(fr.ca[2]);
+        const double clothThickness = std::max({m_thickness[fr.ca[0]], m_thickness[fr.ca[1]], m_thickness[fr.ca[2]]});
+        fr.d0 = clothThickness + spec.thickness;
+        return fr;
+    };
+    const auto keep = [&](DetectionChunk& out, const Contact& c, int feature0, int feature1) {
+        out.contacts.push_back(c);
+        if (which == Detection::First && m_anySelf) {
+            out.features.push_back({feature0, feature1});
+        }
+    };
+    // Cloth vertex p (owned by fr.a) against the obstacle's face.
+    const auto vertexFace = [&](DetectionChunk& out, const Frame& fr, int p) {
+        const int* ob = fr.ob;
+        const Vec3* b0 = fr.b0;
+        const Vec3* b1 = fr.b1;
+        const Vec3& nb1 = fr.nb1;
+        if (trapped(p)) {
             return;
         }
-        const Vec3 as[3] = {row(xs, ca[0]), row(xs, ca[1]), row(xs, ca[2])};
-        const Vec3 ae[3] = {row(xe, ca[0]), row(xe, ca[1]), row(xe, ca[2])};
-        const double clothThickness = std::max({m_thickness[ca[0]], m_thickness[ca[1]], m_thickness[ca[2]]});
-        const double d0 = clothThickness + spec.thickness;
-        // Obstacle vertices against the cloth's face (a box corner poking the cloth).
-        for (int q : o.ownedVertices[static_cast<std::size_t>(b)]) {
-            const Vec3 q0 = row(o.x0, q), q1 = row(o.x1, q);
-            const TrianglePoint cp = closestPointOnTriangle(q1, ae[0], ae[1], ae[2]);
-            const bool near = cp.distance < d0 * factor;
-            std::optional<SweptHit> hit;
-            if (!near) {
-                if (!swept) {
-                    continue;
-                }
-                if (!sweptBoxesNear<2, 6>({&q0, &q1}, {&as[0], &as[1], &as[2], &ae[0], &ae[1], &ae[2]}, d0)) {
-                    continue;
-                }
-                hit = sweptVertexTriangle(q0, q1, as[0], ae[0], as[1], ae[1], as[2], ae[2], 0.0);
-                if (!hit) {
-                    continue;
-                }
-                ++out.continuousHits;
+        const double d0 = m_thickness[p] + spec.thickness;
+        const Vec3 pe = row(xe, p), ps = row(xs, p);
+        const signed char side = spec.closed ? 1 : m_openSide[k * n + static_cast<std::size_t>(p)];
+        const Vec3 faceSide = side * nb1;
+        const TrianglePoint cp = closestPointOnTriangle(pe, b1[0], b1[1], b1[2]);
+        Contact c;
+        c.kind = Contact::Kind::VertexFace;
+        c.vertex[0] = p;
+        c.weight[0] = 1.0;
+        c.distance = d0;
+        if (cp.distance < d0 * factor) {
+            const Vec3 d = pe - cp.point;
+            c.normal = (d.dot(faceSide) > 0 && cp.distance > TINY) ? Vec3(d / cp.distance) : faceSide;
+            c.obstaclePoint = cp.point;
+            c.obstacleVelocity = cp.bary[0] * obstacleVelocity(ob[0]) +
+                                 cp.bary[1] * obstacleVelocity(ob[1]) +
+                                 cp.bary[2] * obstacleVelocity(ob[2]);
+            c.setObstaclePoint(ob, cp.bary.data(), 3);
+        } else if (swept && (o.moves || ps != pe)) {
+            c.swept = true;
+            // The swept tests look for crossings (distance 0): a pair that ends near is the
+            // proximity test's; one that crossed during the step and ended apart is this one's.
+            if (!sweptBoxesNear<2, 6>({&ps, &pe}, {&b0[0], &b0[1], &b0[2], &b1[0], &b1[1], &b1[2]}, 0.0)) {
+                return;
             }
-            // The cloth stays on the side of the obstacle vertex where it was at the start.
-            const Vec3 nas = triangleNormal(as[0], as[1], as[2]);
-            const TrianglePoint cs = closestPointOnTriangle(q0, as[0], as[1], as[2]);
-            double sA = nas.dot(q0 - cs.point) >= 0 ? 1.0 : -1.0;
-            if (spec.closed) {
-                // Trust the obstacle's outside: the cloth point should be outside q's faces.
-                Vec3 outward = Vec3::Zero();
-                for (int t : o.vertexTriangles[static_cast<std::size_t>(q)]) {
-                    outward += triangleNormal(row(o.x1, f(t, 0)), row(o.x1, f(t, 1)), row(o.x1, f(t, 2)));
-                }
-                const Vec3 nae = triangleNormal(ae[0], ae[1], ae[2]);
-                if (outward.squaredNorm() > 0 && std::abs(outward.normalized().dot(nae)) > 0.5) {
-                    sA = outward.dot(nae) > 0 ? -1.0 : 1.0;
-                }
+            const auto hit = sweptVertexTriangle(ps, pe, b0[0], b1[0], b0[1], b1[1], b0[2], b1[2], 0.0);
+            if (!hit) {
+                return;
             }
-            const Vec3 away = -sA * triangleNormal(ae[0], ae[1], ae[2]);
-            Contact c;
-            c.kind = Contact::Kind::FaceVertex;
-            c.distance = d0;
-            const std::array<double, 3> bary = near ? cp.bary : hit->coords;
-            for (int i = 0; i < 3; ++i) {
-                c.vertex[i] = ca[i];
-                c.weight[i] = bary[static_cast<std::size_t>(i)];
-            }
-            const Vec3 d = cp.point - q1;
-            c.normal = (near && d.dot(away) > 0 && cp.distance > TINY) ? Vec3(d / cp.distance) : away;
-            if (c.normal.squaredNorm() == 0) {
-                continue;
-            }
-            c.obstaclePoint = q1;
-            c.obstacleVelocity = obstacleVelocity(q);
-            const double one = 1.0;
-            c.setObstaclePoint(&q, &one, 1);
-            friction(c, ca[0]);
-            out.contacts.push_back(c);
+            ++out.continuousHits;
+            c.normal = faceSide;
+            c.obstaclePoint = hit->coords[0] * b1[0] + hit->coords[1] * b1[1] + hit->coords[2] * b1[2];
+            c.obstacleVelocity = hit->coords[0] * obstacleVelocity(ob[0]) +
+                                 hit->coords[1] * obstacleVelocity(ob[1]) +
+                                 hit->coords[2] * obstacleVelocity(ob[2]);
+            c.setObstaclePoint(ob, hit->coords.data(), 3);
+        } else {
+            return;
         }
-        // Cloth edges against obstacle edges.
-        for (int e : m_ownedEdges[static_cast<std::size_t>(a)]) {
-            const int e0 = m_edges(e, 0), e1 = m_edges(e, 1);
-            const double de0 = std::max(m_thickness[e0], m_thickness[e1]) + spec.thickness;
-            for (int g : o.ownedEdges[static_cast<std::size_t>(b)]) {
-                const int g0 = o.edges(g, 0), g1 = o.edges(g, 1);
-                {
-                    const Vec3 p0 = row(xs, e0), p1 = row(xe, e0), p2 = row(xs, e1), p3 = row(xe, e1);
-                    const Vec3 q0 = row(o.x0, g0), q1 = row(o.x1, g0), q2 = row(o.x0, g1), q3 = row(o.x1, g1);
-                    if (!sweptBoxesNear<4, 4>({&p0, &p1, &p2, &p3}, {&q0, &q1, &q2, &q3}, de0 * factor)) {
-                        continue;
-                    }
-                }
-                const SegmentPoints sp =
-                    closestPointsOfSegments(row(xe, e0), row(xe, e1), row(o.x1, g0), row(o.x1, g1));
-                double s = sp.s, t = sp.t;
-                // Edge–edge proximity only between interior points: when a closest point is an
-                // end, the vertex–face tests cover it, and the direction between the points is
-                // not a surface normal (it may be sideways).
-                const bool near = sp.distance < de0 * factor && interior(s) && interior(t);
-                if (!near) {
-                    if (!swept) {
-                        continue;
-                    }
-                    const auto hit = sweptEdgeEdge(row(xs, e0), row(xe, e0), row(xs, e1), row(xe, e1),
-                                                   row(o.x0, g0), row(o.x1, g0), row(o.x0, g1),
-                                                   row(o.x1, g1), 0.0);
-                    if (!hit || !interior(hit->coords[0]) || !interior(hit->coords[1])) {
-                        continue;
-                    }
-                    ++out.continuousHits;
-                    s = hit->coords[0];
-                    t = hit->coords[1];
-                }
-                const Vec3 pe = (1 - s) * row(xe, e0) + s * row(xe, e1);
-                const Vec3 qe = (1 - t) * row(o.x1, g0) + t * row(o.x1, g1);
-                const Vec3 ds = ((1 - s) * row(xs, e0) + s * row(xs, e1)) -
-                                ((1 - t) * row(o.x0, g0) + t * row(o.x0, g1));
-                Vec3 de = pe - qe;
-                Vec3 normal;
-                if (near && de.dot(ds) > 0 && de.norm() > TINY) {
-                    normal = de.normalized();
-                } else if (ds.norm() > TINY) {
-                    normal = ds.normalized();
-                } else {
-                    const auto& et = o.edgeTriangles[static_cast<std::size_t>(g)];
-                    normal = triangleNormal(row(o.x1, f(et[0], 0)), row(o.x1, f(et[0], 1)), row(o.x1, f(et[0], 2)));
-                    if (et[1] >= 0) {
-                        normal += triangleNormal(row(o.x1, f(et[1], 0)), row(o.x1, f(et[1], 1)), row(o.x1, f(et[1], 2)));
-                    }
-                    if (normal.norm() < TINY) {
-                        continue;
-                    }
-                    normal.normalize();
-                }
-                Contact c;
-                c.kind = Contact::Kind::EdgeEdge;
-                c.vertex[0] = e0;
-                c.vertex[1] = e1;
-                c.weight[0] = 1 - s;
-                c.weight[1] = s;
-                c.distance = de0;
-                c.normal = normal;
-                c.obstaclePoint = qe;
-                c.obstacleVelocity = (1 - t) * obstacleVelocity(g0) + t * obstacleVelocity(g1);
-                const int ge[2] = {g0, g1};
-                const double gw[2] = {1 - t, t};
-                c.setObstaclePoint(ge, gw, 2);
-                friction(c, e0);
-                out.contacts.push_back(c);
+        friction(c, p);
+        keep(out, c, p, -1);
+    };
+    // Obstacle vertex q (owned by fr.b) against the cloth's face (a box corner poking the cloth).
+    const auto faceVertex = [&](DetectionChunk& out, const Frame& fr, int q) {
+        const int* ca = fr.ca;
+        const Vec3* as = fr.as;
+        const Vec3* ae = fr.ae;
+        const double d0 = fr.d0;
+        const Vec3 q0 = row(o.x0, q), q1 = row(o.x1, q);
+        const TrianglePoint cp = closestPointOnTriangle(q1, ae[0], ae[1], ae[2]);
+        const bool near = cp.distance < d0 * factor;
+        std::optional<SweptHit> hit;
+        if (!near) {
+            if (!swept) {
+                return;
             }
+            if (!sweptBoxesNear<2, 6>({&q0, &q1}, {&as[0], &as[1], &as[2], &ae[0], &ae[1], &ae[2]}, 0.0)) {
+                return;
+            }
+            hit = sweptVertexTriangle(q0, q1, as[0], ae[0], as[1], ae[1], as[2], ae[2], 0.0);
+            if (!hit) {
+                return;
+            }
+            ++out.continuousHits;
+        }
+        // The cloth stays on the side of the obstacle vertex where it was at the start.
+        const Vec3 nas = triangleNormal(as[0], as[1], as[2]);
+        const TrianglePoint cs = closestPointOnTriangle(q0, as[0], as[1], as[2]);
+        double sA = nas.dot(q0 - cs.point) >= 0 ? 1.0 : -1.0;
+        if (spec.closed) {
+            // Trust the obstacle's outside: the cloth point should be outside q's faces.
+            Vec3 outward = Vec3::Zero();
+            for (int t : o.vertexTriangles[static_cast<std::size_t>(q)]) {
+                outward += triangleNormal(row(o.x1, f(t, 0)), row(o.x1, f(t, 1)), row(o.x1, f(t, 2)));
+            }
+            const Vec3 nae = triangleNormal(ae[0], ae[1], ae[2]);
+            if (outward.squaredNorm() > 0 && std::abs(outward.normalized().dot(nae)) > 0.5) {
+                sA = outward.dot(nae) > 0 ? -1.0 : 1.0;
+            }
+        }
+        const Vec3 away = -sA * triangleNormal(ae[0], ae[1], ae[2]);
+        Contact c;
+        c.kind = Contact::Kind::FaceVertex;
+        c.swept = !near;
+        c.distance = d0;
+        const std::array<double, 3> bary = near ? cp.bary : hit->coords;
+        for (int i = 0; i < 3; ++i) {
+            c.vertex[i] = ca[i];
+            c.weight[i] = bary[static_cast<std::size_t>(i)];
+        }
+        const Vec3 d = cp.point - q1;
+        c.normal = (near && d.dot(away) > 0 && cp.distance > TINY) ? Vec3(d / cp.distance) : away;
+        if (c.normal.squaredNorm() == 0) {
+            return;
+        }
+        c.obstaclePoint = q1;
+        c.obstacleVelocity = obstacleVelocity(q);
+        const double one = 1.0;
+        c.setObstaclePoint(&q, &one, 1);
+        friction(c, ca[0]);
+        keep(out, c, q, -1);
+    };
+    // Cloth edge e (owned by fr.a) against obstacle edge g (owned by fr.b).
+    const auto edgeEdge = [&](DetectionChunk& out, int e, int g) {
+        const int e0 = m_edges(e, 0), e1 = m_edges(e, 1);
+        const double de0 = std::max(m_thickness[e0], m_thickness[e1]) + spec.thickness;
+        const int g0 = o.edges(g, 0), g1 = o.edges(g, 1);
+        const Vec3 p0 = row(xs, e0), p1 = row(xe, e0), p2 = row(xs, e1), p3 = row(xe, e1);
+        const Vec3 q0 = row(o.x0, g0), q1 = row(o.x1, g0), q2 = row(o.x0, g1), q3 = row(o.x1, g1);
+        if (!sweptBoxesNear<4, 4>({&p0, &p1, &p2, &p3}, {&q0, &q1, &q2, &q3}, de0 * factor)) {
+            return;
+        }
+        const SegmentPoints sp =
+            closestPointsOfSegments(row(xe, e0), row(xe, e1), row(o.x1, g0), row(o.x1, g1));
+        double s = sp.s, t = sp.t;
+        // Edge–edge proximity only between interior points: when a closest point is an
+        // end, the vertex–face tests cover it, and the direction between the points is
+        // not a surface normal (it may be sideways).
+        const bool near = sp.distance < de0 * factor && interior(s) && interior(t);
+        if (!near) {
+            // The swept test looks for a crossing: the swept boxes must overlap.
+            if (!swept || !sweptBoxesNear<4, 4>({&p0, &p1, &p2, &p3}, {&q0, &q1, &q2, &q3}, 0.0)) {
+                return;
+            }
+            const auto hit = sweptEdgeEdge(row(xs, e0), row(xe, e0), row(xs, e1), row(xe, e1),
+                                           row(o.x0, g0), row(o.x1, g0), row(o.x0, g1),
+                                           row(o.x1, g1), 0.0);
+            if (!hit || !interior(hit->coords[0]) || !interior(hit->coords[1])) {
+                return;
+            }
+            ++out.continuousHits;
+            s = hit->coords[0];
+            t = hit->coords[1];
+        }
+        const Vec3 pe = (1 - s) * row(xe, e0) + s * row(xe, e1);
+        const Vec3 qe = (1 - t) * row(o.x1, g0) + t * row(o.x1, g1);
+        const Vec3 ds = ((1 - s) * row(xs, e0) + s * row(xs, e1)) -
+                        ((1 - t) * row(o.x0, g0) + t * row(o.x0, g1));
+        Vec3 de = pe - qe;
+        Vec3 normal;
+        if (near && de.dot(ds) > 0 && de.norm() > TINY) {
+            normal = de.normalized();
+        } else if (ds.norm() > TINY) {
+            normal = ds.normalized();
+        } else {
+            const auto& et = o.edgeTriangles[static_cast<std::size_t>(g)];
+            normal = triangleNormal(row(o.x1, f(et[0], 0)), row(o.x1, f(et[0], 1)), row(o.x1, f(et[0], 2)));
+            if (et[1] >= 0) {
+                normal += triangleNormal(row(o.x1, f(et[1], 0)), row(o.x1, f(et[1], 1)), row(o.x1, f(et[1], 2)));
+            }
+            if (normal.norm() < TINY) {
+                return;
+            }
+            normal.normalize();
+        }
+        Contact c;
+        c.kind = Contact::Kind::EdgeEdge;
+        c.swept = !near;
+        c.vertex[0] = e0;
+        c.vertex[1] = e1;
+        c.weight[0] = 1 - s;
+        c.weight[1] = s;
+        c.distance = de0;
+        c.normal = normal;
+        c.obstaclePoint = qe;
+        c.obstacleVelocity = (1 - t) * obstacleVelocity(g0) + t * obstacleVelocity(g1);
+        const int ge[2] = {g0, g1};
+        const double gw[2] = {1 - t, t};
+        c.setObstaclePoint(ge, gw, 2);
+        friction(c, e0);
+        keep(out, c, e, g);
+    };
+    const auto testPair = [&](DetectionChunk& out, const std::pair<int, int>& pair) {
+        const Frame fr = frameOf(pair);
+        for (int p : m_ownedVertices[static_cast<std::size_t>(fr.a)]) {
+            vertexFace(out, fr, p);
+        }
+        if (fr.trappedCorner) {
+            return;
+        }
+        for (int q : o.ownedVertices[static_cast<std::size_t>(fr.b)]) {
+            faceVertex(out, fr, q);
+        }
+        for (int e : m_ownedEdges[static_cast<std::size_t>(fr.a)]) {
+            for (int g : o.ownedEdges[static_cast<std::size_t>(fr.b)]) {
+                edgeEdge(out, e, g);
+            }
+        }
+    };
+    if (which == Detection::Again) {
+        // A triangle none of whose corners moved since First is where First tested it: its
+        // proximity contacts are First's, apart from the normals taken from where the cloth
+        // started (face–vertex sides, edge–edge directions), which are tested again at xe.
+        std::vector<char>& moved = m_movedTriangle;
+        moved.assign(static_cast<std::size_t>(m_triangles.rows()), 0);
+        for (int t = 0; t < m_triangles.rows(); ++t) {
+            for (int i = 0; i < 3; ++i) {
+                const int v = m_triangles(t, i);
+                if (xe.row(v) != o.firstPositions.row(v)) {
+                    moved[static_cast<std::size_t>(t)] = 1;
+                }
+            }
+        }
+        const std::pair<int, int>* pairs = m_pairs.data();
+        const std::size_t used = detectInChunks([&](DetectionChunk& out, const std::pair<int, int>& pair) {
+            if (moved[static_cast<std::size_t>(pair.first)] != 0) {
+                testPair(out, pair);
+                return;
+            }
+            const std::size_t i = static_cast<std::size_t>(&pair - pairs);
+            std::optional<Frame> fr;
+            for (int j = o.firstNearStart[i]; j < o.firstNearStart[i + 1]; ++j) {
+                const Contact& c = o.firstNear[static_cast<std::size_t>(j)];
+                const std::array<int, 2>& feature = o.firstFeature[static_cast<std::size_t>(j)];
+                if (c.kind == Contact::Kind::VertexFace) {
+                    out.contacts.push_back(c);
+                } else if (c.kind == Contact::Kind::FaceVertex) {
+                    if (!fr) {
+                        fr = frameOf(pair);
+                    }
+                    faceVertex(out, *fr, feature[0]);
+                } else {
+                    edgeEdge(out, feature[0], feature[1]);
+                }
+            }
+        });
+        for (const auto& pair : m_pairs) {
+            m_figures.candidatePairs += moved[static_cast<std::size_t>(pair.first)];
+        }
+        gatherChunks(used);
+        return;
+    }
+    const bool remember = m_anySelf;
+    if (remember) {
+        o.firstNearStart.assign(m_pairs.size() + 1, 0);
+    }
+    const std::pair<int, int>* pairs = m_pairs.data();
+    const std::size_t used = detectInChunks([&](DetectionChunk& out, const std::pair<int, int>& pair) {
+        const std::size_t before = out.contacts.size();
+        testPair(out, pair);
+        if (remember) {
+            int near = 0;
+            for (std::size_t j = before; j < out.contacts.size(); ++j) {
+                near += out.contacts[j].swept ? 0 : 1;
+            }
+            o.firstNearStart[static_cast<std::size_t>(&pair - pairs) + 1] = near;
         }
     });
+    const std::size_t first = m_contacts.size();
     gatherChunks(used);
+    if (remember) {
+        for (std::size_t i = 1; i < o.firstNearStart.size(); ++i) {
+            o.firstNearStart[i] += o.firstNearStart[i - 1];
+        }
+        o.firstPairs = m_pairs;
+        o.firstPositions = xe;
+        o.firstNear.clear();
+        o.firstFeature.clear();
+        std::size_t next = first;
+        for (std::size_t c = 0; c < used; ++c) {
+            for (const std::array<int, 2>& feature : m_chunks[c].features) {
+                const Contact& contact = m_contacts[next++];
+                if (!contact.swept) {
+                    o.firstNear.push_back(contact);
+                    o.firstFeature.push_back(feature);
+                }
+            }
+        }
+    }
 }
 
 void CollisionStage::detectSelf(const MatX3& xs, const MatX3& xe) {
@@ -804,7 +933,7 @@ void CollisionStage::detectSelf(const MatX3& xs, const MatX3& xe) {
                         continue;
                     }
                     const Vec3 ps = row(xs, p);
-                    if (!sweptBoxesNear<2, 6>({&ps, &pe}, {&bs[0], &bs[1], &bs[2], &be[0], &be[1], &be[2]}, d0)) {
+                    if (!sweptBoxesNear<2, 6>({&ps, &pe}, {&bs[0], &bs[1], &bs[2], &be[0], &be[1], &be[2]}, 0.0)) {
                         continue;
                     }
                     const auto hit = sweptVertexTriangle(ps, pe, bs[0], be[0], bs[1], be[1], bs[2], be[2], 0.0);
@@ -863,18 +992,17 @@ void CollisionStage::detectSelf(const MatX3& xs, const MatX3& xe) {
                 }
                 const double d0 = std::max(m_thickness[e0], m_thickness[e1]) +
                                   std::max(m_thickness[g0], m_thickness[g1]);
-                {
-                    const Vec3 p0 = row(xs, e0), p1 = row(xe, e0), p2 = row(xs, e1), p3 = row(xe, e1);
-                    const Vec3 q0 = row(xs, g0), q1 = row(xe, g0), q2 = row(xs, g1), q3 = row(xe, g1);
-                    if (!sweptBoxesNear<4, 4>({&p0, &p1, &p2, &p3}, {&q0, &q1, &q2, &q3}, d0 * factor)) {
-                        continue;
-                    }
+                const Vec3 p0 = row(xs, e0), p1 = row(xe, e0), p2 = row(xs, e1), p3 = row(xe, e1);
+                const Vec3 q0 = row(xs, g0), q1 = row(xe, g0), q2 = row(xs, g1), q3 = row(xe, g1);
+                if (!sweptBoxesNear<4, 4>({&p0, &p1, &p2, &p3}, {&q0, &q1, &q2, &q3}, d0 * factor)) {
+                    continue;
                 }
                 const SegmentPoints sp = closestPointsOfSegments(row(xe, e0), row(xe, e1), row(xe, g0), row(xe, g1));
                 double s = sp.s, t = sp.t;
                 const bool near = sp.distance < d0 * factor && interior(s) && interior(t);
                 if (!near) {
-                    if (!swept) {
+                    // The swept test looks for a crossing: the swept boxes must overlap.
+                    if (!swept || !sweptBoxesNear<4, 4>({&p0, &p1, &p2, &p3}, {&q0, &q1, &q2, &q3}, 0.0)) {
                         continue;
                     }
                     const auto hit = sweptEdgeEdge(row(xs, e0), row(xe, e0), row(xs, e1), row(xe, e1),
@@ -1369,7 +1497,7 @@ void CollisionStage::update(double t0, double t1, const MatX3& xs, MatX3& xe, Ma
             findTrapped(k, xe); // the start: trapped vertices must not get ordinary contacts
         }
         extractTrapped(k, h, xe, ve);
-        detectObstacle(k, h, xs, xe);
+        detectObstacle(k, h, xs, xe, Detection::First);
     }
     if (m_anySelf) {
         detectSelf(xs, xe);
@@ -1382,7 +1510,7 @@ void CollisionStage::update(double t0, double t1, const MatX3& xs, MatX3& xe, Ma
         // correct with those contacts (obstacles win).
         const std::size_t first = m_contacts.size();
         for (std::size_t k = 0; k < m_obstacles.size(); ++k) {
-            detectObstacle(k, h, xe, xe, false);
+            detectObstacle(k, h, xe, xe, Detection::Again);
         }
         m_contactKey.resize(m_contacts.size(), 0);
         m_contactSide.resize(m_contacts.size(), 0);

@@ -8,6 +8,7 @@
 #include "sim/collision/bvh.h"
 #include "sim/scene.h"
 
+#include <array>
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
@@ -34,6 +35,7 @@ struct Contact {
     enum class Grip : std::uint8_t { Coulomb, Stick, Slip };
     Grip grip = Grip::Coulomb;
     bool active = false; ///< touching after the position correction (B acts on it)
+    bool swept = false;  ///< found by a swept test only (the pair ended apart)
     int obstacle = -1;   ///< obstacle index, or -1 for cloth–cloth
     /// q as a combination of the obstacle's vertices (up to three: a face point, an edge
     /// point or a vertex), so its velocity can be taken over another step.
@@ -144,10 +146,24 @@ class CollisionStage {
         std::vector<std::vector<int>> ownedVertices, ownedEdges; ///< per triangle
         bool moves = false;
         double fittedMargin = -1; ///< margin of the last refit of a static obstacle (-1: none)
+        /// The step's first detection, kept for the one after project() (detectObstacleAgain):
+        /// its candidate pairs, the cloth positions it saw, its proximity contacts in pair order
+        /// and, per pair, where they start among them (one more entry: the end).
+        std::vector<std::pair<int, int>> firstPairs;
+        MatX3 firstPositions;
+        std::vector<Contact> firstNear;
+        std::vector<std::array<int, 2>> firstFeature; ///< per firstNear: (p | q | e, -1 | g)
+        std::vector<int> firstNearStart;
     };
 
-    void detectObstacle(std::size_t k, double h, const MatX3& xs, const MatX3& xe,
-                        bool allowSwept = true);
+    /// First: the step's detection against obstacle k, proximity at xe and swept tests over
+    /// xs → xe; with self-collision on, remembered for Again.
+    /// Again (after project(), xs == xe): proximity contacts where the cloth is now. Same
+    /// contacts in the same order as testing every candidate pair at xe, but only the cloth
+    /// triangles that moved since First are tested; the others' are First's proximity
+    /// contacts, those whose normal depends on where the cloth started taken again at xe.
+    enum class Detection { First, Again };
+    void detectObstacle(std::size_t k, double h, const MatX3& xs, const MatX3& xe, Detection which);
     void detectSelf(const MatX3& xs, const MatX3& xe);
     void voteRegions(const MatX3& xe);
     void extractTrapped(std::size_t k, double h, MatX3& xe, MatX3& ve);
@@ -219,6 +235,7 @@ class CollisionStage {
     std::vector<double> m_distanceValue;
     MatX3 m_distancePoint;
     std::vector<std::pair<int, int>> m_pairs;
+    std::vector<char> m_movedTriangle; ///< Detection::Again: per cloth triangle, moved since First
     std::vector<char> m_putBack;    ///< fail-safe: per vertex, put back this step (all 0 between steps)
     std::vector<int> m_putBackList; ///< fail-safe: the vertices put back in the current round
     double m_frictionScale = 1.0;   ///< multiplies the friction of contacts found (sewing phase)
@@ -239,6 +256,7 @@ class CollisionStage {
         std::vector<signed char> sides;   ///< per contact, as m_contactSide
         std::vector<char> reliable;       ///< per contact, as m_contactReliable
         std::vector<int> hits;            ///< fail-safe: vertices of crossing features
+        std::vector<std::array<int, 2>> features; ///< per obstacle contact: its features (Detection::First)
         long continuousHits = 0;
         void clear() {
             contacts.clear();
@@ -246,6 +264,7 @@ class CollisionStage {
             sides.clear();
             reliable.clear();
             hits.clear();
+            features.clear();
             continuousHits = 0;
         }
     };
