@@ -84,8 +84,10 @@ struct ContactSolveOptions {
     /// it the kinetic force μ_k·λ against the slip [m/s].
     double slipSpeed = 1e-4;
     /// Cloth–cloth contacts in the solve too (each side's own blocks; the coupling between
-    /// the sides stays explicit). Off: only cloth–obstacle contacts.
-    bool selfContacts = false;
+    /// the sides stays explicit). Off: only cloth–obstacle contacts, and cloth–cloth contacts
+    /// act only through the corrections after the solve (which is what left piled sheets
+    /// stretched and let a dragged fold deadlock against the fail-safe: see the README).
+    bool selfContacts = true;
 };
 
 /// Collision stage settings (used only when the scene has obstacles or self-collision).

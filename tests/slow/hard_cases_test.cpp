@@ -9,7 +9,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <filesystem>
 
 namespace atelier {
@@ -41,8 +40,8 @@ void runHardScene(const sim::SceneSpec& scene, const std::string& label) {
     EXPECT_LE(simulation.kineticEnergy(), stats.energyInput) << label;
     EXPECT_LT(simulation.maxEdgeStrain(), 0.10) << label;
     if (simulation.collision() != nullptr) {
-        // Cloth–obstacle intersections must be gone; cloth–cloth ones are counted in the report
-        // (not yet zero on every scene: see the README's open points).
+        // No intersection with obstacles; none between cloth triangles either where the scene
+        // asks for self-collision.
         long withObstacles = -1;
         test::intersections(simulation, &withObstacles);
         EXPECT_EQ(withObstacles, 0) << label;
@@ -54,19 +53,7 @@ void runHardScene(const sim::SceneSpec& scene, const std::string& label) {
     }
 }
 
-/// Hard scenes that do not pass yet (issue 3 is open): in pulled-through-self, self-collision lets
-/// the dragged fold cross the curtain (and the run takes minutes); in stack-on-box, contact
-/// corrections leave the piled sheets stretched (max edge strain 0.34 at the end). Both are
-/// covered by collision_scenes_test where they do hold (no intersection with the box).
-bool knownOpen(const std::string& name) {
-    return std::getenv("ATELIER_RUN_OPEN") == nullptr &&
-           (name == "pulled-through-self" || name == "stack-on-box");
-}
-
 TEST_P(HardCase, EndsFiniteBoundedAndSane) {
-    if (knownOpen(GetParam())) {
-        GTEST_SKIP() << GetParam() << ": known open, see README (self-collision)";
-    }
     const fs::path path = fs::path(ATELIER_SOURCE_DIR) / "assets/scenes/hard" / (GetParam() + ".json");
     auto loaded = io::loadScene(path.string());
     ASSERT_TRUE(loaded.ok()) << loaded.error().toString();
