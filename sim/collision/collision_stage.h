@@ -60,7 +60,11 @@ struct CollisionFigures {
     long rolledBack = 0;         ///< vertex-steps sent back to their start by the fail-safe, in total
 };
 
+struct CollisionStageProbe; // test access to the detection passes (defined by the tests)
+
 class CollisionStage {
+    friend struct CollisionStageProbe;
+
   public:
     /// `offsets`: first global vertex of each cloth plus the total; `x` the initial positions.
     CollisionStage(const SceneSpec& scene, const std::vector<int>& offsets, const MatX3& x);
