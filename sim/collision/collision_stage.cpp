@@ -48,6 +48,35 @@ bool sweptBoxesNear(const std::array<const Vec3*, N>& a, const std::array<const 
 /// Whether a segment parameter is strictly inside (not at an end).
 bool interior(double s) { return s > 1e-9 && s < 1.0 - 1e-9; }
 
+/// Where edge (a, b) meets edge (c, d), each end moving from …0 to …1 over the step: the
+/// closest points at the end when interior to both and closer than `reach` (`near`), else, if
+/// `swept`, interior points that meet during the step. Where the closest points are an end, the
+/// vertex–face tests cover it, and the direction between them is not a surface normal.
+struct EdgeMeeting {
+    double s = 0, t = 0; ///< parameters along (a, b) and (c, d)
+    bool near = false;
+};
+std::optional<EdgeMeeting> edgesMeet(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1,
+                                     const Vec3& c0, const Vec3& c1, const Vec3& d0, const Vec3& d1,
+                                     double reach, bool swept) {
+    if (!sweptBoxesNear<4, 4>({&a0, &a1, &b0, &b1}, {&c0, &c1, &d0, &d1}, reach)) {
+        return std::nullopt;
+    }
+    const SegmentPoints sp = closestPointsOfSegments(a1, b1, c1, d1);
+    if (sp.distance < reach && interior(sp.s) && interior(sp.t)) {
+        return EdgeMeeting{sp.s, sp.t, true};
+    }
+    // The swept test looks for a crossing: the swept boxes must overlap.
+    if (!swept || !sweptBoxesNear<4, 4>({&a0, &a1, &b0, &b1}, {&c0, &c1, &d0, &d1}, 0.0)) {
+        return std::nullopt;
+    }
+    const auto hit = sweptEdgeEdge(a0, a1, b0, b1, c0, c1, d0, d1, 0.0);
+    if (!hit || !interior(hit->coords[0]) || !interior(hit->coords[1])) {
+        return std::nullopt;
+    }
+    return EdgeMeeting{hit->coords[0], hit->coords[1], false};
+}
+
 double combine(double a, double b) { return std::sqrt(std::max(0.0, a) * std::max(0.0, b)); }
 
 signed char signOf(double v) { return v > 0 ? 1 : (v < 0 ? -1 : 0); }
@@ -735,33 +764,14 @@ void CollisionStage::detectObstacle(std::size_t k, double h, const MatX3& xs, co
         const int e0 = m_edges(e, 0), e1 = m_edges(e, 1);
         const double de0 = std::max(m_thickness[e0], m_thickness[e1]) + spec.thickness;
         const int g0 = o.edges(g, 0), g1 = o.edges(g, 1);
-        const Vec3 p0 = row(xs, e0), p1 = row(xe, e0), p2 = row(xs, e1), p3 = row(xe, e1);
-        const Vec3 q0 = row(o.x0, g0), q1 = row(o.x1, g0), q2 = row(o.x0, g1), q3 = row(o.x1, g1);
-        if (!sweptBoxesNear<4, 4>({&p0, &p1, &p2, &p3}, {&q0, &q1, &q2, &q3}, de0 * factor)) {
+        const auto meeting = edgesMeet(row(xs, e0), row(xe, e0), row(xs, e1), row(xe, e1), row(o.x0, g0),
+                                       row(o.x1, g0), row(o.x0, g1), row(o.x1, g1), de0 * factor, swept);
+        if (!meeting) {
             return;
         }
-        const SegmentPoints sp =
-            closestPointsOfSegments(row(xe, e0), row(xe, e1), row(o.x1, g0), row(o.x1, g1));
-        double s = sp.s, t = sp.t;
-        // Edge–edge proximity only between interior points: when a closest point is an
-        // end, the vertex–face tests cover it, and the direction between the points is
-        // not a surface normal (it may be sideways).
-        const bool near = sp.distance < de0 * factor && interior(s) && interior(t);
-        if (!near) {
-            // The swept test looks for a crossing: the swept boxes must overlap.
-            if (!swept || !sweptBoxesNear<4, 4>({&p0, &p1, &p2, &p3}, {&q0, &q1, &q2, &q3}, 0.0)) {
-                return;
-            }
-            const auto hit = sweptEdgeEdge(row(xs, e0), row(xe, e0), row(xs, e1), row(xe, e1),
-                                           row(o.x0, g0), row(o.x1, g0), row(o.x0, g1),
-                                           row(o.x1, g1), 0.0);
-            if (!hit || !interior(hit->coords[0]) || !interior(hit->coords[1])) {
-                return;
-            }
-            ++out.continuousHits;
-            s = hit->coords[0];
-            t = hit->coords[1];
-        }
+        const double s = meeting->s, t = meeting->t;
+        const bool near = meeting->near;
+        out.continuousHits += near ? 0 : 1;
         const Vec3 pe = (1 - s) * row(xe, e0) + s * row(xe, e1);
         const Vec3 qe = (1 - t) * row(o.x1, g0) + t * row(o.x1, g1);
         const Vec3 ds = ((1 - s) * row(xs, e0) + s * row(xs, e1)) -
@@ -992,28 +1002,14 @@ void CollisionStage::detectSelf(const MatX3& xs, const MatX3& xe) {
                 }
                 const double d0 = std::max(m_thickness[e0], m_thickness[e1]) +
                                   std::max(m_thickness[g0], m_thickness[g1]);
-                const Vec3 p0 = row(xs, e0), p1 = row(xe, e0), p2 = row(xs, e1), p3 = row(xe, e1);
-                const Vec3 q0 = row(xs, g0), q1 = row(xe, g0), q2 = row(xs, g1), q3 = row(xe, g1);
-                if (!sweptBoxesNear<4, 4>({&p0, &p1, &p2, &p3}, {&q0, &q1, &q2, &q3}, d0 * factor)) {
+                const auto meeting = edgesMeet(row(xs, e0), row(xe, e0), row(xs, e1), row(xe, e1), row(xs, g0),
+                                               row(xe, g0), row(xs, g1), row(xe, g1), d0 * factor, swept);
+                if (!meeting) {
                     continue;
                 }
-                const SegmentPoints sp = closestPointsOfSegments(row(xe, e0), row(xe, e1), row(xe, g0), row(xe, g1));
-                double s = sp.s, t = sp.t;
-                const bool near = sp.distance < d0 * factor && interior(s) && interior(t);
-                if (!near) {
-                    // The swept test looks for a crossing: the swept boxes must overlap.
-                    if (!swept || !sweptBoxesNear<4, 4>({&p0, &p1, &p2, &p3}, {&q0, &q1, &q2, &q3}, 0.0)) {
-                        continue;
-                    }
-                    const auto hit = sweptEdgeEdge(row(xs, e0), row(xe, e0), row(xs, e1), row(xe, e1),
-                                                   row(xs, g0), row(xe, g0), row(xs, g1), row(xe, g1), 0.0);
-                    if (!hit || !interior(hit->coords[0]) || !interior(hit->coords[1])) {
-                        continue;
-                    }
-                    ++out.continuousHits;
-                    s = hit->coords[0];
-                    t = hit->coords[1];
-                }
+                const double s = meeting->s, t = meeting->t;
+                const bool near = meeting->near;
+                out.continuousHits += near ? 0 : 1;
                 const Vec3 de = ((1 - s) * row(xe, e0) + s * row(xe, e1)) - ((1 - t) * row(xe, g0) + t * row(xe, g1));
                 const Vec3 ds = ((1 - s) * row(xs, e0) + s * row(xs, e1)) - ((1 - t) * row(xs, g0) + t * row(xs, g1));
                 Vec3 normal;
