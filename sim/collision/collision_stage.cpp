@@ -48,6 +48,16 @@ bool sweptBoxesNear(const std::array<const Vec3*, N>& a, const std::array<const 
 /// Whether a segment parameter is strictly inside (not at an end).
 bool interior(double s) { return s > 1e-9 && s < 1.0 - 1e-9; }
 
+/// When a point moving p0 → p1 passes through the triangle (a, b, c), each corner moving
+/// …0 → …1, during the step (first contact), if it does; only where the swept boxes overlap.
+std::optional<SweptHit> vertexCrosses(const Vec3& p0, const Vec3& p1, const Vec3& a0, const Vec3& a1,
+                                      const Vec3& b0, const Vec3& b1, const Vec3& c0, const Vec3& c1) {
+    if (!sweptBoxesNear<2, 6>({&p0, &p1}, {&a0, &a1, &b0, &b1, &c0, &c1}, 0.0)) {
+        return std::nullopt;
+    }
+    return sweptVertexTriangle(p0, p1, a0, a1, b0, b1, c0, c1, 0.0);
+}
+
 /// Where edge (a, b) meets edge (c, d), each end moving from …0 to …1 over the step: the
 /// closest points at the end when interior to both and closer than `reach` (`near`), else, if
 /// `swept`, interior points that meet during the step. Where the closest points are an end, the
@@ -679,10 +689,7 @@ void CollisionStage::detectObstacle(std::size_t k, double h, const MatX3& xs, co
             c.swept = true;
             // The swept tests look for crossings (distance 0): a pair that ends near is the
             // proximity test's; one that crossed during the step and ended apart is this one's.
-            if (!sweptBoxesNear<2, 6>({&ps, &pe}, {&b0[0], &b0[1], &b0[2], &b1[0], &b1[1], &b1[2]}, 0.0)) {
-                return;
-            }
-            const auto hit = sweptVertexTriangle(ps, pe, b0[0], b1[0], b0[1], b1[1], b0[2], b1[2], 0.0);
+            const auto hit = vertexCrosses(ps, pe, b0[0], b1[0], b0[1], b1[1], b0[2], b1[2]);
             if (!hit) {
                 return;
             }
@@ -713,10 +720,7 @@ void CollisionStage::detectObstacle(std::size_t k, double h, const MatX3& xs, co
             if (!swept) {
                 return;
             }
-            if (!sweptBoxesNear<2, 6>({&q0, &q1}, {&as[0], &as[1], &as[2], &ae[0], &ae[1], &ae[2]}, 0.0)) {
-                return;
-            }
-            hit = sweptVertexTriangle(q0, q1, as[0], ae[0], as[1], ae[1], as[2], ae[2], 0.0);
+            hit = vertexCrosses(q0, q1, as[0], ae[0], as[1], ae[1], as[2], ae[2]);
             if (!hit) {
                 return;
             }
@@ -943,10 +947,7 @@ void CollisionStage::detectSelf(const MatX3& xs, const MatX3& xe) {
                         continue;
                     }
                     const Vec3 ps = row(xs, p);
-                    if (!sweptBoxesNear<2, 6>({&ps, &pe}, {&bs[0], &bs[1], &bs[2], &be[0], &be[1], &be[2]}, 0.0)) {
-                        continue;
-                    }
-                    const auto hit = sweptVertexTriangle(ps, pe, bs[0], be[0], bs[1], be[1], bs[2], be[2], 0.0);
+                    const auto hit = vertexCrosses(ps, pe, bs[0], be[0], bs[1], be[1], bs[2], be[2]);
                     if (!hit) {
                         continue;
                     }
@@ -1328,8 +1329,7 @@ void CollisionStage::pairCrossings(int ta, int tb, const MatX3& xs, const MatX3&
             }
             const Vec3 p0 = row(xs, p), p1 = row(xe, p), a0 = row(xs, f0), a1 = row(xe, f0),
                        b0 = row(xs, f1), b1 = row(xe, f1), c0 = row(xs, f2), c1 = row(xe, f2);
-            if (sweptBoxesNear<2, 6>({&p0, &p1}, {&a0, &a1, &b0, &b1, &c0, &c1}, 0.0) &&
-                sweptVertexTriangle(p0, p1, a0, a1, b0, b1, c0, c1, 0.0)) {
+            if (vertexCrosses(p0, p1, a0, a1, b0, b1, c0, c1)) {
                 hits.insert(hits.end(), {p, f0, f1, f2});
             }
         }
