@@ -395,17 +395,48 @@ double CollisionStage::vertexSignedDistance(std::size_t k, int p, const Vec3& xp
 }
 
 void CollisionStage::findTrapped(std::size_t k, const MatX3& x) {
-    const ObstacleData& o = m_obstacles[k];
+    ObstacleData& o = m_obstacles[k];
     if (!o.spec->closed || o.bvh.empty()) {
         return;
     }
-    const Aabb& box = o.bvh.nodes()[static_cast<std::size_t>(o.bvh.root())].box;
+    // A vertex outside the obstacle's 26-sided hull (its extent along 13 directions: the axes,
+    // the face and the body diagonals) is outside the obstacle: no distance query. Without it,
+    // the query from a point far above a smooth surface visits a cap of leaves that grows with
+    // the distance (the first check of a large sheet cost more than N log N).
+    static const std::array<Vec3, 13> directions = {
+        Vec3(1, 0, 0),  Vec3(0, 1, 0),  Vec3(0, 0, 1),  Vec3(1, 1, 0),  Vec3(1, -1, 0),
+        Vec3(1, 0, 1),  Vec3(1, 0, -1), Vec3(0, 1, 1),  Vec3(0, 1, -1), Vec3(1, 1, 1),
+        Vec3(1, 1, -1), Vec3(1, -1, 1), Vec3(-1, 1, 1)};
+    std::array<double, 13>& lo = o.hullLo;
+    std::array<double, 13>& hi = o.hullHi;
+    if (o.moves || !o.hullFitted) { // a static obstacle's once
+        lo.fill(INF);
+        hi.fill(-INF);
+        for (Eigen::Index v = 0; v < o.x1.rows(); ++v) {
+            const Vec3 q = row(o.x1, static_cast<int>(v));
+            for (std::size_t d = 0; d < directions.size(); ++d) {
+                const double s = directions[d].dot(q);
+                lo[d] = std::min(lo[d], s);
+                hi[d] = std::max(hi[d], s);
+            }
+        }
+        o.hullFitted = true;
+    }
+    const auto outsideHull = [&](const Vec3& p) {
+        for (std::size_t d = 0; d < directions.size(); ++d) {
+            const double s = directions[d].dot(p);
+            if (s < lo[d] || s > hi[d]) {
+                return true;
+            }
+        }
+        return false;
+    };
     // Each vertex on its own (its own slots of m_trapped and of the distance cache).
     const std::int64_t nv = x.rows();
     ATELIER_PARALLEL_FOR(nv)
     for (std::int64_t pp = 0; pp < nv; ++pp) {
         const int p = static_cast<int>(pp);
-        if (m_trapped[static_cast<std::size_t>(p)] >= 0 || box.squaredDistance(row(x, p)) > 0) {
+        if (m_trapped[static_cast<std::size_t>(p)] >= 0 || outsideHull(row(x, p))) {
             continue;
         }
         const double reach = (m_thickness[p] + o.spec->thickness) *

@@ -150,6 +150,9 @@ class CollisionStage {
         std::vector<std::vector<int>> ownedVertices, ownedEdges; ///< per triangle
         bool moves = false;
         double fittedMargin = -1; ///< margin of the last refit of a static obstacle (-1: none)
+        /// Extent along findTrapped's 13 directions (a 26-sided hull), fitted once if static.
+        std::array<double, 13> hullLo{}, hullHi{};
+        bool hullFitted = false;
         /// The step's first detection, kept for the one after project() (detectObstacleAgain):
         /// its candidate pairs, the cloth positions it saw, its proximity contacts in pair order
         /// and, per pair, where they start among them (one more entry: the end).
