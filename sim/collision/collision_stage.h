@@ -153,7 +153,7 @@ class CollisionStage {
         /// Extent along findTrapped's 13 directions (a 26-sided hull), fitted once if static.
         std::array<double, 13> hullLo{}, hullHi{};
         bool hullFitted = false;
-        /// The step's first detection, kept for the one after project() (detectObstacleAgain):
+        /// The step's first detection, kept for the one after project() (Detection::Again):
         /// its candidate pairs, the cloth positions it saw, its proximity contacts in pair order
         /// and, per pair, where they start among them (one more entry: the end).
         std::vector<std::pair<int, int>> firstPairs;
