@@ -239,7 +239,7 @@ TEST(SceneFileObstacles, ClothCollisionFieldsAndOptions) {
         sceneText(R"({"shape": {"type": "plane"}})",
                   R"(, "collision": {"continuous": false, "iterations": 7, "proximity_factor": 0.25,
              "extraction_speed": 2.5, "solve_contacts": false, "contact_stiffness": 40,
-             "contact_layer": 0.5, "friction_slip_speed": 0.002, "solve_self_contacts": true})",
+             "contact_layer": 0.5, "friction_slip_speed": 0.002, "solve_self_contacts": false})",
                   R"(, "thickness": 0.004, "self_collision": true)"));
     ASSERT_TRUE(loaded.ok()) << loaded.error().toString();
     const sim::SceneSpec& scene = loaded.value();
@@ -253,7 +253,7 @@ TEST(SceneFileObstacles, ClothCollisionFieldsAndOptions) {
     EXPECT_EQ(scene.collision.solve.stiffness, 40.0);
     EXPECT_EQ(scene.collision.solve.margin, 0.5);
     EXPECT_EQ(scene.collision.solve.slipSpeed, 0.002);
-    EXPECT_TRUE(scene.collision.solve.selfContacts);
+    EXPECT_FALSE(scene.collision.solve.selfContacts); // the default is true
 }
 
 TEST(SceneFileObstacles, ErrorsNameTheJsonPointer) {
