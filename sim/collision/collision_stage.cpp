@@ -48,6 +48,19 @@ bool sweptBoxesNear(const std::array<const Vec3*, N>& a, const std::array<const 
 /// Whether a segment parameter is strictly inside (not at an end).
 bool interior(double s) { return s > 1e-9 && s < 1.0 - 1e-9; }
 
+/// The direction in which two meeting edges must stay apart: the one between their meeting
+/// points at the end (de) where they are near and have not turned over since the start (ds),
+/// else the one at the start; none when both are too short to tell.
+std::optional<Vec3> edgeSeparation(const Vec3& de, const Vec3& ds, bool near) {
+    if (near && de.dot(ds) > 0 && de.norm() > TINY) {
+        return de.normalized();
+    }
+    if (ds.norm() > TINY) {
+        return ds.normalized();
+    }
+    return std::nullopt;
+}
+
 /// When a point moving p0 → p1 passes through the triangle (a, b, c), each corner moving
 /// …0 → …1, during the step (first contact), if it does; only where the swept boxes overlap.
 std::optional<SweptHit> vertexCrosses(const Vec3& p0, const Vec3& p1, const Vec3& a0, const Vec3& a1,
@@ -811,13 +824,11 @@ void CollisionStage::detectObstacle(std::size_t k, double h, const MatX3& xs, co
         const Vec3 qe = (1 - t) * row(o.x1, g0) + t * row(o.x1, g1);
         const Vec3 ds = ((1 - s) * row(xs, e0) + s * row(xs, e1)) -
                         ((1 - t) * row(o.x0, g0) + t * row(o.x0, g1));
-        Vec3 de = pe - qe;
+        const std::optional<Vec3> separation = edgeSeparation(pe - qe, ds, near);
         Vec3 normal;
-        if (near && de.dot(ds) > 0 && de.norm() > TINY) {
-            normal = de.normalized();
-        } else if (ds.norm() > TINY) {
-            normal = ds.normalized();
-        } else {
+        if (separation) {
+            normal = *separation;
+        } else { // the obstacle edge's normal
             const auto& et = o.edgeTriangles[static_cast<std::size_t>(g)];
             normal = triangleNormal(row(o.x1, f(et[0], 0)), row(o.x1, f(et[0], 1)), row(o.x1, f(et[0], 2)));
             if (et[1] >= 0) {
@@ -1044,14 +1055,11 @@ void CollisionStage::detectSelf(const MatX3& xs, const MatX3& xe) {
                 out.continuousHits += near ? 0 : 1;
                 const Vec3 de = ((1 - s) * row(xe, e0) + s * row(xe, e1)) - ((1 - t) * row(xe, g0) + t * row(xe, g1));
                 const Vec3 ds = ((1 - s) * row(xs, e0) + s * row(xs, e1)) - ((1 - t) * row(xs, g0) + t * row(xs, g1));
-                Vec3 normal;
-                if (near && de.dot(ds) > 0 && de.norm() > TINY) {
-                    normal = de.normalized();
-                } else if (ds.norm() > TINY) {
-                    normal = ds.normalized();
-                } else {
+                const std::optional<Vec3> separation = edgeSeparation(de, ds, near);
+                if (!separation) {
                     continue;
                 }
+                const Vec3 normal = *separation;
                 Contact c;
                 c.kind = Contact::Kind::SelfEdgeEdge;
                 c.vertex[0] = e0;
