@@ -10,11 +10,13 @@ namespace atelier::patterns {
 
 /// A named surface around a part of the body on which panels are placed (like the
 /// arrangement points of commercial garment tools): a cylinder around `axis` through
-/// `origin`, enclosing the body part within [alongMin, alongMax] with `radius`.
+/// `origin`, enclosing the body part within [alongMin, alongMax] with `radius`, or, with a
+/// profile, a surface of revolution following the part's sections.
 ///
 /// A panel point (u, v) — u around, v along, both arc lengths [m] — maps to
-/// origin + v·axis + r·(cos(u/r)·facing + sin(u/r)·right), right = axis × facing, r = radius
-/// + clearance. A counter-clockwise panel drawn with +y "up" (toward +axis) then has its
+/// origin + v·axis + c(v) + r·(cos(u/r)·facing + sin(u/r)·right), right = axis × facing,
+/// r = radius (the profile's) + clearance, c the section centre's offset (zero but on leg
+/// slots). A counter-clockwise panel drawn with +y "up" (toward +axis) then has its
 /// front (normal +z of the pattern plane) facing away from the body.
 struct ArrangementSlot {
     std::string name;
@@ -29,6 +31,11 @@ struct ArrangementSlot {
     /// revolution, so they start close to the body where it is narrow (a waist) and clear
     /// of it where it is wide (hips).
     std::vector<double> profile;
+    /// Where the body part's section is centred along the axis, as offsets ⟂ axis from it
+    /// (profile[k]'s bin; empty: on the axis everywhere). A leg slot follows the leg, which
+    /// is spread from the hip, and above the crotch the half of the pelvis on its side, so a
+    /// trouser panel wrapped on it starts around its own leg.
+    std::vector<sim::Vec3> profileCentre;
     double profileStep = 0.01; ///< [m]
     /// Largest angle a panel may span to either side of `facing` [rad]: a little under π/2
     /// where two panels share the circumference (front and back), under π where one panel
@@ -39,20 +46,28 @@ struct ArrangementSlot {
 
     /// The profile's radius at `along` (linear, clamped to its ends) [m].
     double radiusAt(double along) const {
-        if (profile.empty()) {
-            return radius;
-        }
+        return profile.empty() ? radius : interpolate(profile, along);
+    }
+
+    /// The section's centre offset from the axis at `along` (linear, clamped) [m].
+    sim::Vec3 centreAt(double along) const {
+        return profileCentre.empty() ? sim::Vec3(sim::Vec3::Zero())
+                                     : interpolate(profileCentre, along);
+    }
+
+private:
+    template <class T> T interpolate(const std::vector<T>& values, double along) const {
         const double u = (along - alongMin) / profileStep;
         if (u <= 0) {
-            return profile.front();
+            return values.front();
         }
-        const auto last = static_cast<double>(profile.size() - 1);
+        const auto last = static_cast<double>(values.size() - 1);
         if (u >= last) {
-            return profile.back();
+            return values.back();
         }
         const auto k = static_cast<std::size_t>(u);
         const double f = u - static_cast<double>(k);
-        return (1 - f) * profile[k] + f * profile[k + 1];
+        return T((1 - f) * values[k] + f * values[k + 1]);
     }
 };
 

@@ -514,30 +514,103 @@ std::vector<ArrangementSlot> computeSlots(const sim::MatX3& x, const std::vector
         return s;
     };
     bool paired = true; // front/back (or left/right) panels share the slot's circumference
+    // A leg slot's vertices: its leg's, and above the crotch those of the torso on its side.
+    int legSide = 0;     // +1 left (+x), −1 right, 0: not a leg slot
+    auto legVertex = [&](Eigen::Index v, int pv) {
+        const int leg = legSide > 0 ? 3 : 4;
+        return pv == leg ||
+               (pv == 0 && legSide * (x(v, 0) - f.torsoOrigin.x()) > 0 && x(v, 1) > f.crotchY);
+    };
     auto enclose = [&](ArrangementSlot slot, std::initializer_list<int> parts,
                        std::initializer_list<int> nearParts = {}, double nearRadius = 0) {
         // The radius, and its profile along the axis in 1 cm bins (each bin later also
         // covering its neighbours), from the same vertices.
         const int bins = static_cast<int>(std::ceil((slot.alongMax - slot.alongMin) / 0.01)) + 1;
+        auto binOf = [&](double along) {
+            return static_cast<std::size_t>(std::clamp(
+                static_cast<int>(std::lround((along - slot.alongMin) / 0.01)), 0, bins - 1));
+        };
+        const Vec3 right = slot.right();
+        if (legSide != 0) {
+            // A leg slot is centred on the sections: each bin's bounding-box centre in the
+            // plane ⟂ axis, empty bins taking the nearest filled one's, averaged over ±5 cm
+            // so the surface bends smoothly from the half pelvis to the thigh.
+            std::vector<Vec3> lo(static_cast<std::size_t>(bins), Vec3::Constant(1e30));
+            std::vector<Vec3> hi(static_cast<std::size_t>(bins), Vec3::Constant(-1e30));
+            for (Eigen::Index v = 0; v < x.rows(); ++v) {
+                if (!legVertex(v, part[static_cast<std::size_t>(v)])) {
+                    continue;
+                }
+                const Vec3 d = Vec3(x.row(v)) - slot.origin;
+                const double along = d.dot(slot.axis);
+                if (along < slot.alongMin || along > slot.alongMax) {
+                    continue;
+                }
+                const Vec3 q(d.dot(right), d.dot(slot.facing), 0);
+                const std::size_t k = binOf(along);
+                lo[k] = lo[k].cwiseMin(q);
+                hi[k] = hi[k].cwiseMax(q);
+            }
+            // Each bin's centre, or the nearest filled bin's (none filled: the axis).
+            std::vector<int> source(static_cast<std::size_t>(bins), -1);
+            for (int k = 0, last = -1; k < bins; ++k) {
+                if (lo[static_cast<std::size_t>(k)].x() <= hi[static_cast<std::size_t>(k)].x()) {
+                    last = k;
+                }
+                source[static_cast<std::size_t>(k)] = last;
+            }
+            for (int k = bins - 1, next = -1; k >= 0; --k) {
+                if (lo[static_cast<std::size_t>(k)].x() <= hi[static_cast<std::size_t>(k)].x()) {
+                    next = k;
+                }
+                int& from = source[static_cast<std::size_t>(k)];
+                if (next >= 0 && (from < 0 || next - k < k - from)) {
+                    from = next;
+                }
+            }
+            std::vector<Vec3> mid(static_cast<std::size_t>(bins), Vec3::Zero());
+            for (int k = 0; k < bins; ++k) {
+                const int from = source[static_cast<std::size_t>(k)];
+                if (from >= 0) {
+                    mid[static_cast<std::size_t>(k)] = 0.5 * (lo[static_cast<std::size_t>(from)] +
+                                                              hi[static_cast<std::size_t>(from)]);
+                }
+            }
+            slot.profileCentre.assign(static_cast<std::size_t>(bins), Vec3::Zero());
+            for (int k = 0; k < bins; ++k) {
+                Vec3 acc = Vec3::Zero();
+                int count = 0;
+                for (int j = std::max(0, k - 5); j <= std::min(bins - 1, k + 5); ++j) {
+                    acc += mid[static_cast<std::size_t>(j)];
+                    ++count;
+                }
+                acc /= count;
+                slot.profileCentre[static_cast<std::size_t>(k)] =
+                    acc.x() * right + acc.y() * slot.facing;
+            }
+        }
         std::vector<double> prof(static_cast<std::size_t>(bins), 0.0);
         double r = 0;
         for (Eigen::Index v = 0; v < x.rows(); ++v) {
             const int pv = part[static_cast<std::size_t>(v)];
-            const bool in = std::find(parts.begin(), parts.end(), pv) != parts.end();
+            const bool in = legSide != 0 ? legVertex(v, pv)
+                                         : std::find(parts.begin(), parts.end(), pv) != parts.end();
             const bool near = std::find(nearParts.begin(), nearParts.end(), pv) != nearParts.end();
             if (!in && !near) {
                 continue;
             }
-            const Vec3 d = Vec3(x.row(v)) - slot.origin;
+            Vec3 d = Vec3(x.row(v)) - slot.origin;
             const double along = d.dot(slot.axis);
             if (along < slot.alongMin || along > slot.alongMax) {
                 continue;
             }
+            if (!slot.profileCentre.empty()) {
+                d -= slot.profileCentre[binOf(along)];
+            }
             const double radial = (d - along * slot.axis).norm();
             if (in || radial <= nearRadius) {
                 r = std::max(r, radial);
-                const auto k = static_cast<std::size_t>(std::clamp(
-                    static_cast<int>(std::lround((along - slot.alongMin) / 0.01)), 0, bins - 1));
+                const std::size_t k = binOf(along);
                 prof[k] = std::max(prof[k], radial);
             }
         }
@@ -587,13 +660,18 @@ std::vector<ArrangementSlot> computeSlots(const sim::MatX3& x, const std::vector
                  0.0),
                 {1 + side});
         paired = true;
+        // Leg: from the ankle up to the waist band's top (as the waist slots), following the
+        // leg's sections and above the crotch the pelvis on its side: a trouser panel placed
+        // here starts around its own leg, its inseam beside the other panel's.
         const Vec3 legOrigin(f.hipJoint[i].x(), f.crotchY, f.hipJoint[i].z());
+        legSide = i == 0 ? 1 : -1;
         enclose(slotOf("leg_" + lr + "_front", legOrigin, Vec3::UnitY(), Vec3::UnitZ(), 0,
-                 -f.crotchY + 0.09, 0.0),
+                 -f.crotchY + 0.09, waistY + 0.06 - f.crotchY),
                 {3 + side});
         enclose(slotOf("leg_" + lr + "_back", legOrigin, Vec3::UnitY(), -Vec3::UnitZ(), 0,
-                 -f.crotchY + 0.09, 0.0),
+                 -f.crotchY + 0.09, waistY + 0.06 - f.crotchY),
                 {3 + side});
+        legSide = 0;
     }
     return slots;
 }

@@ -68,7 +68,16 @@ sim::MatX3 wrapOnSlot(const sim::MatX2& coordinates, const ArrangementSlot& slot
         return out;
     };
     const std::vector<double> r = window(window(need, true), false);
+    // Each row's section centre (off the axis on a leg slot).
+    std::vector<Vec3> c(static_cast<std::size_t>(rows));
+    for (int k = 0; k < rows; ++k) {
+        c[static_cast<std::size_t>(k)] = slot.centreAt(vMin + k * STEP);
+    }
     // Along the axis: the meridian's arc length equals v, anchored at the panel's top row.
+    // Where the centre moves (a leg slot, from the pelvis to the thigh) the rows also move
+    // sideways, which lengthens the meridians a little; taking that move out of the rows'
+    // spacing along the axis instead shortened them more where the move is sideways to the
+    // meridian: the trousers' area went 0.9% under the pattern's, against < 0.5% this way.
     std::vector<double> along(static_cast<std::size_t>(rows));
     along[static_cast<std::size_t>(rows - 1)] = vMin + (rows - 1) * STEP;
     for (int k = rows - 2; k >= 0; --k) {
@@ -86,8 +95,9 @@ sim::MatX3 wrapOnSlot(const sim::MatX2& coordinates, const ArrangementSlot& slot
         const auto k1 = static_cast<std::size_t>(std::min(k + 1, rows - 1));
         const double radius = (1 - f) * r[kk] + f * r[k1];
         const double a = (1 - f) * along[kk] + f * along[k1];
+        const Vec3 centre = (1 - f) * c[kk] + f * c[k1];
         const double angle = coordinates(i, 0) / radius;
-        x.row(i) = (slot.origin + a * slot.axis +
+        x.row(i) = (slot.origin + a * slot.axis + centre +
                     radius * (std::cos(angle) * slot.facing + std::sin(angle) * right))
                        .transpose();
     }

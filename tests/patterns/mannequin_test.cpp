@@ -148,6 +148,34 @@ void expectMannequin(std::string_view base, const BodyMeasurements& want) {
         EXPECT_NEAR(s->axis.norm(), 1.0, 1e-12) << name;
         EXPECT_NEAR(s->axis.dot(s->facing), 0.0, 1e-12) << name;
     }
+    // Leg slots follow their leg (spread from the hip) and, above the crotch, the pelvis on
+    // their side: they enclose that side's vertices, and below the crotch, where the legs
+    // stand apart, each stays on its own side of the body's mid-plane, so trouser panels
+    // placed on them start round their own leg.
+    for (const int sign : {1, -1}) {
+        const ArrangementSlot& s = *m.body.slot(sign > 0 ? "leg_left_front" : "leg_right_front");
+        const ArrangementSlot& back = *m.body.slot(sign > 0 ? "leg_left_back" : "leg_right_back");
+        for (const double along : {-0.4, -0.25, -0.15, 0.05, 0.12}) {
+            const Vec3 centre = s.origin + along * s.axis + s.centreAt(along);
+            EXPECT_LT((back.centreAt(along) - s.centreAt(along)).norm(), 1e-12);
+            int enclosed = 0;
+            for (Eigen::Index v = 0; v < m.body.vertices.rows(); ++v) {
+                const Vec3 p = m.body.vertices.row(v);
+                if (std::abs(p.y() - centre.y()) > 0.004 || sign * p.x() <= 0 ||
+                    std::abs(p.x()) > 0.3) { // not the hands, level with the hips
+                    continue;
+                }
+                const Vec3 d = p - centre;
+                EXPECT_LE((d - d.dot(s.axis) * s.axis).norm(), s.radiusAt(along) + 1e-9)
+                    << s.name << " at " << along;
+                ++enclosed;
+            }
+            EXPECT_GT(enclosed, 10) << s.name << " at " << along;
+            if (along <= -0.15) {
+                EXPECT_GT(sign * centre.x() - s.radiusAt(along), 0.0) << s.name << " at " << along;
+            }
+        }
+    }
     // The sleeve convention: on the left arm, right() points to the back.
     EXPECT_LT(m.body.slot("arm_left")->right().z(), -0.99);
     EXPECT_GT(m.body.slot("arm_right")->right().z(), 0.99);

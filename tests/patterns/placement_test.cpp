@@ -147,5 +147,44 @@ TEST(Placement, FollowsTheSlotsProfileAndStaysWithinItsAngle) {
     EXPECT_NEAR(x((ny - 1) * nx, 1), 0.0, 1e-12);
 }
 
+TEST(Placement, FollowsTheSlotsSectionCentres) {
+    // A leg-like slot: radius 0.1 everywhere, its sections' centres moving 5 cm to +x and
+    // 1 cm to −z from the top (along 0) down to along −0.3.
+    ArrangementSlot slot;
+    slot.axis = Vec3::UnitY();
+    slot.facing = Vec3::UnitZ();
+    slot.alongMin = -0.3;
+    slot.alongMax = 0.0;
+    slot.profileStep = 0.01;
+    for (int k = 0; k <= 30; ++k) {
+        slot.profile.push_back(0.1);
+        slot.profileCentre.push_back((1.0 - k / 30.0) * Vec3(0.05, 0, -0.01));
+    }
+    slot.maxAngle = 0.49 * std::acos(-1.0);
+    EXPECT_LT((slot.centreAt(-0.15) - Vec3(0.025, 0, -0.005)).norm(), 1e-12);
+    EXPECT_LT((slot.centreAt(-1.0) - Vec3(0.05, 0, -0.01)).norm(), 1e-12); // clamped
+    EXPECT_LT(slot.centreAt(0.5).norm(), 1e-12);
+    const int nx = 11, ny = 31;
+    sim::MatX2 c(nx * ny, 2);
+    for (int j = 0; j < ny; ++j) {
+        for (int i = 0; i < nx; ++i) {
+            c.row(j * nx + i) << -0.15 + 0.3 * i / (nx - 1), -0.3 + 0.3 * j / (ny - 1);
+        }
+    }
+    const double clearance = 0.02;
+    const sim::MatX3 x = wrapOnSlot(c, slot, clearance);
+    for (int j = 0; j < ny; ++j) {
+        for (int i = 0; i < nx; ++i) {
+            const Vec3 p = x.row(j * nx + i);
+            // The radius is constant, so every row stays at its own height; each point lies
+            // at radius + clearance from its row's section centre, the arc around kept.
+            EXPECT_NEAR(p.y(), c(j * nx + i, 1), 1e-12);
+            const Vec3 q = p - slot.centreAt(p.y());
+            EXPECT_NEAR(std::hypot(q.x(), q.z()), 0.12, 1e-9);
+            EXPECT_NEAR(0.12 * std::atan2(q.x(), q.z()), c(j * nx + i, 0), 1e-9);
+        }
+    }
+}
+
 } // namespace
 } // namespace atelier::patterns
