@@ -202,7 +202,8 @@ def trousers():
         return [
             line(-ext + 40, 0),                                   # 0 hem (inner to outer)
             line(hem_w - ext + 40, 0),                            # 1 outer side seam
-            quad(hip_w, hip_y, (hip_w + 10, hip_y + 70)),         # 2 hip to waist
+            cubic(hip_w, hip_y, (hip_w + 8, hip_y + 60),         # 2 hip to waist
+                  (waist_w + 2, length - 60)),
             line(waist_w, length),                                # 3 waist
             line(0, length),                                      # 4 centre seam
             cubic(0, crotch_y + 90, (0, crotch_y + 20), (-ext * 0.5, crotch_y)),  # 5 crotch
@@ -210,6 +211,10 @@ def trousers():
         ]
 
     front_ext, back_ext = 50, 100
+    # The hip curve leaves the waist at a right angle, as the skirt's does, so front and back
+    # join in a smooth waist line; with the curve slanted in at 132° to the waist the sewn
+    # waist had a point at the top of each hip seam, and its top pairs stalled 8-11 mm apart
+    # (welded at the end of sewing; 2.5 mm with this curve).
     # Front and back take the same steps in from the hip (100 mm to the waist, 100 mm to the
     # hem's outer corner), so their side seams have the same length: with the back 15-50 mm
     # wider there, the drape warned of outseams 5 mm and hip curves 6 mm apart. The hip
@@ -233,7 +238,7 @@ def trousers():
     # intersecting triangle pairs; 2 at 25 mm), so the back panels sit 40 mm further round
     # towards the outer side.
     def crease_shift(hip_w, ext, hem_w):
-        bbox_centre = (hip_w + 2 - ext) / 2   # the hip curve bulges ~2 mm beyond hip_w
+        bbox_centre = (hip_w + 2 - ext) / 2   # the hip curve bulges a few mm beyond hip_w
         return bbox_centre - (-ext + 40 + hem_w / 2)
 
     fs = crease_shift(285, front_ext, 195)

@@ -173,9 +173,8 @@ TEST_P(SampleGarmentCoarse, SewsAndDrapesToRestOnTheDefaultBody) {
 INSTANTIATE_TEST_SUITE_P(Garments, SampleGarmentCoarse,
                          ::testing::Values("skirt", "dress", "trousers"));
 
-// Open (issue 4): the 20 mm tshirt ends with one intersecting pair: a welded group that the
-// collision corrections moved apart is merged back at the next step's start, where the merge
-// is not checked against crossing (README, "What is open"); run with
+// Open (issue 4): at 20 mm the tshirt's right shoulder seam stands up in a fin at the neck and
+// its last pair there never closes (26 mm apart at rest; README, "What is open"); run with
 // --gtest_also_run_disabled_tests.
 class SampleGarmentCoarseOpen : public ::testing::TestWithParam<std::string> {};
 
