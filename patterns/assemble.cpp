@@ -155,9 +155,9 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
         scene.seamReachGrowthStart = std::max(0.0, settings.sewingTime - settings.closingTime);
         scene.seamReachGrowth = CLOSING_PULL_GROWTH;
     }
-    // Cloth–cloth contacts stay out of the implicit solve for garments: measured on the eight
-    // sample drapes (README, "Collisions"), with them the 20 mm tshirt and trousers improve but
-    // the 10 mm tshirt no longer sews in time (4 intersecting pairs after a 15 mm forced weld).
+    // Cloth–cloth contacts stay out of the implicit solve for garments: measured twice on the
+    // eight sample drapes (README, "Collisions"), they fix the 20 mm tshirt but cost 10 mm
+    // drapes (once the tshirt's sewing; on the corrected samples the dress's and trousers' rest).
     scene.collision.solve.selfContacts = false;
     scene.integrator.kind = settings.integrator;
     scene.integrator.dt = settings.dt;
