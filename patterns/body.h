@@ -10,8 +10,9 @@ namespace atelier::patterns {
 
 /// A named surface around a part of the body on which panels are placed (like the
 /// arrangement points of commercial garment tools): a cylinder around `axis` through
-/// `origin`, enclosing the body part within [alongMin, alongMax] with `radius`, or, with a
-/// profile, a surface of revolution following the part's sections.
+/// `origin`, enclosing the body part within [alongMin, alongMax] with `radius`; with a
+/// profile, a surface of revolution following the part's radius; with section centres too
+/// (leg slots), a tube whose centre follows the part.
 ///
 /// A panel point (u, v) — u around, v along, both arc lengths [m] — maps to
 /// origin + v·axis + c(v) + r·(cos(u/r)·facing + sin(u/r)·right), right = axis × facing,
@@ -23,18 +24,20 @@ struct ArrangementSlot {
     sim::Vec3 origin = sim::Vec3::Zero();  ///< point on the axis where v = 0 [m]
     sim::Vec3 axis = sim::Vec3::UnitY();   ///< unit; pattern +y maps to +axis ("up" of the panel)
     sim::Vec3 facing = sim::Vec3::UnitZ(); ///< unit, ⟂ axis: where u = 0 looks from the axis
-    double radius = 0.2;   ///< smallest cylinder radius enclosing the body part in range [m]
+    /// Largest distance of the body part's vertices in range from the axis (from the section
+    /// centres where there are some): the radius of the cylinder enclosing it [m].
+    double radius = 0.2;
     double alongMin = -0.3; ///< extent of the body part along the axis from origin [m]
     double alongMax = 0.3;  ///< [m]
     /// The body part's radius along the axis: profile[k] encloses it at along = alongMin +
-    /// k·profileStep (empty: `radius` everywhere). Panels are wrapped on this surface of
-    /// revolution, so they start close to the body where it is narrow (a waist) and clear
-    /// of it where it is wide (hips).
+    /// k·profileStep (empty: `radius` everywhere) [m]. Panels are wrapped on this surface, so
+    /// they start close to the body where it is narrow (a waist) and clear of it where it is
+    /// wide (hips).
     std::vector<double> profile;
-    /// Where the body part's section is centred along the axis, as offsets ⟂ axis from it
-    /// (profile[k]'s bin; empty: on the axis everywhere). A leg slot follows the leg, which
-    /// is spread from the hip, and above the crotch the half of the pelvis on its side, so a
-    /// trouser panel wrapped on it starts around its own leg.
+    /// Where the body part's sections are centred along the axis, as offsets ⟂ axis from it
+    /// (profile[k]'s bin; empty: on the axis everywhere) [m]. A leg slot follows the leg,
+    /// which is spread from the hip, and above the crotch the half of the pelvis on its side,
+    /// so a trouser panel wrapped on it starts around its own leg.
     std::vector<sim::Vec3> profileCentre;
     double profileStep = 0.01; ///< [m]
     /// Largest angle a panel may span to either side of `facing` [rad]: a little under π/2

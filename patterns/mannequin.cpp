@@ -7,6 +7,7 @@
 #include <chrono>
 #include <limits>
 #include <cmath>
+#include <functional>
 #include <optional>
 
 #include <Eigen/Eigenvalues>
@@ -493,13 +494,74 @@ struct SlotFrame {
     std::array<double, 2> armLength{};
 };
 
+/// Which vertices a slot encloses: (vertex, its part label) → in or not.
+using VertexSelection = std::function<bool(Eigen::Index, int)>;
+
+/// The section centres of the selected vertices along a slot's axis, in 1 cm bins from
+/// alongMin (as its profile), as offsets ⟂ axis from it [m]: each bin's bounding-box centre
+/// in the plane ⟂ axis, an empty bin taking the nearest filled bin's (the lower one on a tie;
+/// none filled: the axis), then averaged over ±5 bins so the surface bends smoothly (on a leg
+/// slot, from the half pelvis to the thigh).
+std::vector<Vec3> sectionCentres(const sim::MatX3& x, const std::vector<int>& part,
+                                 const ArrangementSlot& slot, std::size_t bins,
+                                 const VertexSelection& in) {
+    const Vec3 right = slot.right();
+    std::vector<Vec3> lo(bins, Vec3::Constant(std::numeric_limits<double>::infinity()));
+    std::vector<Vec3> hi(bins, Vec3::Constant(-std::numeric_limits<double>::infinity()));
+    for (Eigen::Index v = 0; v < x.rows(); ++v) {
+        if (!in(v, part[static_cast<std::size_t>(v)])) {
+            continue;
+        }
+        const Vec3 d = Vec3(x.row(v)) - slot.origin;
+        const double along = d.dot(slot.axis);
+        if (along < slot.alongMin || along > slot.alongMax) {
+            continue;
+        }
+        const auto k = static_cast<std::size_t>(
+            std::clamp(static_cast<long>(std::lround((along - slot.alongMin) / 0.01)), 0L,
+                       static_cast<long>(bins) - 1));
+        const Vec3 q(d.dot(right), d.dot(slot.facing), 0);
+        lo[k] = lo[k].cwiseMin(q);
+        hi[k] = hi[k].cwiseMax(q);
+    }
+    auto filled = [&](std::size_t k) { return lo[k].x() <= hi[k].x(); };
+    std::vector<long> source(bins, -1); // the filled bin each bin takes its centre from
+    for (std::size_t k = 0, last = bins; k < bins; ++k) {
+        last = filled(k) ? k : last;
+        source[k] = last < bins ? static_cast<long>(last) : -1;
+    }
+    for (std::size_t k = bins, next = bins; k-- > 0;) {
+        next = filled(k) ? k : next;
+        const long from = source[k];
+        if (next < bins && (from < 0 || static_cast<long>(next - k) < static_cast<long>(k) - from)) {
+            source[k] = static_cast<long>(next);
+        }
+    }
+    std::vector<Vec3> mid(bins, Vec3::Zero());
+    for (std::size_t k = 0; k < bins; ++k) {
+        if (source[k] >= 0) {
+            const auto from = static_cast<std::size_t>(source[k]);
+            mid[k] = 0.5 * (lo[from] + hi[from]);
+        }
+    }
+    std::vector<Vec3> centres(bins);
+    for (std::size_t k = 0; k < bins; ++k) {
+        Vec3 acc = Vec3::Zero();
+        int count = 0;
+        for (std::size_t j = k >= 5 ? k - 5 : 0; j <= std::min(bins - 1, k + 5); ++j) {
+            acc += mid[j];
+            ++count;
+        }
+        acc /= count;
+        centres[k] = acc.x() * right + acc.y() * slot.facing;
+    }
+    return centres;
+}
+
 /// Part labels: 0 torso (head, neck), 1–2 arms (left, right), 3–4 legs, −1 none.
 std::vector<ArrangementSlot> computeSlots(const sim::MatX3& x, const std::vector<int>& part,
                                           const SlotFrame& f) {
     std::vector<ArrangementSlot> slots;
-    // The radius encloses the vertices of `parts` in the slot's range, and those of
-    // `nearParts` closer to the axis than `nearRadius` (the shoulders, labelled arm, around
-    // the torso).
     // Aggregate initialisation would leave the newer members to -Wmissing-field-initializers.
     auto slotOf = [](std::string name, const Vec3& origin, const Vec3& axis, const Vec3& facing,
                      double radius, double alongMin, double alongMax) {
@@ -513,15 +575,16 @@ std::vector<ArrangementSlot> computeSlots(const sim::MatX3& x, const std::vector
         s.alongMax = alongMax;
         return s;
     };
-    bool paired = true; // front/back (or left/right) panels share the slot's circumference
-    // A leg slot's vertices: its leg's, and above the crotch those of the torso on its side.
-    int legSide = 0;     // +1 left (+x), −1 right, 0: not a leg slot
-    auto legVertex = [&](Eigen::Index v, int pv) {
-        const int leg = legSide > 0 ? 3 : 4;
-        return pv == leg ||
-               (pv == 0 && legSide * (x(v, 0) - f.torsoOrigin.x()) > 0 && x(v, 1) > f.crotchY);
+    auto parts = [&](std::initializer_list<int> labels) -> VertexSelection {
+        return [labels = std::vector<int>(labels)](Eigen::Index, int pv) {
+            return std::find(labels.begin(), labels.end(), pv) != labels.end();
+        };
     };
-    auto enclose = [&](ArrangementSlot slot, std::initializer_list<int> parts,
+    bool paired = true; // front/back (or left/right) panels share the slot's circumference
+    // The radius encloses the selected vertices in the slot's range, and those of `nearParts`
+    // closer to the axis than `nearRadius` (the shoulders, labelled arm, around the torso);
+    // a centred slot (a leg) measures them from its sections' centres, not from the axis.
+    auto enclose = [&](ArrangementSlot slot, const VertexSelection& in, bool centred,
                        std::initializer_list<int> nearParts = {}, double nearRadius = 0) {
         // The radius, and its profile along the axis in 1 cm bins (each bin later also
         // covering its neighbours), from the same vertices.
@@ -530,73 +593,18 @@ std::vector<ArrangementSlot> computeSlots(const sim::MatX3& x, const std::vector
             return static_cast<std::size_t>(std::clamp(
                 static_cast<int>(std::lround((along - slot.alongMin) / 0.01)), 0, bins - 1));
         };
-        const Vec3 right = slot.right();
-        if (legSide != 0) {
-            // A leg slot is centred on the sections: each bin's bounding-box centre in the
-            // plane ⟂ axis, empty bins taking the nearest filled one's, averaged over ±5 cm
-            // so the surface bends smoothly from the half pelvis to the thigh.
-            std::vector<Vec3> lo(static_cast<std::size_t>(bins), Vec3::Constant(1e30));
-            std::vector<Vec3> hi(static_cast<std::size_t>(bins), Vec3::Constant(-1e30));
-            for (Eigen::Index v = 0; v < x.rows(); ++v) {
-                if (!legVertex(v, part[static_cast<std::size_t>(v)])) {
-                    continue;
-                }
-                const Vec3 d = Vec3(x.row(v)) - slot.origin;
-                const double along = d.dot(slot.axis);
-                if (along < slot.alongMin || along > slot.alongMax) {
-                    continue;
-                }
-                const Vec3 q(d.dot(right), d.dot(slot.facing), 0);
-                const std::size_t k = binOf(along);
-                lo[k] = lo[k].cwiseMin(q);
-                hi[k] = hi[k].cwiseMax(q);
-            }
-            // Each bin's centre, or the nearest filled bin's (none filled: the axis).
-            std::vector<int> source(static_cast<std::size_t>(bins), -1);
-            for (int k = 0, last = -1; k < bins; ++k) {
-                if (lo[static_cast<std::size_t>(k)].x() <= hi[static_cast<std::size_t>(k)].x()) {
-                    last = k;
-                }
-                source[static_cast<std::size_t>(k)] = last;
-            }
-            for (int k = bins - 1, next = -1; k >= 0; --k) {
-                if (lo[static_cast<std::size_t>(k)].x() <= hi[static_cast<std::size_t>(k)].x()) {
-                    next = k;
-                }
-                int& from = source[static_cast<std::size_t>(k)];
-                if (next >= 0 && (from < 0 || next - k < k - from)) {
-                    from = next;
-                }
-            }
-            std::vector<Vec3> mid(static_cast<std::size_t>(bins), Vec3::Zero());
-            for (int k = 0; k < bins; ++k) {
-                const int from = source[static_cast<std::size_t>(k)];
-                if (from >= 0) {
-                    mid[static_cast<std::size_t>(k)] = 0.5 * (lo[static_cast<std::size_t>(from)] +
-                                                              hi[static_cast<std::size_t>(from)]);
-                }
-            }
-            slot.profileCentre.assign(static_cast<std::size_t>(bins), Vec3::Zero());
-            for (int k = 0; k < bins; ++k) {
-                Vec3 acc = Vec3::Zero();
-                int count = 0;
-                for (int j = std::max(0, k - 5); j <= std::min(bins - 1, k + 5); ++j) {
-                    acc += mid[static_cast<std::size_t>(j)];
-                    ++count;
-                }
-                acc /= count;
-                slot.profileCentre[static_cast<std::size_t>(k)] =
-                    acc.x() * right + acc.y() * slot.facing;
-            }
+        slot.profileStep = 0.01;
+        if (centred) {
+            slot.profileCentre =
+                sectionCentres(x, part, slot, static_cast<std::size_t>(bins), in);
         }
         std::vector<double> prof(static_cast<std::size_t>(bins), 0.0);
         double r = 0;
         for (Eigen::Index v = 0; v < x.rows(); ++v) {
             const int pv = part[static_cast<std::size_t>(v)];
-            const bool in = legSide != 0 ? legVertex(v, pv)
-                                         : std::find(parts.begin(), parts.end(), pv) != parts.end();
+            const bool inside = in(v, pv);
             const bool near = std::find(nearParts.begin(), nearParts.end(), pv) != nearParts.end();
-            if (!in && !near) {
+            if (!inside && !near) {
                 continue;
             }
             Vec3 d = Vec3(x.row(v)) - slot.origin;
@@ -604,11 +612,11 @@ std::vector<ArrangementSlot> computeSlots(const sim::MatX3& x, const std::vector
             if (along < slot.alongMin || along > slot.alongMax) {
                 continue;
             }
-            if (!slot.profileCentre.empty()) {
-                d -= slot.profileCentre[binOf(along)];
+            if (centred) {
+                d -= slot.centreAt(along); // where wrapOnSlot puts the surface's centre
             }
             const double radial = (d - along * slot.axis).norm();
-            if (in || radial <= nearRadius) {
+            if (inside || radial <= nearRadius) {
                 r = std::max(r, radial);
                 const std::size_t k = binOf(along);
                 prof[k] = std::max(prof[k], radial);
@@ -637,7 +645,7 @@ std::vector<ArrangementSlot> computeSlots(const sim::MatX3& x, const std::vector
     for (const auto& [name, facing] : facings) {
         enclose(slotOf(std::string("torso_") + name, f.torsoOrigin, Vec3::UnitY(), facing, 0,
                  f.crotchY - waistY, f.shoulderY - waistY + 0.01),
-                {0}, {1, 2}, f.shoulderHalfWidth + 0.005);
+                parts({0}), false, {1, 2}, f.shoulderHalfWidth + 0.005);
         // A torso panel hugging the bust would wrap its sides into the arms: the torso slots
         // stay cylinders of the whole torso's radius.
         slots.back().profile.clear();
@@ -645,12 +653,12 @@ std::vector<ArrangementSlot> computeSlots(const sim::MatX3& x, const std::vector
     for (const auto& [name, facing] : facings) {
         enclose(slotOf(std::string("waist_") + name, f.torsoOrigin, Vec3::UnitY(), facing, 0,
                  f.crotchY - 0.02 - waistY, 0.06),
-                {0, 3, 4});
+                parts({0, 3, 4}), false);
     }
     paired = false;
     enclose(slotOf("neck", Vec3(f.torsoOrigin.x(), f.neckY, f.torsoOrigin.z()), Vec3::UnitY(),
              Vec3::UnitZ(), 0, -0.03, 0.03),
-            {0});
+            parts({0}), false);
     for (std::size_t i = 0; i < 2; ++i) {
         const std::string lr = i == 0 ? "left" : "right";
         const int side = static_cast<int>(i);
@@ -658,20 +666,27 @@ std::vector<ArrangementSlot> computeSlots(const sim::MatX3& x, const std::vector
         paired = false;
         enclose(slotOf("arm_" + lr, f.shoulderJoint[i], f.armAxis[i], f.armTop[i], 0, -f.armLength[i],
                  0.0),
-                {1 + side});
+                parts({1 + side}), false);
         paired = true;
         // Leg: from the ankle up to the waist band's top (as the waist slots), following the
-        // leg's sections and above the crotch the pelvis on its side: a trouser panel placed
-        // here starts around its own leg, its inseam beside the other panel's.
+        // leg's sections and the pelvis on its side (torso vertices on that side of the
+        // torso's axis): a trouser panel placed here starts around its own leg, its
+        // inseam beside the other panel's. The back slot is the front one facing back (the
+        // same centres, radius and profile).
         const Vec3 legOrigin(f.hipJoint[i].x(), f.crotchY, f.hipJoint[i].z());
-        legSide = i == 0 ? 1 : -1;
+        const double sx = i == 0 ? 1.0 : -1.0;
+        const int leg = 3 + side;
+        const VertexSelection legSide = [&, sx, leg](Eigen::Index v, int pv) {
+            return pv == leg ||
+                   (pv == 0 && sx * (x(v, 0) - f.torsoOrigin.x()) > 0);
+        };
         enclose(slotOf("leg_" + lr + "_front", legOrigin, Vec3::UnitY(), Vec3::UnitZ(), 0,
                  -f.crotchY + 0.09, waistY + 0.06 - f.crotchY),
-                {3 + side});
-        enclose(slotOf("leg_" + lr + "_back", legOrigin, Vec3::UnitY(), -Vec3::UnitZ(), 0,
-                 -f.crotchY + 0.09, waistY + 0.06 - f.crotchY),
-                {3 + side});
-        legSide = 0;
+                legSide, true);
+        ArrangementSlot back = slots.back();
+        back.name = "leg_" + lr + "_back";
+        back.facing = -Vec3::UnitZ();
+        slots.push_back(back);
     }
     return slots;
 }

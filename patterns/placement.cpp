@@ -68,7 +68,8 @@ sim::MatX3 wrapOnSlot(const sim::MatX2& coordinates, const ArrangementSlot& slot
         return out;
     };
     const std::vector<double> r = window(window(need, true), false);
-    // Each row's section centre (off the axis on a leg slot).
+    // Each row's section centre (off the axis on a leg slot), looked up at the row's v as its
+    // radius is, not at the height it is placed at.
     std::vector<Vec3> c(static_cast<std::size_t>(rows));
     for (int k = 0; k < rows; ++k) {
         c[static_cast<std::size_t>(k)] = slot.centreAt(vMin + k * STEP);

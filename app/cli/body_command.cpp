@@ -84,13 +84,27 @@ int runBody(const BodyOptions& options) {
         r["measured"] = measured;
         nlohmann::ordered_json slots = nlohmann::ordered_json::array();
         for (const patterns::ArrangementSlot& s : m.body.slots) {
-            slots.push_back({{"name", s.name},
-                             {"origin", vec(s.origin)},
-                             {"axis", vec(s.axis)},
-                             {"facing", vec(s.facing)},
-                             {"radius", s.radius},
-                             {"along_min", s.alongMin},
-                             {"along_max", s.alongMax}});
+            nlohmann::ordered_json slot = {{"name", s.name},
+                                           {"origin", vec(s.origin)},
+                                           {"axis", vec(s.axis)},
+                                           {"facing", vec(s.facing)},
+                                           {"radius", s.radius},
+                                           {"along_min", s.alongMin},
+                                           {"along_max", s.alongMax}};
+            if (!s.profile.empty()) {
+                // Per bin from along_min: the radius, and where the section is centred (leg
+                // slots: the radius is measured from there, not from the axis).
+                slot["profile_step"] = s.profileStep;
+                slot["profile_radius"] = s.profile;
+                if (!s.profileCentre.empty()) {
+                    nlohmann::ordered_json centres = nlohmann::ordered_json::array();
+                    for (const sim::Vec3& c : s.profileCentre) {
+                        centres.push_back(vec(c));
+                    }
+                    slot["profile_centre"] = centres;
+                }
+            }
+            slots.push_back(slot);
         }
         r["slots"] = slots;
         auto written = io::writeFileAtomically(options.report, r.dump(2) + "\n");

@@ -238,7 +238,7 @@ def trousers():
     # intersecting triangle pairs; 2 at 25 mm), so the back panels sit 40 mm further round
     # towards the outer side.
     def crease_shift(hip_w, ext, hem_w):
-        bbox_centre = (hip_w + 2 - ext) / 2   # the hip curve bulges a few mm beyond hip_w
+        bbox_centre = (hip_w + 2 - ext) / 2   # (the hip curve reaches < 1 mm past hip_w)
         return bbox_centre - (-ext + 40 + hem_w / 2)
 
     fs = crease_shift(285, front_ext, 195)

@@ -239,6 +239,16 @@ TEST(Mannequin, SlotsEstimatedForAMeshBodyMatchTheMannequins) {
         ASSERT_NE(e, nullptr) << s.name;
         EXPECT_LT((e->axis - s.axis).norm(), 0.1) << s.name;
         EXPECT_NEAR(e->radius, s.radius, 0.06) << s.name;
+        if (!s.profileCentre.empty()) {
+            // Leg slots: the sections' centres, compared at the same heights on the thigh,
+            // the knee and the hip.
+            ASSERT_FALSE(e->profileCentre.empty()) << s.name;
+            for (const double y : {0.35, 0.6, 0.9}) {
+                const Vec3 cs = s.origin + (y - s.origin.y()) * s.axis + s.centreAt(y - s.origin.y());
+                const Vec3 ce = e->origin + (y - e->origin.y()) * e->axis + e->centreAt(y - e->origin.y());
+                EXPECT_LT((ce - cs).norm(), 0.03) << s.name << " at y = " << y;
+            }
+        }
     }
     Body flat;
     flat.vertices = sim::MatX3::Zero(3, 3);

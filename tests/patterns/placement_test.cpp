@@ -148,8 +148,8 @@ TEST(Placement, FollowsTheSlotsProfileAndStaysWithinItsAngle) {
 }
 
 TEST(Placement, FollowsTheSlotsSectionCentres) {
-    // A leg-like slot: radius 0.1 everywhere, its sections' centres moving 5 cm to +x and
-    // 1 cm to −z from the top (along 0) down to along −0.3.
+    // A leg-like slot: radius 0.1 everywhere, its sections' centres moving along a parabola,
+    // 5 cm to +x and 1 cm to −z from the top (along 0) down to along −0.3.
     ArrangementSlot slot;
     slot.axis = Vec3::UnitY();
     slot.facing = Vec3::UnitZ();
@@ -157,14 +157,19 @@ TEST(Placement, FollowsTheSlotsSectionCentres) {
     slot.alongMax = 0.0;
     slot.profileStep = 0.01;
     for (int k = 0; k <= 30; ++k) {
+        const double s = 1.0 - k / 30.0;
         slot.profile.push_back(0.1);
-        slot.profileCentre.push_back((1.0 - k / 30.0) * Vec3(0.05, 0, -0.01));
+        slot.profileCentre.push_back(s * s * Vec3(0.05, 0, -0.01));
     }
     slot.maxAngle = 0.49 * std::acos(-1.0);
-    EXPECT_LT((slot.centreAt(-0.15) - Vec3(0.025, 0, -0.005)).norm(), 1e-12);
-    EXPECT_LT((slot.centreAt(-1.0) - Vec3(0.05, 0, -0.01)).norm(), 1e-12); // clamped
+    // Linear between bins, clamped beyond the ends.
+    EXPECT_LT((slot.centreAt(-0.155) - 0.5 * (slot.profileCentre[14] + slot.profileCentre[15]))
+                  .norm(),
+              1e-12);
+    EXPECT_LT((slot.centreAt(-1.0) - Vec3(0.05, 0, -0.01)).norm(), 1e-12);
     EXPECT_LT(slot.centreAt(0.5).norm(), 1e-12);
-    const int nx = 11, ny = 31;
+    // Rows every 5 mm: half of them between the slot's bins.
+    const int nx = 11, ny = 61;
     sim::MatX2 c(nx * ny, 2);
     for (int j = 0; j < ny; ++j) {
         for (int i = 0; i < nx; ++i) {
