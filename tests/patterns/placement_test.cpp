@@ -95,9 +95,9 @@ TEST(Placement, WrapsOnTheSlotCylinderAtRadiusPlusClearanceFacingOut) {
     EXPECT_GT((mid - slot.origin).normalized().dot(slot.facing), 0.9);
 }
 
-TEST(Placement, FollowsTheSlotsProfileAndStaysWithinItsAngle) {
-    // A waist-like slot: radius 0.12 at the top widening to 0.2 at 0.3 m below, panels
-    // limited to ±π/2 around the facing (front and back share the circumference).
+/// A vertical slot 0.3 m long below its origin, with a 1 cm profile to be filled, panels
+/// limited to ±π/2 around the facing (front and back share the circumference).
+ArrangementSlot profiledSlot() {
     ArrangementSlot slot;
     slot.origin = Vec3::Zero();
     slot.axis = Vec3::UnitY();
@@ -105,21 +105,35 @@ TEST(Placement, FollowsTheSlotsProfileAndStaysWithinItsAngle) {
     slot.alongMin = -0.3;
     slot.alongMax = 0.0;
     slot.profileStep = 0.01;
+    slot.maxAngle = 0.49 * std::acos(-1.0);
+    return slot;
+}
+
+/// Placement coordinates of a panel 2·halfWidth wide and 0.3 m tall (v from −0.3 to 0),
+/// nx × ny points row by row.
+sim::MatX2 panelGrid(double halfWidth, int nx, int ny) {
+    sim::MatX2 c(nx * ny, 2);
+    for (int j = 0; j < ny; ++j) {
+        for (int i = 0; i < nx; ++i) {
+            c.row(j * nx + i) << -halfWidth + 2 * halfWidth * i / (nx - 1),
+                -0.3 + 0.3 * j / (ny - 1);
+        }
+    }
+    return c;
+}
+
+TEST(Placement, FollowsTheSlotsProfileAndStaysWithinItsAngle) {
+    // A waist-like slot: radius 0.12 at the top widening to 0.2 at 0.3 m below.
+    ArrangementSlot slot = profiledSlot();
     for (int k = 0; k <= 30; ++k) {
         slot.profile.push_back(0.2 - 0.08 * k / 30.0);
     }
-    slot.maxAngle = 0.49 * std::acos(-1.0);
     EXPECT_NEAR(slot.radiusAt(-0.3), 0.2, 1e-12);
     EXPECT_NEAR(slot.radiusAt(0.0), 0.12, 1e-12);
     EXPECT_NEAR(slot.radiusAt(-0.15), 0.16, 1e-12);
     // A panel 0.5 m wide and 0.3 m tall, its rows sampled every 5 mm.
     const int nx = 21, ny = 61;
-    sim::MatX2 c(nx * ny, 2);
-    for (int j = 0; j < ny; ++j) {
-        for (int i = 0; i < nx; ++i) {
-            c.row(j * nx + i) << -0.25 + 0.5 * i / (nx - 1), -0.3 + 0.3 * j / (ny - 1);
-        }
-    }
+    const sim::MatX2 c = panelGrid(0.25, nx, ny);
     const double clearance = 0.02;
     const sim::MatX3 x = wrapOnSlot(c, slot, clearance);
     for (int j = 0; j < ny; ++j) {
@@ -150,18 +164,12 @@ TEST(Placement, FollowsTheSlotsProfileAndStaysWithinItsAngle) {
 TEST(Placement, FollowsTheSlotsSectionCentres) {
     // A leg-like slot: radius 0.1 everywhere, its sections' centres moving along a parabola,
     // 5 cm to +x and 1 cm to −z from the top (along 0) down to along −0.3.
-    ArrangementSlot slot;
-    slot.axis = Vec3::UnitY();
-    slot.facing = Vec3::UnitZ();
-    slot.alongMin = -0.3;
-    slot.alongMax = 0.0;
-    slot.profileStep = 0.01;
+    ArrangementSlot slot = profiledSlot();
     for (int k = 0; k <= 30; ++k) {
         const double s = 1.0 - k / 30.0;
         slot.profile.push_back(0.1);
         slot.profileCentre.push_back(s * s * Vec3(0.05, 0, -0.01));
     }
-    slot.maxAngle = 0.49 * std::acos(-1.0);
     // Linear between bins, clamped beyond the ends.
     EXPECT_LT((slot.centreAt(-0.155) - 0.5 * (slot.profileCentre[14] + slot.profileCentre[15]))
                   .norm(),
@@ -170,12 +178,7 @@ TEST(Placement, FollowsTheSlotsSectionCentres) {
     EXPECT_LT(slot.centreAt(0.5).norm(), 1e-12);
     // Rows every 5 mm: half of them between the slot's bins.
     const int nx = 11, ny = 61;
-    sim::MatX2 c(nx * ny, 2);
-    for (int j = 0; j < ny; ++j) {
-        for (int i = 0; i < nx; ++i) {
-            c.row(j * nx + i) << -0.15 + 0.3 * i / (nx - 1), -0.3 + 0.3 * j / (ny - 1);
-        }
-    }
+    const sim::MatX2 c = panelGrid(0.15, nx, ny);
     const double clearance = 0.02;
     const sim::MatX3 x = wrapOnSlot(c, slot, clearance);
     for (int j = 0; j < ny; ++j) {
