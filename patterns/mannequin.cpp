@@ -494,6 +494,12 @@ struct SlotFrame {
     std::array<double, 2> armLength{};
 };
 
+/// The 1 cm profile bin (of `bins` from alongMin) nearest to `along`, clamped to the ends.
+std::size_t profileBin(const ArrangementSlot& slot, double along, std::size_t bins) {
+    const long k = std::lround((along - slot.alongMin) / 0.01);
+    return static_cast<std::size_t>(std::clamp(k, 0L, static_cast<long>(bins) - 1));
+}
+
 /// Which vertices a slot encloses: (vertex, its part label) → in or not.
 using VertexSelection = std::function<bool(Eigen::Index, int)>;
 
@@ -517,9 +523,7 @@ std::vector<Vec3> sectionCentres(const sim::MatX3& x, const std::vector<int>& pa
         if (along < slot.alongMin || along > slot.alongMax) {
             continue;
         }
-        const auto k = static_cast<std::size_t>(
-            std::clamp(static_cast<long>(std::lround((along - slot.alongMin) / 0.01)), 0L,
-                       static_cast<long>(bins) - 1));
+        const std::size_t k = profileBin(slot, along, bins);
         const Vec3 q(d.dot(right), d.dot(slot.facing), 0);
         lo[k] = lo[k].cwiseMin(q);
         hi[k] = hi[k].cwiseMax(q);
@@ -589,10 +593,6 @@ std::vector<ArrangementSlot> computeSlots(const sim::MatX3& x, const std::vector
         // The radius, and its profile along the axis in 1 cm bins (each bin later also
         // covering its neighbours), from the same vertices.
         const int bins = static_cast<int>(std::ceil((slot.alongMax - slot.alongMin) / 0.01)) + 1;
-        auto binOf = [&](double along) {
-            return static_cast<std::size_t>(std::clamp(
-                static_cast<int>(std::lround((along - slot.alongMin) / 0.01)), 0, bins - 1));
-        };
         slot.profileStep = 0.01;
         if (centred) {
             slot.profileCentre =
@@ -618,7 +618,7 @@ std::vector<ArrangementSlot> computeSlots(const sim::MatX3& x, const std::vector
             const double radial = (d - along * slot.axis).norm();
             if (inside || radial <= nearRadius) {
                 r = std::max(r, radial);
-                const std::size_t k = binOf(along);
+                const std::size_t k = profileBin(slot, along, static_cast<std::size_t>(bins));
                 prof[k] = std::max(prof[k], radial);
             }
         }

@@ -8,8 +8,11 @@ than a render: which panel lies where, how far from the body, and which edges ov
 
 The body is read from DRAPED.body.obj (as `atelier-cli drape` writes it) unless --body names
 it. --y cuts horizontal sections (x across, the front, +z, at the bottom), --x sagittal ones
-(z across, the front to the right; y up). Frames written with --frames-dir work too (pass --body). Needs numpy and
-matplotlib (Debian: python3-numpy python3-matplotlib).
+(z across, the front to the right; y up). Frames written with --frames-dir work too (pass
+--body). For each horizontal cut it also prints the body's girth there (the convex hull of its
+section, as a tape spans hollows; --max-x leaves out the hands, which hang level with the
+hips) and the length of the garment's section. Needs numpy and matplotlib (Debian:
+python3-numpy python3-matplotlib).
 """
 import argparse
 import os
@@ -69,12 +72,36 @@ def section(vertices, triangles, axis, value):
     return np.array(segments).reshape(-1, 2, 3), np.array(which, dtype=int)
 
 
+def hull_perimeter(points):
+    """Perimeter of the convex hull of 2D points (monotone chain)."""
+    pts = sorted(set(map(tuple, np.round(points, 9))))
+    if len(pts) < 3:
+        return 0.0
+
+    def cross(o, a, b):
+        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+    lower, upper = [], []
+    for p in pts:
+        while len(lower) >= 2 and cross(lower[-2], lower[-1], p) <= 0:
+            lower.pop()
+        lower.append(p)
+    for p in reversed(pts):
+        while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 0:
+            upper.pop()
+        upper.append(p)
+    hull = np.array(lower[:-1] + upper[:-1])
+    return float(np.linalg.norm(hull - np.roll(hull, 1, axis=0), axis=1).sum())
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("garment")
     parser.add_argument("--body")
     parser.add_argument("--y", type=float, nargs="*", default=[], help="heights [m]")
     parser.add_argument("--x", type=float, nargs="*", default=[], help="sagittal planes [m]")
+    parser.add_argument("--max-x", type=float, default=0.3,
+                        help="girths count body points with |x| below this [m]")
     parser.add_argument("--out", default="sections.png")
     args = parser.parse_args()
     cuts = [(1, v) for v in args.y] + [(0, v) for v in args.x]
@@ -93,6 +120,13 @@ def main():
             for seg in section(body[0], body[1], axis, value)[0]:
                 ax.plot(seg[:, u], seg[:, v], color="black", lw=1)
         segments, which = section(garment[0], garment[1], axis, value)
+        if axis == 1:
+            line = f"y = {value:.3f} m: garment section {np.linalg.norm(segments[:, 0] - segments[:, 1], axis=1).sum():.3f} m"
+            if body is not None:
+                points = section(body[0], body[1], axis, value)[0].reshape(-1, 3)
+                points = points[np.abs(points[:, 0]) < args.max_x]
+                line += f", body girth {hull_perimeter(points[:, [0, 2]]):.3f} m"
+            print(line)
         for seg, t in zip(segments, which):
             ax.plot(seg[:, u], seg[:, v], color=palette(garment[2][t] % 10), lw=1.3)
         ax.set_aspect("equal")
