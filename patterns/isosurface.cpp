@@ -12,6 +12,7 @@
 
 namespace atelier::patterns {
 
+using sim::parallelFor;
 using sim::Vec3;
 
 namespace {
@@ -162,15 +163,14 @@ Isosurface extractIsosurface(const ImplicitFunction& f, const IsosurfaceOptions&
     }
     grid.value.resize(static_cast<std::size_t>(cells));
     // Every sample on its own (f is pure), in parallel: the same values for any thread count.
-    ATELIER_PARALLEL_FOR(cells)
-    for (std::int64_t id = 0; id < cells; ++id) {
+    parallelFor(cells, [&](std::int64_t id) {
         double v = f(grid.point(id));
         // A zero on the grid would make a degenerate crossing: count it outside.
         if (v == 0 || !std::isfinite(v)) {
             v = std::isfinite(v) ? 1e-300 : 1.0;
         }
         grid.value[static_cast<std::size_t>(id)] = v;
-    }
+    });
 
     std::vector<Vec3> x;
     std::vector<std::array<int, 3>> tris;
@@ -250,10 +250,10 @@ Isosurface extractIsosurface(const ImplicitFunction& f, const IsosurfaceOptions&
     // Relaxation: tangential smoothing toward the neighbours' centroid, edge flips, projection.
     const double hGrad = grid.h * 0.05;
     const int nv = static_cast<int>(x.size());
-    ATELIER_PARALLEL_FOR(nv)
-    for (int v = 0; v < nv; ++v) {
+    parallelFor(nv, [&](std::int64_t v64) {
+        const int v = static_cast<int>(v64);
         x[static_cast<std::size_t>(v)] = project(f, x[static_cast<std::size_t>(v)], hGrad, 2);
-    }
+    });
     std::vector<std::vector<int>> neighbours(static_cast<std::size_t>(nv));
     for (int it = 0; it < options.relaxIterations; ++it) {
         flipPass(x, tris);
@@ -266,11 +266,11 @@ Isosurface extractIsosurface(const ImplicitFunction& f, const IsosurfaceOptions&
             }
         }
         std::vector<Vec3> next = x;
-        ATELIER_PARALLEL_FOR(nv)
-        for (int v = 0; v < nv; ++v) {
+        parallelFor(nv, [&](std::int64_t v64) {
+            const int v = static_cast<int>(v64);
             const auto& nb = neighbours[static_cast<std::size_t>(v)];
             if (nb.empty()) {
-                continue;
+                return;
             }
             Vec3 c = Vec3::Zero();
             for (int w : nb) {
@@ -282,7 +282,7 @@ Isosurface extractIsosurface(const ImplicitFunction& f, const IsosurfaceOptions&
             Vec3 move = 0.6 * (c - p);
             move -= n * move.dot(n);
             next[static_cast<std::size_t>(v)] = project(f, p + move, hGrad, 1);
-        }
+        });
         x.swap(next);
     }
     flipPass(x, tris);
@@ -290,12 +290,12 @@ Isosurface extractIsosurface(const ImplicitFunction& f, const IsosurfaceOptions&
     Isosurface out;
     out.vertices.resize(nv, 3);
     out.normals.resize(nv, 3);
-    ATELIER_PARALLEL_FOR(nv)
-    for (int v = 0; v < nv; ++v) {
+    parallelFor(nv, [&](std::int64_t v64) {
+        const int v = static_cast<int>(v64);
         const Vec3 p = project(f, x[static_cast<std::size_t>(v)], hGrad, 2);
         out.vertices.row(v) = p.transpose();
         out.normals.row(v) = implicitNormal(f, p, hGrad).transpose();
-    }
+    });
     out.triangles.resize(static_cast<Eigen::Index>(tris.size()), 3);
     for (std::size_t t = 0; t < tris.size(); ++t) {
         out.triangles.row(static_cast<Eigen::Index>(t)) << tris[t][0], tris[t][1], tris[t][2];

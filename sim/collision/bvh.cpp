@@ -703,11 +703,11 @@ void SurfaceBvh::refit(const MatX3& x0, const MatX3* x1, double margin, int vert
         }
     }
     const auto subtreeCount = static_cast<std::int64_t>(subtrees.size());
-    ATELIER_PARALLEL_FOR(nodeCount) // the if-clause counts nodes, the loop runs over subtrees
-    for (std::int64_t k = 0; k < subtreeCount; ++k) {
+    // In parallel when there are many nodes; the loop runs over the subtrees holding them.
+    parallelForEach(subtreeCount, nodeCount >= PARALLEL_GRAIN, [&](std::int64_t k) {
         const int n = subtrees[static_cast<std::size_t>(k)];
         refitRange(n, m_subtreeEnd[static_cast<std::size_t>(n)]);
-    }
+    });
     std::sort(top.begin(), top.end());
     for (auto it = top.rbegin(); it != top.rend(); ++it) {
         refitRange(*it, *it + 1);
@@ -809,8 +809,7 @@ void orderedTraversal(const Task& root, bool parallel, std::vector<std::pair<int
     if (outputs.size() < tasks.size()) {
         outputs.resize(tasks.size());
     }
-    ATELIER_PARALLEL_FOR_DYNAMIC(count, parallel && count > 1)
-    for (std::int64_t i = 0; i < count; ++i) {
+    parallelForEach(count, parallel && count > 1, [&](std::int64_t i) {
         thread_local std::vector<Task> stack;
         stack.assign(1, tasks[static_cast<std::size_t>(i)]);
         std::vector<std::pair<int, int>>& o = outputs[static_cast<std::size_t>(i)];
@@ -820,7 +819,7 @@ void orderedTraversal(const Task& root, bool parallel, std::vector<std::pair<int
             stack.pop_back();
             expand(t, o, stack);
         }
-    }
+    });
     for (std::int64_t i = 0; i < count; ++i) {
         const auto& o = outputs[static_cast<std::size_t>(i)];
         out.insert(out.end(), o.begin(), o.end());

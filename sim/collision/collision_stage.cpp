@@ -446,18 +446,17 @@ void CollisionStage::findTrapped(std::size_t k, const MatX3& x) {
     };
     // Each vertex on its own (its own slots of m_trapped and of the distance cache).
     const std::int64_t nv = x.rows();
-    ATELIER_PARALLEL_FOR(nv)
-    for (std::int64_t pp = 0; pp < nv; ++pp) {
+    parallelFor(nv, [&](std::int64_t pp) {
         const int p = static_cast<int>(pp);
         if (m_trapped[static_cast<std::size_t>(p)] >= 0 || outsideHull(row(x, p))) {
-            continue;
+            return;
         }
         const double reach = (m_thickness[p] + o.spec->thickness) *
                              (1.0 + m_scene.collision.proximityFactor);
         if (vertexSignedDistance(k, p, row(x, p), -reach) < -reach) {
             m_trapped[static_cast<std::size_t>(p)] = static_cast<int>(k);
         }
-    }
+    });
 }
 
 void CollisionStage::extractTrapped(std::size_t k, double h, MatX3& xe, MatX3& ve) {
@@ -1505,6 +1504,13 @@ void CollisionStage::markCrossingsAround(const MatX3& xs, const MatX3& xe,
     }
 }
 
+void CollisionStage::obstacleMotionChanged(std::size_t k) {
+    ObstacleData& o = m_obstacles[k];
+    o.moves = true;
+    o.fittedMargin = -1.0;
+    o.hullFitted = false;
+}
+
 void CollisionStage::update(double t0, double t1, const MatX3& xs, MatX3& xe, MatX3& ve,
                             const VecX& invMass) {
     const double h = t1 - t0;
@@ -1691,12 +1697,11 @@ double CollisionStage::penetration(const MatX3& x) {
         std::vector<double>& depth = m_depthScratch;
         depth.assign(n, 0.0);
         const std::int64_t nv = x.rows();
-        ATELIER_PARALLEL_FOR(nv)
-        for (std::int64_t pp = 0; pp < nv; ++pp) {
+        parallelFor(nv, [&](std::int64_t pp) {
             const int p = static_cast<int>(pp);
             const Vec3 xp = row(x, p);
             if (box.squaredDistance(xp) > 0) {
-                continue;
+                return;
             }
             double sd;
             if (o.spec->closed) {
@@ -1704,7 +1709,7 @@ double CollisionStage::penetration(const MatX3& x) {
             } else {
                 const auto [tri, cp] = o.bvh.closestTriangle(o.x1, xp, th);
                 if (tri < 0) {
-                    continue;
+                    return;
                 }
                 const MatX3i& f = o.spec->triangles;
                 const Vec3 nf = triangleNormal(row(o.x1, f(tri, 0)), row(o.x1, f(tri, 1)), row(o.x1, f(tri, 2)));
@@ -1713,7 +1718,7 @@ double CollisionStage::penetration(const MatX3& x) {
                 sd = side == 0 ? cp.distance : (along * side >= 0 ? cp.distance : -cp.distance);
             }
             depth[static_cast<std::size_t>(p)] = th - sd;
-        }
+        });
         for (double d : depth) {
             worst = std::max(worst, d);
         }

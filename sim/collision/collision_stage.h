@@ -120,6 +120,11 @@ class CollisionStage {
 
     const std::vector<Contact>& contacts() const { return m_contacts; }
     const CollisionFigures& figures() const { return m_figures; }
+    /// The motion of obstacle k (its keys or frames in the scene) was changed between steps:
+    /// from now on it is treated as moving (hierarchy, hull and distances taken anew).
+    void obstacleMotionChanged(std::size_t k);
+    /// Whether obstacle k moves (its positions may change at every step).
+    bool obstacleMoving(std::size_t k) const { return m_obstacles[k].moves; }
     /// World positions of obstacle k at the last update (|V_k|×3).
     const MatX3& obstaclePositions(int k) const { return m_obstacles[static_cast<std::size_t>(k)].x1; }
 

@@ -66,8 +66,7 @@ void BlockSparseMatrix::addDiagonal(const VecX& diag) {
 void BlockSparseMatrix::multiply(const MatX3& x, MatX3& y) const {
     const std::int64_t n = blockRows();
     y.resize(n, 3);
-    ATELIER_PARALLEL_FOR(n)
-    for (std::int64_t i = 0; i < n; ++i) {
+    parallelFor(n, [&](std::int64_t i) {
         Vec3 acc = Vec3::Zero();
         for (int k = m_rowStart[static_cast<std::size_t>(i)];
              k < m_rowStart[static_cast<std::size_t>(i) + 1]; ++k) {
@@ -75,7 +74,7 @@ void BlockSparseMatrix::multiply(const MatX3& x, MatX3& y) const {
                              x.row(m_col[static_cast<std::size_t>(k)]).transpose();
         }
         y.row(i) = acc.transpose();
-    }
+    });
 }
 
 Eigen::MatrixXd BlockSparseMatrix::toDense() const {

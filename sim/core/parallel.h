@@ -1,36 +1,83 @@
 #pragma once
-/// Thin wrappers over OpenMP so the rest of the engine does not spell pragmas.
-/// Without OpenMP (ATELIER_OPENMP=OFF, the sanitizer build) everything runs serially.
+/// Parallel loops on the engine's own thread pool.
+///
+/// The pool's threads wait for work by spinning for a few microseconds and then sleeping on a
+/// futex, so an engine that shares its cores with a window, a compositor or another job never
+/// keeps them busy while it has nothing to do (OpenMP's default waiting spins for about a
+/// millisecond per loop, which on a loaded 2-core machine made the 10 mm tshirt drape 7× slower:
+/// docs/decisions/006-thread-pool-that-sleeps.md). Loops write per index or per chunk, so results
+/// are the same bits for any number of threads. With ATELIER_THREADS=OFF everything runs
+/// serially.
 
 #include <algorithm>
 #include <cstdint>
+#include <utility>
 
 namespace atelier::sim {
 
-/// Number of threads the engine uses for parallel loops.
+/// Number of threads the engine uses for parallel loops (the calling thread included).
 int threadCount();
 /// Sets the number of threads (1 = serial). Values < 1 restore the default (all cores).
 void setThreadCount(int n);
 
+/// How long a pool thread (and the caller waiting for a loop's end) spins before it sleeps [µs].
+/// Short enough that a loaded machine loses almost nothing to spinning, long enough to catch
+/// the next loop of a conjugate-gradient iteration without a wake-up.
+int spinMicroseconds();
+/// Sets the spin (0 = sleep at once, as OMP_WAIT_POLICY=passive); < 0 restores the default.
+void setSpinMicroseconds(int us);
+
 /// Minimum loop length for which parallel loops are worth their fork/join cost.
 inline constexpr std::int64_t PARALLEL_GRAIN = 2048;
 
-} // namespace atelier::sim
+namespace detail {
+/// Runs task(context, k) for every k in [0, tasks) on the pool (the caller takes part), each
+/// task exactly once, in any order and on any thread; returns when all are done. Serial when
+/// called from inside a parallel loop, or while another thread's loop holds the pool.
+void runTasks(std::int64_t tasks, void (*task)(void*, std::int64_t), void* context);
+} // namespace detail
 
-#if defined(ATELIER_HAVE_OPENMP)
-#define ATELIER_PRAGMA(x) _Pragma(#x)
-/// `ATELIER_PARALLEL_FOR(n) for (std::int64_t i = 0; i < n; ++i)`
-#define ATELIER_PARALLEL_FOR(n)                                                                    \
-    ATELIER_PRAGMA(omp parallel for schedule(static) if ((n) >= ::atelier::sim::PARALLEL_GRAIN))
-/// `ATELIER_PARALLEL_FOR_DYNAMIC(n, on) for (std::int64_t i = 0; i < n; ++i)`: iterations of
-/// uneven cost handed out one at a time, in parallel only when `on`.
-#define ATELIER_PARALLEL_FOR_DYNAMIC(n, on) ATELIER_PRAGMA(omp parallel for schedule(dynamic, 1) if (on))
-#else
-#define ATELIER_PARALLEL_FOR(n)
-#define ATELIER_PARALLEL_FOR_DYNAMIC(n, on)
-#endif
+/// Calls body(i) for every i in [0, n): in parallel (one contiguous block per thread) when
+/// n >= PARALLEL_GRAIN, else serially. body(i) must only write what belongs to i.
+template <class Body>
+void parallelFor(std::int64_t n, Body&& body) {
+    const int threads = threadCount();
+    if (n < PARALLEL_GRAIN || threads <= 1) {
+        for (std::int64_t i = 0; i < n; ++i) {
+            body(i);
+        }
+        return;
+    }
+    struct Context {
+        Body* body;
+        std::int64_t n;
+        std::int64_t blocks;
+    } context{&body, n, threads};
+    detail::runTasks(
+        threads,
+        [](void* c, std::int64_t k) {
+            const auto& ctx = *static_cast<Context*>(c);
+            const std::int64_t end = ctx.n * (k + 1) / ctx.blocks;
+            for (std::int64_t i = ctx.n * k / ctx.blocks; i < end; ++i) {
+                (*ctx.body)(i);
+            }
+        },
+        &context);
+}
 
-namespace atelier::sim {
+/// Calls body(i) for every i in [0, n), iterations of uneven cost handed out one at a time,
+/// in parallel only when `parallel`.
+template <class Body>
+void parallelForEach(std::int64_t n, bool parallel, Body&& body) {
+    if (!parallel || n <= 1 || threadCount() <= 1) {
+        for (std::int64_t i = 0; i < n; ++i) {
+            body(i);
+        }
+        return;
+    }
+    detail::runTasks(
+        n, [](void* b, std::int64_t i) { (*static_cast<Body*>(b))(i); }, &body);
+}
 
 /// Number of contiguous pieces parallelChunks splits a loop of n uneven iterations into: enough
 /// for the threads to balance, few enough that each piece's output buffer stays large.
@@ -45,10 +92,8 @@ inline std::int64_t chunkCount(std::int64_t n) {
 template <class Body>
 void parallelChunks(std::int64_t n, Body&& body) {
     const std::int64_t chunks = chunkCount(n);
-    ATELIER_PARALLEL_FOR_DYNAMIC(chunks, n >= PARALLEL_GRAIN)
-    for (std::int64_t c = 0; c < chunks; ++c) {
-        body(c, n * c / chunks, n * (c + 1) / chunks);
-    }
+    parallelForEach(chunks, n >= PARALLEL_GRAIN,
+                    [&](std::int64_t c) { body(c, n * c / chunks, n * (c + 1) / chunks); });
 }
 
 } // namespace atelier::sim

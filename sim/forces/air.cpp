@@ -27,8 +27,7 @@ AirDrag::AirDrag(const ClothMesh& mesh, int offset, const AirOptions& air)
 void AirDrag::addForces(const MatX3& x, const MatX3& v, MatX3& f) const {
     const std::int64_t nf = m_triangles.rows();
     MatX3 buffer(3 * nf, 3);
-    ATELIER_PARALLEL_FOR(nf)
-    for (std::int64_t tt = 0; tt < nf; ++tt) {
+    parallelFor(nf, [&](std::int64_t tt) {
         const int i0 = m_offset + m_triangles(tt, 0);
         const int i1 = m_offset + m_triangles(tt, 1);
         const int i2 = m_offset + m_triangles(tt, 2);
@@ -43,7 +42,7 @@ void AirDrag::addForces(const MatX3& x, const MatX3& v, MatX3& f) const {
         for (int a = 0; a < 3; ++a) {
             buffer.row(3 * tt + a) = fv.transpose();
         }
-    }
+    });
     m_gather.gather(buffer, f);
 }
 
@@ -56,15 +55,14 @@ void AirDrag::addJacobian(const MatX3& x, const MatX3& v, double kx, double kv, 
     const std::int64_t nf = m_triangles.rows();
     std::vector<Mat3> blocks(static_cast<std::size_t>(nf) * 9, Mat3::Zero());
     const bool exact = mode == JacobianMode::Exact;
-    ATELIER_PARALLEL_FOR(nf)
-    for (std::int64_t tt = 0; tt < nf; ++tt) {
+    parallelFor(nf, [&](std::int64_t tt) {
         const Vec3 x0 = x.row(m_offset + m_triangles(tt, 0)).transpose();
         const Vec3 x1 = x.row(m_offset + m_triangles(tt, 1)).transpose();
         const Vec3 x2 = x.row(m_offset + m_triangles(tt, 2)).transpose();
         const Vec3 n = (x1 - x0).cross(x2 - x0);
         const double len = n.norm();
         if (!(len > MIN_NORMAL)) {
-            continue;
+            return;
         }
         const double c6 = m_coefficient / 6.0;
         // ∂f_a/∂v_b = -(c/18) n nᵀ/|n| for every a, b.
@@ -91,7 +89,7 @@ void AirDrag::addJacobian(const MatX3& x, const MatX3& v, double kx, double kv, 
                     kx * dx[static_cast<std::size_t>(b)] + kv * dv;
             }
         }
-    }
+    });
     m_gather.gatherJacobian(blocks, J);
 }
 

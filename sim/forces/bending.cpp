@@ -199,13 +199,12 @@ void DihedralBending::addForces(const MatX3& x, const MatX3& v, MatX3& f) const 
     const std::int64_t nh = m_hinges.rows();
     MatX3& buffer = m_buffer;
     buffer.setZero(4 * nh, 3);
-    ATELIER_PARALLEL_FOR(nh)
-    for (std::int64_t hh = 0; hh < nh; ++hh) {
+    parallelFor(nh, [&](std::int64_t hh) {
         const int h = static_cast<int>(hh);
         const auto c = corners(x, h);
         std::array<Vec3, 4> g;
         if (!dihedralAngleGradient(c, g)) {
-            continue;
+            return;
         }
         const auto cv = corners(v, h);
         double thetaDot = 0;
@@ -219,19 +218,18 @@ void DihedralBending::addForces(const MatX3& x, const MatX3& v, MatX3& f) const 
         for (std::size_t a = 0; a < 4; ++a) {
             buffer.row(4 * hh + static_cast<std::int64_t>(a)) = s * g[a].transpose();
         }
-    }
+    });
     m_gather.gather(buffer, f);
 }
 
 double DihedralBending::energy(const MatX3& x) const {
     const std::int64_t nh = m_hinges.rows();
     VecX w = VecX::Zero(nh);
-    ATELIER_PARALLEL_FOR(nh)
-    for (std::int64_t hh = 0; hh < nh; ++hh) {
+    parallelFor(nh, [&](std::int64_t hh) {
         const int h = static_cast<int>(hh);
         const double d = angle(x, h) - m_restAngle[h];
         w[h] = m_stiffness * m_weight[h] * (1.0 - std::cos(d));
-    }
+    });
     return w.sum();
 }
 
@@ -247,8 +245,7 @@ void DihedralBending::addJacobian(const MatX3& x, const MatX3& v, double kx, dou
     std::vector<Mat3>& blocks = m_blocks;
     blocks.resize(static_cast<std::size_t>(nh) * 16);
     const bool exact = mode == JacobianMode::Exact;
-    ATELIER_PARALLEL_FOR(nh)
-    for (std::int64_t hh = 0; hh < nh; ++hh) {
+    parallelFor(nh, [&](std::int64_t hh) {
         const int h = static_cast<int>(hh);
         const auto c = corners(x, h);
         std::array<Vec3, 4> g;
@@ -256,7 +253,7 @@ void DihedralBending::addJacobian(const MatX3& x, const MatX3& v, double kx, dou
             for (std::size_t k = 0; k < 16; ++k) {
                 blocks[static_cast<std::size_t>(16 * h) + k].setZero();
             }
-            continue;
+            return;
         }
         Eigen::Matrix<double, 12, 1> grad;
         Eigen::Matrix<double, 12, 1> vel;
@@ -287,7 +284,7 @@ void DihedralBending::addJacobian(const MatX3& x, const MatX3& v, double kx, dou
                     total.block<3, 3>(3 * a, 3 * b);
             }
         }
-    }
+    });
     m_gather.gatherJacobian(blocks, J);
 }
 
@@ -297,15 +294,14 @@ void DihedralBending::acceptStep(const MatX3& x, double dt) {
     }
     const double fraction = std::min(1.0, m_plasticRate * dt);
     const std::int64_t nh = m_hinges.rows();
-    ATELIER_PARALLEL_FOR(nh)
-    for (std::int64_t hh = 0; hh < nh; ++hh) {
+    parallelFor(nh, [&](std::int64_t hh) {
         const int h = static_cast<int>(hh);
         const double d = angle(x, h) - m_restAngle[h];
         const double excess = std::abs(d) - m_yieldAngle;
         if (excess > 0 && std::isfinite(d)) {
             m_restAngle[h] += fraction * std::copysign(excess, d);
         }
-    }
+    });
 }
 
 } // namespace atelier::sim

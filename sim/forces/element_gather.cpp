@@ -41,15 +41,14 @@ ElementGather::ElementGather(const Eigen::MatrixXi& elements, int offset)
 
 void ElementGather::gather(const MatX3& buffer, MatX3& f) const {
     const std::int64_t nv = vertexCount();
-    ATELIER_PARALLEL_FOR(nv)
-    for (std::int64_t v = 0; v < nv; ++v) {
+    parallelFor(nv, [&](std::int64_t v) {
         const auto i = static_cast<std::size_t>(v);
         Eigen::RowVector3d sum = Eigen::RowVector3d::Zero();
         for (int s = m_start[i]; s < m_start[i + 1]; ++s) {
             sum += buffer.row(m_incidence[static_cast<std::size_t>(s)]);
         }
         f.row(m_offset + v) += sum;
-    }
+    });
 }
 
 void ElementGather::gatherJacobian(const std::vector<Mat3>& blocks, BlockSparseMatrix& J) const {
@@ -69,8 +68,7 @@ void ElementGather::gatherJacobian(const std::vector<Mat3>& blocks, BlockSparseM
         }
         m_slotsFor = J.patternId();
     }
-    ATELIER_PARALLEL_FOR(nv)
-    for (std::int64_t v = 0; v < nv; ++v) {
+    parallelFor(nv, [&](std::int64_t v) {
         const auto i = static_cast<std::size_t>(v);
         for (int s = m_start[i]; s < m_start[i + 1]; ++s) {
             const int slotIndex = m_incidence[static_cast<std::size_t>(s)]; // e·k + a
@@ -81,7 +79,7 @@ void ElementGather::gatherJacobian(const std::vector<Mat3>& blocks, BlockSparseM
                 }
             }
         }
-    }
+    });
 }
 
 void ElementGather::addPattern(std::vector<std::pair<int, int>>& pairs) const {

@@ -102,8 +102,7 @@ Vec3 FemStretch::stress(const MatX3& x, int t) const {
 void FemStretch::addForces(const MatX3& x, const MatX3& v, MatX3& f) const {
     const std::int64_t nf = m_triangles.rows();
     MatX3 buffer(3 * nf, 3);
-    ATELIER_PARALLEL_FOR(nf)
-    for (std::int64_t tt = 0; tt < nf; ++tt) {
+    parallelFor(nf, [&](std::int64_t tt) {
         const int t = static_cast<int>(tt);
         const Mat23& b = m_shapeGradient[static_cast<std::size_t>(t)];
         const Mat32 F = deformationGradient(x, t);
@@ -114,19 +113,18 @@ void FemStretch::addForces(const MatX3& x, const MatX3& v, MatX3& f) const {
         const Mat2 S = stressMatrix(m_stiffness * (greenVoigt(F) + m_damping * edot));
         const Eigen::Matrix3d h = -m_restArea[t] * (F * S) * b; // column a = f_a
         buffer.block<3, 3>(3 * tt, 0) = h.transpose();
-    }
+    });
     m_gather.gather(buffer, f);
 }
 
 double FemStretch::energy(const MatX3& x) const {
     const std::int64_t nf = m_triangles.rows();
     VecX w(nf);
-    ATELIER_PARALLEL_FOR(nf)
-    for (std::int64_t tt = 0; tt < nf; ++tt) {
+    parallelFor(nf, [&](std::int64_t tt) {
         const int t = static_cast<int>(tt);
         const Vec3 e = greenStrain(x, t);
         w[t] = 0.5 * m_restArea[t] * e.dot(m_stiffness * e);
-    }
+    });
     return w.sum();
 }
 
@@ -140,8 +138,7 @@ void FemStretch::addJacobian(const MatX3& x, const MatX3& v, double kx, double k
     const bool exact = mode == JacobianMode::Exact;
     std::vector<Mat3>& blocks = m_blocks; // every block is written below
     blocks.resize(static_cast<std::size_t>(nf) * 9);
-    ATELIER_PARALLEL_FOR(nf)
-    for (std::int64_t tt = 0; tt < nf; ++tt) {
+    parallelFor(nf, [&](std::int64_t tt) {
         const int t = static_cast<int>(tt);
         const double a0 = m_restArea[t];
         const Mat23& b = m_shapeGradient[static_cast<std::size_t>(t)];
@@ -182,7 +179,7 @@ void FemStretch::addJacobian(const MatX3& x, const MatX3& v, double kx, double k
                 blocks[static_cast<std::size_t>((3 * t + a) * 3 + bb)] = blk;
             }
         }
-    }
+    });
     m_gather.gatherJacobian(blocks, J);
 }
 

@@ -70,8 +70,7 @@ SpringStretch::SpringStretch(const ClothMesh& mesh, int offset, const Material& 
 
 void SpringStretch::addForces(const MatX3& x, const MatX3& v, MatX3& f) const {
     const auto n = static_cast<std::int64_t>(m_rest.size());
-    ATELIER_PARALLEL_FOR(n)
-    for (std::int64_t s = 0; s < n; ++s) {
+    parallelFor(n, [&](std::int64_t s) {
         const auto k = static_cast<std::size_t>(s);
         const int i = m_ends[k][0];
         const int j = m_ends[k][1];
@@ -85,7 +84,7 @@ void SpringStretch::addForces(const MatX3& x, const MatX3& v, MatX3& f) const {
         }
         m_buffer.row(2 * s) = fi.transpose();
         m_buffer.row(2 * s + 1) = -fi.transpose();
-    }
+    });
     m_gather.gather(m_buffer, f);
 }
 

@@ -106,8 +106,7 @@ VolinoStretch::VolinoStretch(const ClothMesh& mesh, int offset, const Material& 
 
 void VolinoStretch::addForces(const MatX3& x, const MatX3& v, MatX3& f) const {
     const auto count = static_cast<std::int64_t>(m_elements.size());
-    ATELIER_PARALLEL_FOR(count)
-    for (std::int64_t e = 0; e < count; ++e) {
+    parallelFor(count, [&](std::int64_t e) {
         const Element& el = m_elements[static_cast<std::size_t>(e)];
         const Vec3 x0 = x.row(el.v[0]);
         const Vec3 x1 = x.row(el.v[1]);
@@ -133,7 +132,7 @@ void VolinoStretch::addForces(const MatX3& x, const MatX3& v, MatX3& f) const {
         m_buffer.row(3 * e + 0) = (t2 - t1).transpose();
         m_buffer.row(3 * e + 1) = (t0 - t2).transpose();
         m_buffer.row(3 * e + 2) = (t1 - t0).transpose();
-    }
+    });
     m_gather.gather(m_buffer, f);
 }
 
