@@ -2,6 +2,8 @@
 
 #include "io/atomic_file.h"
 
+#include "sim/mesh/vertex_normals.h"
+
 #include <Eigen/Geometry>
 
 #include <array>
@@ -353,20 +355,10 @@ Result<std::string> formatObj(const sim::MatX3& positions, const sim::MatX3i& tr
         }
     }
     if (options.normals) {
-        sim::MatX3 normals = sim::MatX3::Zero(nv, 3);
-        for (Eigen::Index f = 0; f < nf; ++f) {
-            const sim::Vec3 a = positions.row(triangles(f, 0));
-            const sim::Vec3 b = positions.row(triangles(f, 1));
-            const sim::Vec3 c = positions.row(triangles(f, 2));
-            const sim::Vec3 n = (b - a).cross(c - a); // length = 2 × area: area weighting
-            for (int k = 0; k < 3; ++k) {
-                normals.row(triangles(f, k)) += n.transpose();
-            }
-        }
+        sim::MatX3 normals;
+        sim::vertexNormals(positions, triangles, normals);
         for (Eigen::Index i = 0; i < nv; ++i) {
-            sim::Vec3 n = normals.row(i);
-            const double len = n.norm();
-            n = (len > 0 && std::isfinite(len)) ? sim::Vec3(n / len) : sim::Vec3(0, 0, 1);
+            const sim::Vec3 n = normals.row(i);
             out += "vn";
             for (int k = 0; k < 3; ++k) {
                 out += ' ';
