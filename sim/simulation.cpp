@@ -1,18 +1,15 @@
 #include "sim/simulation.h"
 
-#include "sim/collision/collision_stage.h"
-#include "sim/collision/contact_forces.h"
 #include "sim/collision/obstacle.h"
 #include "sim/constraints/kinematic.h"
-#include "sim/constraints/seam_elastics.h"
 #include "sim/core/parallel.h"
 #include "sim/forces/air.h"
 #include "sim/forces/bending.h"
 #include "sim/forces/fem.h"
 #include "sim/forces/springs.h"
 #include "sim/forces/volino.h"
-#include "sim/integrators/explicit_rk.h"
-#include "sim/integrators/filtered_cg.h"
+#include "sim/scene_validation.h"
+#include "sim/simulation_impl.h"
 
 #include <algorithm>
 #include <array>
@@ -23,31 +20,6 @@
 #include <sstream>
 
 namespace atelier::sim {
-
-namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double seconds(Clock::time_point a, Clock::time_point b) {
-    return std::chrono::duration<double>(b - a).count();
-}
-
-/// Accumulates the wall time of a named stage while alive.
-class StageTimer {
-  public:
-    StageTimer(double& slot) : m_slot(slot), m_start(Clock::now()) {}
-    ~StageTimer() { m_slot += seconds(m_start, Clock::now()); }
-    StageTimer(const StageTimer&) = delete;
-    StageTimer& operator=(const StageTimer&) = delete;
-
-  private:
-    double& m_slot;
-    Clock::time_point m_start;
-};
-
-constexpr double INF = std::numeric_limits<double>::infinity();
-
-} // namespace
 
 std::string_view integratorName(IntegratorKind kind) {
     switch (kind) {
@@ -101,132 +73,6 @@ double maxEdgeStrain(const ClothMesh& mesh, const MatX3& x, int offset) {
 }
 
 // ---------------------------------------------------------------------------------------------
-
-struct Simulation::Impl {
-    SceneSpec scene;
-    std::string error;
-    std::vector<int> offsets{0};
-    int n = 0;
-    MatX3 x, v;
-    VecX mass, invMass;
-    MatX3 pinPosition;           ///< rows for pinned vertices: their hold position
-    std::vector<char> pinned;    ///< per vertex
-    std::vector<int> driveOf;    ///< per vertex: index of its drive or -1
-    std::vector<std::array<int, 2>> allEdges; ///< global edges of all cloths (high damping)
-    std::vector<std::unique_ptr<ForceModel>> models;
-    std::vector<std::string> stages;
-    std::vector<double*> modelTimers;
-    double t = 0;
-    double dtNext = 0;     ///< next step to try [s]
-    double dtNominal = 0;  ///< fixed-step integrators: the scene's step [s]
-    std::string lastRejection; ///< why the last step was rejected (for error messages)
-    double previousErrorRatio = 1.0; ///< rk45: error / tolerance of the last accepted step
-    RunStats stats;
-    bool failed = false;
-    double lowestY = INF;  ///< lowest vertex height reached, for the gravitational energy bound
-    double massHeight0 = 0; ///< Σ m_i h_i at the start, h = height along −g [kg·m]
-    double baseEnergyInput = 0; ///< initial kinetic + elastic energy + constraint work [J]
-
-    std::unique_ptr<ExplicitRkStepper> rk;
-    FilteredCg cg;
-    BlockSparseMatrix jacobian;
-    MatX3 xNew, vNew, acc, force, forceStart, accEnd, rhs, dv, scratch, xSave, vSave;
-    MatX3 dampingForce; // implicitStep's (∂f/∂v)·v
-    std::vector<char> held; ///< implicit Euler: per vertex, whether CG keeps its Δv
-    std::unique_ptr<CollisionStage> collision;
-    ContactForces contactForces; ///< implicit Euler: the contacts inside the solve
-    double hStep = 0;        ///< the step being taken [s]
-    double collisionPower = 0; ///< power of the contact corrections at the step's start [W]
-    /// Energy in the solve's contact springs at the step's start, free to become motion [J];
-    /// what it gained since the last accepted step counts as put in (the corrections place
-    /// vertices at the contact distance, inside the springs' layer).
-    double contactPotential = 0;
-    double lastContactPotential = 0;
-    double* timerCollision = nullptr;
-
-    double* timerForces = nullptr;
-    double* timerConstraints = nullptr;
-    double* timerIntegrator = nullptr;
-    double* timerSolve = nullptr;
-
-    /// Seam welding: union-find over welded pairs, and the groups of ≥ 2 vertices.
-    std::vector<int> weldParent;
-    std::vector<char> pairWelded;
-    std::vector<std::vector<int>> weldGroups;
-
-    explicit Impl(SceneSpec s) : scene(std::move(s)) {}
-
-    int weldRoot(int v) {
-        while (weldParent[static_cast<std::size_t>(v)] != v) {
-            v = weldParent[static_cast<std::size_t>(v)] =
-                weldParent[static_cast<std::size_t>(weldParent[static_cast<std::size_t>(v)])];
-        }
-        return v;
-    }
-    /// Welds the seam pairs that have closed; returns whether any did.
-    bool weldClosedSeams();
-    std::vector<std::size_t> newlyWelded; ///< pairs weldClosedSeams welded this step
-    MatX3 xPreMerge, vPreMerge;           ///< the state before this step's merge
-    std::vector<int> mergeMoved;          ///< vertices the merge moved
-    /// Vertices crossing cloth in the merge xPreMerge → x (only weld-group members move).
-    std::vector<int> mergeCrossings();
-    /// Joins the weld sets of the pair's two vertices; returns whether they were apart.
-    bool joinWeld(const SeamPair& p) {
-        const int ra = weldRoot(p.a), rb = weldRoot(p.b);
-        if (ra == rb) {
-            return false;
-        }
-        weldParent[static_cast<std::size_t>(std::max(ra, rb))] = std::min(ra, rb);
-        return true;
-    }
-    /// Weld groups (weldGroups) from weldParent.
-    void rebuildWeldGroups();
-    /// Where this step's merge (xPreMerge → x) makes cloth cross cloth: un-welds the new pairs
-    /// involved and merges again without them; members of older groups involved stay where
-    /// they were before the merge.
-    void unweldCrossingMerges();
-    /// SceneSpec::sewingEndsWhenSewn: ends the sewing phase at t once every pair is welded.
-    void endSewingIfSewn();
-    /// A: each welded group takes its mass-weighted mean position and velocity (a held member
-    /// imposes its own). Momentum-conserving and dissipative.
-    void mergeWelds(MatX3* xs, MatX3& vs) const;
-    /// B: each welded group shares its mass-weighted mean acceleration.
-    void shareWeldAccelerations(MatX3& a) const;
-    /// Imposed seams (B): each open pair's relative acceleration becomes
-    /// \f$ -r/\tau^2 - 2\dot r/\tau \f$, split by mass (momentum conserved). Returns the
-    /// power of the corrections [W].
-    double imposeSeamAccelerations(const MatX3& xs, const MatX3& vs, MatX3& a) const;
-    /// Imposed seams in implicit Euler: the same law integrated implicitly on the end-of-step
-    /// relative velocities.
-    void imposeSeamVelocities(double h, MatX3& vEnd) const;
-    bool pairOpen(std::size_t k) const { return pairWelded.empty() || !pairWelded[k]; }
-    SeamElastics* seamElastics = nullptr; ///< the seam model when seams are elastic
-    bool seamsRouted = false; ///< some pair has a via point (routing ran this sewing phase)
-    /// Seam routing: re-chooses the via points of the open pairs blocked by an obstacle (see
-    /// SceneSpec::seamRouteClearance); energy the moved targets add counts as put in.
-    void routeSeams();
-    /// The sewing phase's growing pull (SceneSpec::seamReachGrowthStart), set for time t.
-    void growSeamReach();
-    double seamPower = 0; ///< power of the imposed seam corrections at the step's start [W]
-
-    bool hasDrives() const { return !scene.drives.empty(); }
-    /// Gravity acts in the step starting at t (steps stop at gravityStartTime).
-    bool gravityActive() const { return scene.gravity && t >= scene.gravityStartTime - 1e-12; }
-
-    void build();
-    void accelerations(double time, const MatX3& xs, const MatX3& vs, MatX3& a);
-    void applyCorrectionsA(double h);
-    bool explicitStep(double h, double& errorRatio);
-    bool implicitStep(double h);
-    bool step(double maxH);
-    double constraintPower(const MatX3& f, const MatX3& a, const MatX3& vel) const;
-    /// Whether some vertex held by a drive moves (then the constraint does work).
-    bool heldVerticesMove() const;
-    /// Sets invMass: 0 for vertices held at time t (pins, exact drives not yet released).
-    void updateHeld();
-    /// Energy put in so far (see RunStats::energyInput), with `xs` counted for the lowest point.
-    double energyBound(const MatX3& xs) const;
-};
 
 double Simulation::Impl::energyBound(const MatX3& xs) const {
     double e = baseEnergyInput;
@@ -290,6 +136,7 @@ void Simulation::Impl::build() {
     for (int p : scene.pins) {
         pinned[static_cast<std::size_t>(p)] = 1;
     }
+    welds = SeamWelds(scene.seams, n);
     driveOf.assign(static_cast<std::size_t>(n), -1);
     for (std::size_t d = 0; d < scene.drives.size(); ++d) {
         driveOf[static_cast<std::size_t>(scene.drives[d].vertex)] = static_cast<int>(d);
@@ -437,7 +284,7 @@ void Simulation::Impl::accelerations(double time, const MatX3& xs, const MatX3& 
     if (scene.integrator.kind != IntegratorKind::ImplicitEuler) {
         // Implicit Euler merges welded velocities after its solve instead: sharing stiff
         // forces across the weld explicitly in its right-hand side would be unstable.
-        shareWeldAccelerations(a);
+        welds.shareAccelerations(a, mass, invMass);
     }
     if (collision && scene.integrator.kind != IntegratorKind::ImplicitEuler) {
         // B: contacts hold (no re-approach) with Coulomb friction.
@@ -514,7 +361,7 @@ void Simulation::Impl::applyCorrectionsA(double h) {
     if (scene.highDampingTimeConstant > 0) {
         applyHighDamping(allEdges, invMass, h, scene.highDampingTimeConstant, v);
     }
-    mergeWelds(&x, v);
+    welds.merge(&x, v, mass, invMass);
 }
 
 void Simulation::Impl::growSeamReach() {
@@ -557,6 +404,17 @@ void Simulation::Impl::routeSeams() {
     baseEnergyInput += std::max(0.0, seamElastics->energy(x) - before);
 }
 
+bool Simulation::Impl::weldClosedSeams() {
+    const bool all = scene.seamWeldAllTime >= 0 && t >= scene.seamWeldAllTime - 1e-12;
+    if (all && stats.sewingEndTime < 0) {
+        stats.sewingEndTime = t;
+    }
+    if (!(scene.seamWeldDistance > 0) && !all) {
+        return false;
+    }
+    return welds.weldClosed(x, scene.seamWeldDistance, all, weldFigures);
+}
+
 void Simulation::Impl::endSewingIfSewn() {
     if (!(scene.seamWeldAllTime > t) || scene.seams.empty() ||
         stats.weldedSeamPairs < static_cast<long>(scene.seams.size())) {
@@ -569,193 +427,6 @@ void Simulation::Impl::endSewingIfSewn() {
     }
     scene.seamWeldAllTime = t;
     stats.sewingEndTime = t;
-}
-
-bool Simulation::Impl::weldClosedSeams() {
-    const bool all = scene.seamWeldAllTime >= 0 && t >= scene.seamWeldAllTime - 1e-12;
-    if (all && stats.sewingEndTime < 0) {
-        stats.sewingEndTime = t;
-    }
-    if (!(scene.seamWeldDistance > 0) && !all) {
-        return false;
-    }
-    if (weldParent.empty()) {
-        weldParent.resize(static_cast<std::size_t>(n));
-        std::iota(weldParent.begin(), weldParent.end(), 0);
-        pairWelded.assign(scene.seams.size(), 0);
-    }
-    const double d2 = scene.seamWeldDistance * scene.seamWeldDistance;
-    bool changed = false;
-    newlyWelded.clear();
-    for (std::size_t k = 0; k < scene.seams.size(); ++k) {
-        const SeamPair& p = scene.seams[k];
-        if (pairWelded[k]) {
-            continue;
-        }
-        const double gap2 = (x.row(p.a) - x.row(p.b)).squaredNorm();
-        if (gap2 > d2) {
-            if (!all) {
-                continue;
-            }
-            stats.largestForcedWeld = std::max(stats.largestForcedWeld, std::sqrt(gap2));
-            stats.forcedWeldGaps.resize(scene.seams.size(), 0.0);
-            stats.forcedWeldGaps[k] = std::sqrt(gap2);
-        }
-        pairWelded[k] = 1;
-        ++stats.weldedSeamPairs;
-        newlyWelded.push_back(k);
-        changed = joinWeld(p) || changed;
-    }
-    if (changed) {
-        rebuildWeldGroups();
-    }
-    return changed;
-}
-
-void Simulation::Impl::rebuildWeldGroups() {
-    std::map<int, std::vector<int>> groups;
-    for (const SeamPair& p : scene.seams) {
-        for (int v : {p.a, p.b}) {
-            groups[weldRoot(v)].push_back(v);
-        }
-    }
-    weldGroups.clear();
-    for (auto& [root, members] : groups) {
-        std::sort(members.begin(), members.end());
-        members.erase(std::unique(members.begin(), members.end()), members.end());
-        if (members.size() >= 2) {
-            weldGroups.push_back(std::move(members));
-        }
-    }
-}
-
-void Simulation::Impl::unweldCrossingMerges() {
-    for (int round = 0; round < 8; ++round) {
-        const std::vector<int> crossing = mergeCrossings();
-        if (crossing.empty()) {
-            return;
-        }
-        std::vector<char> rootCrosses(static_cast<std::size_t>(n), 0);
-        for (int v : crossing) {
-            rootCrosses[static_cast<std::size_t>(weldRoot(v))] = 1;
-        }
-        std::vector<std::size_t> kept;
-        bool undone = false;
-        for (std::size_t k : newlyWelded) {
-            if (!rootCrosses[static_cast<std::size_t>(weldRoot(scene.seams[k].a))]) {
-                kept.push_back(k);
-                continue;
-            }
-            pairWelded[k] = 0;
-            --stats.weldedSeamPairs;
-            ++stats.deferredWelds;
-            if (k < stats.forcedWeldGaps.size()) {
-                stats.forcedWeldGaps[k] = 0;
-            }
-            undone = true;
-        }
-        if (!undone) {
-            // Older groups brought back together after the collision corrections moved their
-            // members apart: where that crosses, those members stay where the corrections put
-            // them (the group keeps one velocity and is merged again at a later step).
-            for (int i : crossing) {
-                x.row(i) = xPreMerge.row(i);
-            }
-            continue;
-        }
-        newlyWelded = std::move(kept);
-        std::iota(weldParent.begin(), weldParent.end(), 0);
-        for (std::size_t k = 0; k < scene.seams.size(); ++k) {
-            if (pairWelded[k]) {
-                joinWeld(scene.seams[k]);
-            }
-        }
-        rebuildWeldGroups();
-        stats.largestForcedWeld = stats.forcedWeldGaps.empty()
-                                      ? 0.0
-                                      : *std::max_element(stats.forcedWeldGaps.begin(),
-                                                          stats.forcedWeldGaps.end());
-        x = xPreMerge;
-        v = vPreMerge;
-        mergeWelds(&x, v);
-    }
-    // Rounds exhausted (or the last one merged again): whatever still crosses stays where it
-    // was before the merge.
-    for (int i : mergeCrossings()) {
-        x.row(i) = xPreMerge.row(i);
-    }
-}
-
-std::vector<int> Simulation::Impl::mergeCrossings() {
-    mergeMoved.clear();
-    for (const std::vector<int>& g : weldGroups) {
-        for (int i : g) {
-            if (x.row(i) != xPreMerge.row(i)) {
-                mergeMoved.push_back(i);
-            }
-        }
-    }
-    return collision->crossingVertices(xPreMerge, x, mergeMoved);
-}
-
-void Simulation::Impl::mergeWelds(MatX3* xs, MatX3& vs) const {
-    for (const std::vector<int>& g : weldGroups) {
-        double m = 0;
-        Vec3 px = Vec3::Zero(), pv = Vec3::Zero();
-        int heldVertex = -1;
-        for (int i : g) {
-            if (invMass[i] == 0) {
-                heldVertex = i;
-            }
-            m += mass[i];
-            if (xs != nullptr) {
-                px += mass[i] * xs->row(i).transpose();
-            }
-            pv += mass[i] * vs.row(i).transpose();
-        }
-        if (heldVertex >= 0) {
-            if (xs != nullptr) {
-                px = xs->row(heldVertex).transpose();
-            }
-            pv = vs.row(heldVertex).transpose();
-        } else if (m > 0) {
-            px /= m;
-            pv /= m;
-        } else {
-            continue;
-        }
-        for (int i : g) {
-            if (xs != nullptr) {
-                xs->row(i) = px.transpose();
-            }
-            vs.row(i) = pv.transpose();
-        }
-    }
-}
-
-void Simulation::Impl::shareWeldAccelerations(MatX3& a) const {
-    for (const std::vector<int>& g : weldGroups) {
-        double m = 0;
-        Vec3 pa = Vec3::Zero();
-        int heldVertex = -1;
-        for (int i : g) {
-            if (invMass[i] == 0) {
-                heldVertex = i;
-            }
-            m += mass[i];
-            pa += mass[i] * a.row(i).transpose();
-        }
-        if (heldVertex >= 0) {
-            pa = a.row(heldVertex).transpose();
-        } else if (m > 0) {
-            pa /= m;
-        } else {
-            continue;
-        }
-        for (int i : g) {
-            a.row(i) = pa.transpose();
-        }
-    }
 }
 
 double Simulation::Impl::imposeSeamAccelerations(const MatX3& xs, const MatX3& vs,
@@ -880,7 +551,7 @@ bool Simulation::Impl::implicitStep(double h) {
         // Welded seam vertices are one unknown of the solve: solved apart, each was pulled by
         // its own panel and the merge after the solve threw most of that motion away.
         r = cg.solve(jacobian, rhs, held, dv, scene.integrator.cgTolerance,
-                     scene.integrator.cgMaxIterations, &weldGroups);
+                     scene.integrator.cgMaxIterations, &welds.groups());
     }
     stats.cgIterations += r.iterations;
     vNew = v + dv;
@@ -890,7 +561,7 @@ bool Simulation::Impl::implicitStep(double h) {
         const double after = 0.5 * (mass.array() * vNew.rowwise().squaredNorm().array()).sum();
         seamPower = std::max(0.0, after - before) / h;
     }
-    mergeWelds(nullptr, vNew); // welded pairs keep one velocity (positions follow below)
+    welds.merge(nullptr, vNew, mass, invMass); // welded pairs keep one velocity (positions follow below)
     if (collision) {
         // Contacts on the end-of-step velocities (the implicit form of B), with friction.
         StageTimer timer(*timerCollision);
@@ -1030,16 +701,16 @@ bool Simulation::Impl::step(double maxH) {
             m->acceptStep(x, h);
         }
         const auto weldStart = Clock::now(); // the welds are part of the step's wall time
-        const double forcedBefore = stats.largestForcedWeld;
+        const double forcedBefore = weldFigures.largestForced;
         const bool newWelds = weldClosedSeams();
-        if (newWelds || !weldGroups.empty()) {
+        if (newWelds || !welds.empty()) {
             // Also after the collision corrections, which move vertices one by one: a welded
             // group leaves every step as one point.
             StageTimer timer(*timerConstraints);
             // Pairs welded from afar (end of sewing) stretch the cloth: that elastic energy is
             // put in by the weld, so the divergence check counts it.
             double elasticBefore = 0;
-            const bool forced = newWelds && stats.largestForcedWeld > forcedBefore;
+            const bool forced = newWelds && weldFigures.largestForced > forcedBefore;
             if (forced) {
                 for (const auto& m : models) {
                     elasticBefore += m->hasEnergy() ? m->energy(x) : 0.0;
@@ -1047,13 +718,18 @@ bool Simulation::Impl::step(double maxH) {
             }
             xPreMerge = x;
             vPreMerge = v;
-            mergeWelds(&x, v);
+            welds.merge(&x, v, mass, invMass);
             if (collision && collision->selfCollision()) {
                 // A weld moves both sides of the pair onto their common point: where that
                 // carries a triangle through the cloth beside the seam, the pair is not welded
                 // this step (its elastic keeps pulling), so welds never make intersections.
                 StageTimer collisionTimer(*timerCollision); // collision work (nested here)
-                unweldCrossingMerges();
+                welds.unweldCrossing(
+                    xPreMerge, vPreMerge, x, v, mass, invMass,
+                    [this](const MatX3& before, const MatX3& after, const std::vector<int>& moved) {
+                        return collision->crossingVertices(before, after, moved);
+                    },
+                    weldFigures);
             }
             if (forced) {
                 double elasticAfter = 0;
@@ -1062,6 +738,12 @@ bool Simulation::Impl::step(double maxH) {
                 }
                 baseEnergyInput += std::max(0.0, elasticAfter - elasticBefore);
             }
+        }
+        if (!scene.seams.empty()) {
+            stats.weldedSeamPairs = weldFigures.weldedPairs;
+            stats.largestForcedWeld = weldFigures.largestForced;
+            stats.deferredWelds = weldFigures.deferred;
+            stats.forcedWeldGaps = weldFigures.forcedGaps;
         }
         if (scene.sewingEndsWhenSewn) {
             endSewingIfSewn();
@@ -1098,183 +780,7 @@ bool Simulation::Impl::step(double maxH) {
 
 // ---------------------------------------------------------------------------------------------
 
-std::optional<std::string> Simulation::validate(const SceneSpec& s) {
-    if (s.cloths.empty()) {
-        return std::string("the scene has no cloth");
-    }
-    int total = 0;
-    for (std::size_t ci = 0; ci < s.cloths.size(); ++ci) {
-        const ClothSpec& c = s.cloths[ci];
-        const std::string who = "cloth " + std::to_string(ci) + " (" + c.name + ")";
-        const int nv = c.mesh.vertexCount();
-        if (c.mesh.triangleCount() == 0 || c.mesh.restArea.size() != c.mesh.triangleCount()) {
-            return who + ": mesh has no triangles or was not built";
-        }
-        for (int t = 0; t < c.mesh.triangleCount(); ++t) {
-            if (!(c.mesh.restArea[t] > 0)) {
-                return who + ": triangle " + std::to_string(t) + ": zero or negative rest area";
-            }
-        }
-        if (c.position.rows() != nv) {
-            return who + ": " + std::to_string(c.position.rows()) + " positions for " +
-                   std::to_string(nv) + " vertices";
-        }
-        if (c.velocity.rows() != 0 && c.velocity.rows() != nv) {
-            return who + ": velocity count does not match the vertex count";
-        }
-        for (int i = 0; i < nv; ++i) {
-            if (!c.position.row(i).allFinite()) {
-                return who + ": vertex " + std::to_string(i) + ": position is not finite";
-            }
-        }
-        const Material& m = c.material;
-        if (!(m.density > 0) || !std::isfinite(m.density)) {
-            return who + ": material density must be positive and finite";
-        }
-        if (!(m.stretchWeft > 0) || !(m.stretchWarp > 0) || !(m.shear > 0) ||
-            !std::isfinite(m.stretchWeft + m.stretchWarp + m.shear)) {
-            return who + ": stretch and shear stiffness must be positive and finite";
-        }
-        if (!(m.bending >= 0) || !(m.damping >= 0) || !std::isfinite(m.bending + m.damping)) {
-            return who + ": bending and damping must be non-negative and finite";
-        }
-        const double nu21 = m.poisson * m.stretchWarp / m.stretchWeft;
-        if (!(m.poisson >= 0) || !(m.poisson * nu21 < 1.0) ||
-            (c.model == StretchModel::Volino && m.poisson >= 0.5)) {
-            return who + ": Poisson ratio out of range (need 0 <= nu and nu12*nu21 < 1; volino: nu < 0.5)";
-        }
-        if (c.restAngles.size() != 0 && c.restAngles.size() != c.mesh.hinges.rows()) {
-            return who + ": rest_angles has " + std::to_string(c.restAngles.size()) +
-                   " values for " + std::to_string(c.mesh.hinges.rows()) + " interior edges";
-        }
-        total += nv;
-    }
-    for (int p : s.pins) {
-        if (p < 0 || p >= total) {
-            return "pin vertex " + std::to_string(p) + " out of range [0, " + std::to_string(total) + ")";
-        }
-    }
-    for (std::size_t d = 0; d < s.drives.size(); ++d) {
-        const Drive& dr = s.drives[d];
-        const std::string who = "drive " + std::to_string(d);
-        if (dr.vertex < 0 || dr.vertex >= total) {
-            return who + ": vertex " + std::to_string(dr.vertex) + " out of range";
-        }
-        if (dr.times.empty() || dr.times.size() != dr.positions.size()) {
-            return who + ": needs as many key times as key positions, at least one";
-        }
-        for (std::size_t k = 1; k < dr.times.size(); ++k) {
-            if (!(dr.times[k] > dr.times[k - 1])) {
-                return who + ": key times must increase (key " + std::to_string(k) + ")";
-            }
-        }
-        for (const Vec3& p : dr.positions) {
-            if (!p.allFinite()) {
-                return who + ": key positions must be finite";
-            }
-        }
-        if (dr.followTimeConstant < 0) {
-            return who + ": follow time constant must be >= 0";
-        }
-    }
-    for (std::size_t k = 0; k < s.seams.size(); ++k) {
-        const SeamPair& p = s.seams[k];
-        if (p.a < 0 || p.a >= total || p.b < 0 || p.b >= total || p.a == p.b) {
-            return "seam " + std::to_string(k) + ": vertices must be two different vertices in range";
-        }
-    }
-    if (!(s.gravityStartTime >= 0) || !std::isfinite(s.gravityStartTime)) {
-        return std::string("gravity start time must be zero or positive");
-    }
-    if (!(s.seamWeldDistance >= 0)) {
-        return std::string("seam weld distance must be zero or positive");
-    }
-    if (!(s.seamReach >= 0) || !std::isfinite(s.seamReach)) {
-        return std::string("seam reach must be zero or positive");
-    }
-    if (!(s.seamRouteClearance >= 0) || !std::isfinite(s.seamRouteClearance)) {
-        return std::string("seam route clearance must be zero or positive");
-    }
-    if (!(s.seamStiffnessPerLength >= 0) || !std::isfinite(s.seamStiffnessPerLength)) {
-        return std::string("seam stiffness per length must be zero or positive");
-    }
-    for (std::size_t k = 0; k < s.seams.size(); ++k) {
-        if (!(s.seams[k].length >= 0) || !std::isfinite(s.seams[k].length)) {
-            return "seam pair " + std::to_string(k) + ": length must be zero or positive";
-        }
-    }
-    if (!s.seams.empty() && !(s.seamTimeConstant > 0)) {
-        return std::string("seam time constant must be positive");
-    }
-    for (std::size_t k = 0; k < s.obstacles.size(); ++k) {
-        const ObstacleSpec& ob = s.obstacles[k];
-        const std::string who = "obstacle " + std::to_string(k) + " (" + ob.name + ")";
-        const int nv = static_cast<int>(ob.vertices.rows());
-        if (ob.triangles.rows() == 0 || nv == 0) {
-            return who + ": mesh has no triangles";
-        }
-        if (!ob.vertices.allFinite()) {
-            return who + ": vertex positions must be finite";
-        }
-        for (Eigen::Index t = 0; t < ob.triangles.rows(); ++t) {
-            for (int c = 0; c < 3; ++c) {
-                if (ob.triangles(t, c) < 0 || ob.triangles(t, c) >= nv) {
-                    return who + ": triangle " + std::to_string(t) + " has a vertex out of range";
-                }
-            }
-        }
-        if (ob.closed && !isClosedOriented(ob.triangles, nv)) {
-            return who + ": marked closed but not watertight with consistent orientation";
-        }
-        if (!(ob.thickness >= 0) || !(ob.staticFriction >= 0) || !(ob.kineticFriction >= 0) ||
-            !std::isfinite(ob.thickness + ob.staticFriction + ob.kineticFriction)) {
-            return who + ": thickness and friction must be non-negative and finite";
-        }
-        for (std::size_t i = 1; i < ob.keys.size(); ++i) {
-            if (!(ob.keys[i].time > ob.keys[i - 1].time)) {
-                return who + ": key times must increase (key " + std::to_string(i) + ")";
-            }
-        }
-        for (const ObstacleKey& key : ob.keys) {
-            if (!key.translation.allFinite() || !key.rotation.allFinite() || !std::isfinite(key.time)) {
-                return who + ": keys must be finite";
-            }
-        }
-        if (ob.frames.size() != ob.frameTimes.size()) {
-            return who + ": as many frame times as frames are needed";
-        }
-        for (std::size_t i = 0; i < ob.frames.size(); ++i) {
-            if (ob.frames[i].rows() != nv || !ob.frames[i].allFinite()) {
-                return who + ": frame " + std::to_string(i) + " must have " + std::to_string(nv) +
-                       " finite positions";
-            }
-            if (i > 0 && !(ob.frameTimes[i] > ob.frameTimes[i - 1])) {
-                return who + ": frame times must increase (frame " + std::to_string(i) + ")";
-            }
-        }
-    }
-    for (std::size_t ci = 0; ci < s.cloths.size(); ++ci) {
-        if (!(s.cloths[ci].thickness >= 0) || !std::isfinite(s.cloths[ci].thickness)) {
-            return "cloth " + std::to_string(ci) + ": thickness must be non-negative and finite";
-        }
-    }
-    if (!(s.collision.iterations >= 1) || !(s.collision.proximityFactor >= 0) ||
-        !(s.collision.extractionSpeed > 0)) {
-        return std::string("collision: need iterations >= 1, proximity factor >= 0, extraction speed > 0");
-    }
-    const IntegratorOptions& o = s.integrator;
-    if (!(o.dt > 0) || !(o.minDt > 0) || !(o.maxDt >= o.minDt) || !(o.tolerance > 0) ||
-        !(o.growth > 1.0)) {
-        return std::string("integrator: need dt > 0, tolerance > 0, 0 < min_dt <= max_dt, growth > 1");
-    }
-    if (!(s.duration >= 0) || !std::isfinite(s.duration) || !(s.frameRate > 0)) {
-        return std::string("duration must be >= 0 and frame rate > 0");
-    }
-    if (!(s.highDampingTimeConstant >= 0)) {
-        return std::string("high damping time constant must be >= 0");
-    }
-    return std::nullopt;
-}
+std::optional<std::string> Simulation::validate(const SceneSpec& s) { return validateScene(s); }
 
 Simulation::Simulation(SceneSpec scene) : m_impl(std::make_unique<Impl>(std::move(scene))) {
     if (auto e = validate(m_impl->scene)) {
@@ -1306,34 +812,75 @@ RunStatus Simulation::advance(double dt) {
     return RunStatus::Finished;
 }
 
+RunStatus Simulation::Impl::stepToFrame(double until, bool& frameDone) {
+    frameDone = false;
+    if (failed) {
+        return RunStatus::Failed;
+    }
+    if (!(frameTarget >= 0)) {
+        // A new frame: it ends at the next frame time (or `until`). The target is computed as
+        // run() always has, t + (next − t), and kept until reached, so stepping one step at a
+        // time takes exactly the steps of an uninterrupted run.
+        const double frame = 1.0 / scene.frameRate;
+        frameIndex = static_cast<long>(std::floor(t / frame + 1e-9));
+        const double nextFrame = std::min(until, static_cast<double>(frameIndex + 1) * frame);
+        frameTarget = t + (nextFrame - t);
+    }
+    const double eps = 1e-12 * std::max(1.0, frameTarget);
+    if (t < frameTarget - eps && !step(frameTarget - t)) {
+        stats.error = error;
+        stats.finite = x.allFinite() && v.allFinite();
+        return RunStatus::Failed;
+    }
+    if (t >= frameTarget - eps) {
+        t = std::max(t, frameTarget);
+        stats.simTime = t;
+        frameTarget = -1;
+        ++frameIndex;
+        frameDone = true;
+        if (collision) {
+            // A measurement for the report, not part of the steps.
+            StageTimer timer(stats.stageSeconds["collision.measure"]);
+            stats.maxPenetration = std::max(stats.maxPenetration, collision->penetration(x));
+        }
+    }
+    if (snapshots != nullptr) {
+        publishSnapshot();
+    }
+    return RunStatus::Finished;
+}
+
+RunStatus Simulation::step(double until) {
+    bool frameDone = false;
+    if (!(m_impl->t < until - 1e-12)) {
+        return m_impl->failed ? RunStatus::Failed : RunStatus::Finished;
+    }
+    return m_impl->stepToFrame(until, frameDone);
+}
+
 RunStatus Simulation::run(double until, const std::function<void(int, double)>& onFrame,
                           const std::atomic<bool>* cancel) {
     Impl& s = *m_impl;
     if (s.failed) {
         return RunStatus::Failed;
     }
-    const double frame = 1.0 / s.scene.frameRate;
-    int index = static_cast<int>(std::floor(s.t / frame + 1e-9));
     while (s.t < until - 1e-12) {
         if (cancel != nullptr && cancel->load()) {
             return RunStatus::Cancelled;
         }
-        const double nextFrame = std::min(until, (index + 1) * frame);
-        if (advance(nextFrame - s.t) != RunStatus::Finished) {
+        bool frameDone = false;
+        if (s.stepToFrame(until, frameDone) != RunStatus::Finished) {
             return RunStatus::Failed;
         }
-        ++index;
-        if (s.collision) {
-            // A measurement for the report, not part of the steps.
-            StageTimer timer(s.stats.stageSeconds["collision.measure"]);
-            s.stats.maxPenetration = std::max(s.stats.maxPenetration, s.collision->penetration(s.x));
-        }
-        if (onFrame) {
-            onFrame(index, s.t);
+        if (frameDone && onFrame) {
+            onFrame(static_cast<int>(s.frameIndex), s.t);
         }
     }
     return RunStatus::Finished;
 }
+
+bool Simulation::atFrame() const { return !(m_impl->frameTarget >= 0); }
+long Simulation::frameIndex() const { return m_impl->frameIndex; }
 
 double Simulation::time() const { return m_impl->t; }
 const MatX3& Simulation::positions() const { return m_impl->x; }

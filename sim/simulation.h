@@ -3,9 +3,11 @@
 
 #include "sim/forces/force_model.h"
 #include "sim/scene.h"
+#include "sim/snapshot.h"
 
 #include <atomic>
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -52,11 +54,19 @@ struct RunStats {
 
 class CollisionStage;
 
-/// Result of `run`.
+/// Result of `run`, `advance` and `step`.
 enum class RunStatus { Finished, Cancelled, Failed };
 
-/// A running simulation of one scene. Not thread-safe: one thread steps it; others read
-/// published snapshots (the GUI).
+/// A point on the cloth: a triangle of all cloths' triangles in order (clothTriangles()) and
+/// barycentric weights of its three corners (summing to 1).
+struct ClothPoint {
+    int triangle = 0;
+    Vec3 barycentric = Vec3::Constant(1.0 / 3.0);
+};
+
+/// A running simulation of one scene. Not thread-safe: one thread steps it and touches it
+/// between steps (grab, pin, obstacle poses); other threads read published snapshots
+/// (publishTo()), which is all a window's viewport needs.
 class Simulation {
   public:
     /// Checks a scene without building it: returns what is wrong, naming the cloth and
@@ -76,6 +86,52 @@ class Simulation {
                   const std::atomic<bool>* cancel = nullptr);
     /// Advances by exactly `dt` [s] of simulated time (one or more internal steps).
     RunStatus advance(double dt);
+    /// Takes one step, never past `until` [s]: the steps run(until) takes (they end on output
+    /// frames, path keys and obstacle keys), so a run taken step by step, paused and resumed at
+    /// any step, gives the same bits as an uninterrupted one. Does nothing at `until`.
+    RunStatus step(double until = std::numeric_limits<double>::infinity());
+    /// Whether the last step ended on an output frame (also true before the first step).
+    bool atFrame() const;
+    /// Output frames completed so far (the frame number run() passes to onFrame).
+    long frameIndex() const;
+
+    // ---- Touching the cloth between steps (from the thread that steps) ----
+
+    /// Grabs the cloth at `point`: from the next step on, the point's triangle moves with
+    /// `target` [m] (each corner keeping its offset from the point), each corner following by
+    /// the critically damped law of a tracker-following drive (Drive::followTimeConstant) with
+    /// time constant `timeConstant` [s], so a jerky mouse is smoothed and the cloth is never
+    /// yanked faster than it can follow. Returns the grab's handle (> 0), or 0 when the
+    /// triangle is out of range or all its corners are already held.
+    int grab(const ClothPoint& point, const Vec3& target, double timeConstant = 0.02);
+    /// Moves a grab's target [m]; false for an unknown handle.
+    bool moveGrab(int handle, const Vec3& target);
+    /// Lets go; the corners are free from the next step on. False for an unknown handle.
+    bool release(int handle);
+    /// Holds a vertex (global index) where it is now; false if out of range or already pinned.
+    bool pin(int vertex);
+    /// Frees a pinned vertex; false if it was not pinned.
+    bool unpin(int vertex);
+    bool pinned(int vertex) const;
+    /// Moves obstacle k to the rigid pose world = R(rotation)·local + translation (rotation
+    /// vector [rad], translation [m]), reached `duration` [s] of simulated time from now
+    /// (≤ 0: at the end of the next step) along a straight path that the continuous collision
+    /// detection sweeps, so the cloth is pushed, not passed through. Replaces the obstacle's
+    /// keys or frames. False for an unknown obstacle.
+    bool setObstaclePose(int k, const Vec3& translation, const Vec3& rotation,
+                         double duration = 0);
+    /// The same with every vertex's world position given (|V_k|×3) [m] (a body in another pose).
+    bool setObstacleFrame(int k, const MatX3& world, double duration = 0);
+    /// Global triangles of all cloths, in cloth order (|F|×3): the index space of ClothPoint.
+    const MatX3i& clothTriangles() const;
+
+    // ---- Snapshots for other threads ----
+
+    /// Publishes a snapshot (positions and normals of cloth and obstacles, figures) into
+    /// `buffer` after every step from now on, and one now; any thread may read() from it at
+    /// any moment. nullptr stops publishing (the default: a batch drape needs none). The
+    /// buffer must outlive the publishing (a drape session keeps one across simulations).
+    void publishTo(SnapshotBuffer* buffer);
 
     double time() const;
     const MatX3& positions() const;  ///< (|V|×3) over all cloths [m]
