@@ -2,6 +2,7 @@
 
 #include "patterns/curve.h"
 #include "patterns/triangulate.h"
+#include "patterns/triangulation_cache.h"
 
 #include <algorithm>
 #include <chrono>
@@ -592,7 +593,11 @@ std::optional<std::string> meshGarment(const Garment& garment, const MeshOptions
             }
         }
         TriangulationOutput tri;
-        if (auto err = triangulate(in, tri)) {
+        const long computedBefore = options.cache ? options.cache->computed() : 0;
+        auto err = options.cache ? options.cache->triangulate(in, tri) : triangulate(in, tri);
+        out.panelsTriangulated +=
+            options.cache ? static_cast<int>(options.cache->computed() - computedBefore) : 1;
+        if (err) {
             return "panel \"" + panel.name + "\": " + *err;
         }
         const int nv = static_cast<int>(tri.points.size());

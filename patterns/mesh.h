@@ -11,9 +11,14 @@
 
 namespace atelier::patterns {
 
+class TriangulationCache;
+
 struct MeshOptions {
     double particleDistance = 0.01; ///< target edge length [m] (typically 0.005–0.02)
     double minAngleDeg = 25;        ///< smallest triangle angle asked of the mesher [deg]
+    /// Reuses the triangulations of panels meshed before with the same boundary (an edit
+    /// re-triangulates only what it changed); null = triangulate every panel.
+    TriangulationCache* cache = nullptr;
 };
 
 /// One panel's triangle mesh.
@@ -46,6 +51,7 @@ struct GarmentMesh {
     double minAngleDeg = 0;  ///< smallest triangle angle over all panels [deg]
     long triangleCount = 0;
     double seconds = 0;      ///< wall time of the meshing [s]
+    int panelsTriangulated = 0; ///< panels triangulated (the others came from the cache)
 };
 
 /// A problem with the garment, at a JSON-pointer-like place (`/panels/2/outline/3`).

@@ -21,6 +21,8 @@ struct BodySource {
     /// A body mesh (OBJ, metres, Y up, facing +z), relative to the project file; when set,
     /// the mannequin is not used and the slots are computed from the mesh.
     std::string meshPath;
+
+    bool operator==(const BodySource&) const = default;
 };
 
 /// How a garment is meshed, assembled and draped.

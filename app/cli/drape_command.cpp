@@ -4,15 +4,14 @@
 /// (`DRAPED.body.obj`) and a report.
 
 #include "app/cli/commands.h"
+#include "app/cli/run_loop.h"
 
 #include "io/body_file.h"
 #include "io/obj.h"
 #include "io/project_file.h"
 #include "io/report.h"
 
-#include "patterns/assemble.h"
-#include "patterns/drape.h"
-#include "patterns/mesh.h"
+#include "patterns/drape_session.h"
 
 #include "sim/core/parallel.h"
 #include "sim/simulation.h"
@@ -25,7 +24,6 @@
 #include <iostream>
 #include <memory>
 #include <string>
-#include <unistd.h>
 
 namespace atelier::app {
 
@@ -66,6 +64,58 @@ GarmentObj garmentObj(const patterns::Garment& garment, const patterns::GarmentM
     return out;
 }
 
+/// The drape session's body provider: the project's mannequin or body mesh (io/).
+patterns::BodyProvider projectBodies(const std::string& projectFile) {
+    const std::filesystem::path dir = std::filesystem::absolute(projectFile).parent_path();
+    return [dir, projectFile](const patterns::BodySource& source) {
+        return io::loadBody(source, dir, projectFile);
+    };
+}
+
+/// The figures behind the report's drape fields.
+io::ReportFields drapeReportFields(const DrapeOptions& options, const patterns::DrapeSession& session,
+                                   const patterns::DrapeFigures& f, RunEnd end, int code,
+                                   double wallSeconds, double totalSeconds) {
+    const sim::RunStats& stats = session.simulation()->stats();
+    const std::string status = end == RunEnd::Cancelled ? "cancelled"
+                               : end == RunEnd::Failed  ? "failed"
+                               : f.rested               ? "rested"
+                                                        : "time-limit";
+    const auto orNull = [](bool have, double value) {
+        return have ? io::ReportValue(value) : io::ReportValue(nullptr);
+    };
+    return {
+        {"project", options.project},
+        {"status", status},
+        {"phase", std::string(patterns::phaseName(f.phase))},
+        {"exit_code", static_cast<std::int64_t>(code)},
+        {"threads", static_cast<std::int64_t>(sim::threadCount())},
+        {"seam_gap_max_m", f.seamGapMax},
+        {"area_ratio", f.areaRatio},
+        {"mesh_min_angle_deg", f.minAngleDeg},
+        {"triangles", static_cast<std::int64_t>(f.triangles)},
+        {"panels", static_cast<std::int64_t>(session.mesh().panels.size())},
+        {"seam_pairs", static_cast<std::int64_t>(f.seamPairs)},
+        {"welded_seam_pairs", static_cast<std::int64_t>(stats.weldedSeamPairs)},
+        {"largest_forced_weld_m", stats.largestForcedWeld},
+        {"deferred_welds", static_cast<std::int64_t>(stats.deferredWelds)},
+        {"largest_forced_weld_seam", f.forcedWelds.empty()
+                                         ? io::ReportValue(nullptr)
+                                         : io::ReportValue(f.forcedWelds.front().seam)},
+        {"sewn_at_s", orNull(f.sewnAt >= 0, f.sewnAt)},
+        {"meshing_time_s", f.meshSeconds},
+        // Wall time until rest, only when the drape rested (null otherwise).
+        {"time_to_rest_s", orNull(f.rested, wallSeconds)},
+        {"drape_wall_time_s", wallSeconds},
+        {"rested", f.rested},
+        {"sim_time_to_rest_s", f.time},
+        {"kinetic_energy_per_vertex_j", f.kineticEnergyPerVertex},
+        {"start_penetration_m", f.startPenetration},
+        {"warnings", static_cast<std::int64_t>(session.warnings().size())},
+        {"total_wall_time_s", totalSeconds},
+    };
+}
+
 int runDrape(const DrapeOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     auto loaded = io::loadProject(options.project);
@@ -83,127 +133,88 @@ int runDrape(const DrapeOptions& options) {
     if (options.threads > 0) {
         sim::setThreadCount(options.threads);
     }
-    const std::filesystem::path projectDir =
-        std::filesystem::absolute(options.project).parent_path();
-    auto body = io::loadBody(project.body, projectDir, options.project);
-    if (!body.ok()) {
-        std::cerr << "error: " << body.error().toString() << "\n";
+    RunLoop loop("drape", project.drape.timeLimit, options.framesDir);
+    if (!loop.prepare()) {
         return EXIT_BAD_INPUT;
     }
 
-    patterns::MeshOptions meshOptions;
-    meshOptions.particleDistance = project.drape.particleDistance;
-    patterns::GarmentMesh mesh;
-    if (auto err = patterns::meshGarment(project.garment, meshOptions, mesh)) {
-        std::cerr << "error: " << options.project << ": " << *err << "\n";
+    patterns::DrapeSession session(projectBodies(options.project));
+    session.setProject(std::move(project));
+    if (auto prepared = session.prepare(); !prepared.ok()) {
+        const Error& e = prepared.error();
+        std::cerr << "error: " << (e.file.empty() ? options.project + ": " : "") << e.toString()
+                  << "\n";
         return EXIT_BAD_INPUT;
     }
-    for (const std::string& w : mesh.warnings) {
+    for (const std::string& w : session.warnings()) {
         std::cerr << "warning: " << options.project << ": " << w << "\n";
     }
+    const patterns::GarmentMesh& mesh = session.mesh();
     std::fprintf(stderr, "drape: %zu panels, %ld triangles (min angle %.1f deg) in %.2f s\n",
                  mesh.panels.size(), mesh.triangleCount, mesh.minAngleDeg, mesh.seconds);
-
-    patterns::AssembledGarment assembled;
-    if (auto err = patterns::assembleGarment(project.garment, mesh, body.value(), project.drape,
-                                             assembled)) {
-        std::cerr << "error: " << options.project << ": " << *err << "\n";
-        return EXIT_BAD_INPUT;
-    }
-    auto simulation = std::make_unique<sim::Simulation>(assembled.scene);
-    if (!simulation->error().empty()) {
-        std::cerr << "error: " << options.project << ": " << simulation->error() << "\n";
-        return EXIT_BAD_INPUT;
-    }
-    const double startPenetration = simulation->penetration();
-    if (startPenetration > 0) {
+    if (session.figures().startPenetration > 0) {
         std::fprintf(stderr, "warning: the placed garment starts %.4f m inside the body\n",
-                     startPenetration);
+                     session.figures().startPenetration);
     }
 
-    const bool tty = ::isatty(STDERR_FILENO) != 0;
-    int lastReported = -1;
-    GarmentObj frameObj;
-    if (!options.framesDir.empty()) {
-        std::error_code ec;
-        std::filesystem::create_directories(options.framesDir, ec);
-        if (ec) {
-            std::cerr << "error: " << options.framesDir << ": " << ec.message() << "\n";
-            return EXIT_BAD_INPUT;
-        }
-        frameObj = garmentObj(project.garment, mesh, assembled);
-    }
-    const patterns::DrapeOutcome outcome = patterns::drapeUntilRest(
-        *simulation, project.drape, [&](int frame, double t, double ke) {
-            if (!options.framesDir.empty()) {
-                char name[32];
-                std::snprintf(name, sizeof name, "frame_%04d.obj", frame);
-                auto written = io::writeObj(std::filesystem::path(options.framesDir) / name,
-                                            simulation->positions(), frameObj.triangles,
-                                            frameObj.options);
-                if (!written.ok()) {
-                    std::cerr << "warning: " << written.error().toString() << "\n";
-                }
-            }
-            if (!tty && frame / 15 == lastReported) {
-                return;
-            }
-            lastReported = frame / 15;
-            std::fprintf(stderr, "%sdrape: t = %.3f s  kinetic energy/vertex %.2e J  steps %ld  "
-                                 "contacts %ld  wall %.1f s%s",
-                         tty ? "\r\033[K" : "", t, ke, simulation->stats().steps,
-                         simulation->stats().contacts, simulation->stats().wallTime,
-                         tty ? "" : "\n");
+    const patterns::Garment& garment = session.project().garment;
+    const GarmentObj frameObj = garmentObj(garment, mesh, session.assembled());
+    session.onFrame([&](long frame, double t, double ke) {
+        const sim::RunStats& stats = session.simulation()->stats();
+        char figures[160];
+        std::snprintf(figures, sizeof figures,
+                      "kinetic energy/vertex %.2e J  steps %ld  contacts %ld  wall %.1f s", ke,
+                      stats.steps, stats.contacts, stats.wallTime);
+        loop.frame(frame, t, figures, [&](const std::filesystem::path& stem) {
+            return io::writeObj(stem.string() + ".obj", session.positions(), frameObj.triangles,
+                                frameObj.options);
         });
-    if (tty) {
-        std::fprintf(stderr, "\n");
-    }
-
-    const sim::MatX3& x = simulation->positions();
-    const bool finite = simulation->stats().finite && x.allFinite();
-    int code = EXIT_OK;
-    if (outcome.status == sim::RunStatus::Failed || !finite) {
-        const std::string why =
-            !simulation->error().empty() ? simulation->error() : simulation->stats().error;
-        std::cerr << "error: " << options.project << ": drape failed at t = "
-                  << simulation->time() << " s" << (why.empty() ? "" : ": " + why) << "\n";
-        code = EXIT_RUN_FAILED;
-    } else if (!outcome.rested) {
-        std::fprintf(stderr, "drape: not at rest after the time limit (%.2f s simulated)\n",
-                     outcome.simulatedTime);
-    }
-
-    const std::vector<patterns::ForcedWeld> forced =
-        patterns::forcedWelds(project.garment, assembled, simulation->stats().forcedWeldGaps);
-    if (simulation->stats().largestForcedWeld > 0.005) {
-        std::string seams;
-        for (const patterns::ForcedWeld& w : forced) {
-            if (w.widest > 0.005) {
-                char line[160];
-                std::snprintf(line, sizeof line, "%s%s %.1f mm (%d pairs)", seams.empty() ? "" : ", ",
-                              w.seam.c_str(), 1000 * w.widest, w.pairs);
-                seams += line;
-            }
+    });
+    const auto driveStart = std::chrono::steady_clock::now();
+    const RunEnd end = loop.run([&] {
+        switch (session.step()) {
+        case patterns::DrapeStatus::Running: return StepState::Continue;
+        case patterns::DrapeStatus::Failed: return StepState::Failed;
+        default: return StepState::Done;
         }
-        std::fprintf(stderr,
-                     "warning: sewing did not close every seam in %.2f s; welded at its end, "
-                     "widest pair per seam: %s (a longer sewing_time_s, panels placed closer, "
-                     "or more ease where the garment is tight)\n",
-                     project.drape.sewingTime, seams.c_str());
+    });
+    const double wallSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - driveStart).count();
+
+    const sim::Simulation& simulation = *session.simulation();
+    const sim::MatX3& x = simulation.positions();
+    const bool finite = simulation.stats().finite && x.allFinite();
+    const patterns::DrapeFigures f = session.figures();
+    int code = loop.exitCode(end == RunEnd::Done && !finite ? RunEnd::Failed : end);
+    if (end == RunEnd::Cancelled) {
+        std::fprintf(stderr, "drape: cancelled at t = %.2f s; writing the drape so far\n", f.time);
+    } else if (end == RunEnd::Failed || !finite) {
+        std::cerr << "error: " << options.project << ": drape failed at t = " << f.time << " s"
+                  << (f.error.empty() ? "" : ": " + f.error) << "\n";
+    } else if (!f.rested) {
+        std::fprintf(stderr, "drape: not at rest after the time limit (%.2f s simulated)\n",
+                     f.time);
     }
-    const double gap = patterns::seamGapMax(assembled, x);
-    const double ratio = patterns::areaRatio(assembled.scene, x);
+    for (const patterns::DrapeEvent& e : session.takeEvents()) {
+        if (e.kind == patterns::DrapeEvent::Kind::ForcedWelds &&
+            simulation.stats().largestForcedWeld > 0.005) {
+            std::fprintf(stderr,
+                         "warning: %s (a longer sewing_time_s, panels placed closer, or more "
+                         "ease where the garment is tight)\n",
+                         e.message.c_str());
+        }
+    }
     std::fprintf(stderr,
                  "drape: %s at t = %.2f s in %.1f s wall; seam gap max %.2e m, area ratio "
                  "%.4f\n",
-                 outcome.rested ? "at rest" : "stopped", outcome.simulatedTime,
-                 outcome.wallSeconds, gap, ratio);
+                 f.rested ? "at rest" : "stopped", f.time, wallSeconds, f.seamGapMax,
+                 f.areaRatio);
 
     if (!options.out.empty()) {
         if (finite) {
-            GarmentObj obj = garmentObj(project.garment, mesh, assembled);
+            GarmentObj obj = garmentObj(garment, mesh, session.assembled());
             obj.options.comment = "atelier-cli drape " + options.project + "\nt = " +
-                                  std::to_string(simulation->time()) + " s";
+                                  std::to_string(simulation.time()) + " s";
             auto written = io::writeObj(options.out, x, obj.triangles, obj.options);
             if (written.ok()) {
                 std::filesystem::path bodyPath = options.out;
@@ -211,13 +222,12 @@ int runDrape(const DrapeOptions& options) {
                 io::ObjWriteOptions bodyOptions;
                 bodyOptions.comment = "body of atelier-cli drape " + options.project;
                 bodyOptions.groups.push_back(
-                    io::ObjGroup{"body", 0, static_cast<int>(body.value().triangles.rows())});
-                written = io::writeObj(bodyPath, body.value().vertices, body.value().triangles,
-                                       bodyOptions);
+                    io::ObjGroup{"body", 0, static_cast<int>(session.body().triangles.rows())});
+                written = io::writeObj(bodyPath, session.body().vertices,
+                                       session.body().triangles, bodyOptions);
             }
             if (!written.ok()) {
-                std::cerr << "error: " << written.error().toString() << "\n";
-                code = code == EXIT_OK ? EXIT_RUN_FAILED : code;
+                code = RunLoop::writeFailed(written.error(), code);
             }
         } else {
             std::cerr << "drape: the state is not finite; " << options.out << " is not written\n";
@@ -226,40 +236,11 @@ int runDrape(const DrapeOptions& options) {
     if (!options.report.empty()) {
         const double totalSeconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        const io::ReportFields extra = {
-            {"project", options.project},
-            {"status", std::string(outcome.status == sim::RunStatus::Failed ? "failed"
-                                   : outcome.rested                         ? "rested"
-                                                                            : "time-limit")},
-            {"exit_code", static_cast<std::int64_t>(code)},
-            {"threads", static_cast<std::int64_t>(sim::threadCount())},
-            {"seam_gap_max_m", gap},
-            {"area_ratio", ratio},
-            {"mesh_min_angle_deg", mesh.minAngleDeg},
-            {"triangles", static_cast<std::int64_t>(mesh.triangleCount)},
-            {"panels", static_cast<std::int64_t>(mesh.panels.size())},
-            {"seam_pairs", static_cast<std::int64_t>(assembled.scene.seams.size())},
-            {"welded_seam_pairs", static_cast<std::int64_t>(simulation->stats().weldedSeamPairs)},
-            {"largest_forced_weld_m", simulation->stats().largestForcedWeld},
-            {"deferred_welds", static_cast<std::int64_t>(simulation->stats().deferredWelds)},
-            {"largest_forced_weld_seam",
-             forced.empty() ? io::ReportValue(nullptr) : io::ReportValue(forced.front().seam)},
-            {"sewn_at_s", simulation->stats().sewingEndTime >= 0
-                              ? io::ReportValue(simulation->stats().sewingEndTime)
-                              : io::ReportValue(nullptr)},
-            {"meshing_time_s", mesh.seconds},
-            {"time_to_rest_s", outcome.wallSeconds},
-            {"rested", outcome.rested},
-            {"sim_time_to_rest_s", outcome.simulatedTime},
-            {"kinetic_energy_per_vertex_j", outcome.kineticEnergyPerVertex},
-            {"start_penetration_m", startPenetration},
-            {"warnings", static_cast<std::int64_t>(mesh.warnings.size())},
-            {"total_wall_time_s", totalSeconds},
-        };
-        auto written = io::writeReport(options.report, *simulation, extra);
+        auto written = io::writeReport(
+            options.report, simulation,
+            drapeReportFields(options, session, f, end, code, wallSeconds, totalSeconds));
         if (!written.ok()) {
-            std::cerr << "error: " << written.error().toString() << "\n";
-            code = code == EXIT_OK ? EXIT_RUN_FAILED : code;
+            code = RunLoop::writeFailed(written.error(), code);
         }
     }
     return code;
@@ -285,7 +266,7 @@ void addDrapeCommand(CLI::App& app) {
                     "Mesh particle distance [mm] (default: the project's)")
         ->check(CLI::PositiveNumber);
     cmd->add_option("--frames-dir", options->framesDir,
-                    "Write the garment at every output frame to DIR/frame_NNNN.obj");
+                    "Write the garment at every output frame to DIR/frame_NNNNN.obj");
     cmd->callback([options] {
         const int code = runDrape(*options);
         if (code != EXIT_OK) {

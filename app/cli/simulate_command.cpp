@@ -3,6 +3,7 @@
 /// group per obstacle) and a JSON report.
 
 #include "app/cli/commands.h"
+#include "app/cli/run_loop.h"
 
 #include "io/obj.h"
 #include "io/report.h"
@@ -14,15 +15,12 @@
 
 #include <CLI/CLI.hpp>
 
-#include <atomic>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <memory>
 #include <string>
-#include <unistd.h>
 
 namespace atelier::app {
 
@@ -34,22 +32,6 @@ struct SimulateOptions {
     std::string report;
     int threads = 0; ///< 0 = the engine's default (all cores)
     std::string framesDir;
-};
-
-std::atomic<bool> g_cancel{false};
-
-extern "C" void onInterrupt(int /*signal*/) { g_cancel.store(true); }
-
-/// Restores the previous SIGINT handler when it goes out of scope.
-class InterruptGuard {
-  public:
-    InterruptGuard() : m_previous(std::signal(SIGINT, onInterrupt)) {}
-    ~InterruptGuard() { std::signal(SIGINT, m_previous); }
-    InterruptGuard(const InterruptGuard&) = delete;
-    InterruptGuard& operator=(const InterruptGuard&) = delete;
-
-  private:
-    void (*m_previous)(int);
 };
 
 /// The whole scene as one mesh: triangles offset per cloth, rest coordinates as UVs, one group
@@ -138,48 +120,6 @@ std::filesystem::path obstaclesPath(const std::filesystem::path& out) {
     return path.replace_extension(".obstacles.obj");
 }
 
-/// A progress line on stderr: rewritten in place on a terminal, every 10% otherwise.
-class Progress {
-  public:
-    /// `contacts`: also show the active contacts (the scene has a collision stage).
-    Progress(int frames, bool contacts)
-        : m_frames(frames), m_contacts(contacts), m_tty(::isatty(STDERR_FILENO) != 0) {}
-
-    void update(int frame, double time, const sim::RunStats& stats) {
-        const int decile = m_frames > 0 ? (10 * frame) / m_frames : 10;
-        if (!m_tty && decile == m_lastDecile) {
-            return;
-        }
-        m_lastDecile = decile;
-        char line[240];
-        const int n = std::snprintf(
-            line, sizeof line,
-            "simulate: frame %d/%d  t = %.3f s  steps %ld (rejected %ld)  wall %.1f s", frame,
-            m_frames, time, stats.steps, stats.rejectedSteps, stats.wallTime);
-        if (m_contacts && n > 0 && static_cast<std::size_t>(n) < sizeof line) {
-            std::snprintf(line + n, sizeof line - static_cast<std::size_t>(n),
-                          "  contacts %ld  max penetration %.2g m", stats.contacts,
-                          stats.maxPenetration);
-        }
-        std::cerr << (m_tty ? "\r\033[K" : "") << line << (m_tty ? "" : "\n") << std::flush;
-        m_dirty = m_tty;
-    }
-
-    void finish() {
-        if (m_dirty) {
-            std::cerr << "\n";
-            m_dirty = false;
-        }
-    }
-
-  private:
-    int m_frames;
-    bool m_contacts;
-    bool m_tty;
-    int m_lastDecile = -1;
-    bool m_dirty = false;
-};
-
 int runSimulate(const SimulateOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     auto loaded = io::loadScene(options.scene);
@@ -190,17 +130,7 @@ int runSimulate(const SimulateOptions& options) {
     if (options.threads > 0) {
         sim::setThreadCount(options.threads);
     }
-    if (!options.framesDir.empty()) {
-        std::error_code ec;
-        std::filesystem::create_directories(options.framesDir, ec);
-        if (ec) {
-            std::cerr << "error: " << options.framesDir << ": " << ec.message() << "\n";
-            return EXIT_BAD_INPUT;
-        }
-    }
-
     const double duration = loaded.value().duration;
-    const double frameRate = loaded.value().frameRate;
     auto simulation = std::make_unique<sim::Simulation>(std::move(loaded).value());
     const CombinedMesh mesh = combinedMesh(*simulation);
     // Obstacles are written only when the collision stage holds their positions (it exists
@@ -209,65 +139,65 @@ int runSimulate(const SimulateOptions& options) {
         !simulation->scene().obstacles.empty() && simulation->collision() != nullptr;
     const ObstacleMesh obstacles = obstacleMesh(simulation->scene());
 
-    sim::RunStatus status = sim::RunStatus::Failed;
-    int framesWritten = 0;
-    std::string frameError;
+    RunLoop loop("simulate", duration, options.framesDir);
+    if (!loop.prepare()) {
+        return EXIT_BAD_INPUT;
+    }
+    int code = EXIT_OK;
     if (withObstacles && !obstacles.moves && !options.framesDir.empty()) {
         // Static obstacles: one file for every frame.
         auto written =
             writeObstacles(std::filesystem::path(options.framesDir) / "obstacles.obj", *simulation,
                            obstacles, "atelier-cli simulate " + options.scene + "\nstatic");
         if (!written.ok()) {
-            frameError = written.error().toString();
+            code = RunLoop::writeFailed(written.error(), code);
         }
     }
+    const bool collision = simulation->collision() != nullptr;
+    const auto writeFrame = [&](const std::filesystem::path& stem) {
+        auto written = io::writeObj(stem.string() + ".obj", simulation->positions(),
+                                    mesh.triangles, mesh.options);
+        if (written.ok() && withObstacles && obstacles.moves) {
+            written = writeObstacles(stem.string() + ".obstacles.obj", *simulation, obstacles,
+                                     "t = " + std::to_string(simulation->time()) + " s");
+        }
+        return written;
+    };
+    RunEnd end = RunEnd::Failed;
     if (simulation->error().empty()) {
-        Progress progress(static_cast<int>(std::lround(duration * frameRate)),
-                          simulation->collision() != nullptr);
-        g_cancel.store(false);
-        const InterruptGuard guard;
-        status = simulation->run(
-            duration,
-            [&](int frame, double time) {
-                progress.update(frame, time, simulation->stats());
-                if (options.framesDir.empty() || !frameError.empty()) {
-                    return;
+        end = loop.run([&] {
+            if (!(simulation->time() < duration - 1e-12)) {
+                return StepState::Done;
+            }
+            if (simulation->step(duration) != sim::RunStatus::Finished) {
+                return StepState::Failed;
+            }
+            if (simulation->atFrame()) {
+                const sim::RunStats& stats = simulation->stats();
+                char figures[200];
+                const int n = std::snprintf(figures, sizeof figures,
+                                            "steps %ld (rejected %ld)  wall %.1f s", stats.steps,
+                                            stats.rejectedSteps, stats.wallTime);
+                if (collision && n > 0 && static_cast<std::size_t>(n) < sizeof figures) {
+                    std::snprintf(figures + n, sizeof figures - static_cast<std::size_t>(n),
+                                  "  contacts %ld  max penetration %.2g m", stats.contacts,
+                                  stats.maxPenetration);
                 }
-                char name[32];
-                std::snprintf(name, sizeof name, "frame_%05d.obj", frame);
-                auto written = io::writeObj(std::filesystem::path(options.framesDir) / name,
-                                            simulation->positions(), mesh.triangles, mesh.options);
-                if (written.ok() && withObstacles && obstacles.moves) {
-                    std::snprintf(name, sizeof name, "frame_%05d.obstacles.obj", frame);
-                    written =
-                        writeObstacles(std::filesystem::path(options.framesDir) / name, *simulation,
-                                       obstacles, "t = " + std::to_string(time) + " s");
-                }
-                if (written.ok()) {
-                    ++framesWritten;
-                } else {
-                    frameError = written.error().toString();
-                }
-            },
-            &g_cancel);
-        progress.finish();
+                loop.frame(simulation->frameIndex(), simulation->time(), figures, writeFrame);
+            }
+            return StepState::Continue;
+        });
     }
     const sim::RunStats& stats = simulation->stats();
     const bool finite = stats.finite && simulation->positions().allFinite();
-
-    int code = EXIT_OK;
-    if (status == sim::RunStatus::Cancelled) {
-        std::cerr << "simulate: cancelled at t = " << simulation->time() << " s\n";
-        code = EXIT_CANCELLED;
-    } else if (status == sim::RunStatus::Failed || !finite) {
+    code = std::max(code, loop.exitCode(end == RunEnd::Done && !finite ? RunEnd::Failed : end));
+    if (end == RunEnd::Cancelled) {
+        std::cerr << "simulate: cancelled at t = " << simulation->time()
+                  << " s; writing the state so far\n";
+    } else if (end == RunEnd::Failed || !finite) {
         const std::string why = !simulation->error().empty() ? simulation->error() : stats.error;
         std::cerr << "error: " << options.scene << ": simulation failed at t = "
                   << simulation->time() << " s" << (why.empty() ? "" : ": " + why) << "\n";
-        code = EXIT_RUN_FAILED;
-    }
-    if (!frameError.empty()) {
-        std::cerr << "error: " << frameError << "\n";
-        code = code == EXIT_OK ? EXIT_RUN_FAILED : code;
     }
 
     if (!options.out.empty()) {
@@ -282,8 +212,7 @@ int runSimulate(const SimulateOptions& options) {
                                          objOptions.comment);
             }
             if (!written.ok()) {
-                std::cerr << "error: " << written.error().toString() << "\n";
-                code = code == EXIT_OK ? EXIT_RUN_FAILED : code;
+                code = RunLoop::writeFailed(written.error(), code);
             }
         } else {
             std::cerr << "simulate: the state is not finite; " << options.out
@@ -294,21 +223,20 @@ int runSimulate(const SimulateOptions& options) {
     if (!options.report.empty()) {
         const double totalSeconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        const char* statusName = status == sim::RunStatus::Finished    ? "finished"
-                                 : status == sim::RunStatus::Cancelled ? "cancelled"
-                                                                       : "failed";
+        const char* statusName = end == RunEnd::Done        ? "finished"
+                                 : end == RunEnd::Cancelled ? "cancelled"
+                                                            : "failed";
         const io::ReportFields extra = {
             {"scene", options.scene},
             {"status", std::string(statusName)},
             {"exit_code", static_cast<std::int64_t>(code)},
             {"threads", static_cast<std::int64_t>(sim::threadCount())},
-            {"frames_written", static_cast<std::int64_t>(framesWritten)},
+            {"frames_written", static_cast<std::int64_t>(loop.framesWritten())},
             {"total_wall_time_s", totalSeconds},
         };
         auto written = io::writeReport(options.report, *simulation, extra);
         if (!written.ok()) {
-            std::cerr << "error: " << written.error().toString() << "\n";
-            code = code == EXIT_OK ? EXIT_RUN_FAILED : code;
+            code = RunLoop::writeFailed(written.error(), code);
         }
     }
     return code;

@@ -4,10 +4,10 @@
 // the figures.
 
 #include "patterns/assemble.h"
-#include "patterns/drape.h"
 
 #include "sim/collision/obstacle.h"
 #include "sim/mesh/cloth_mesh.h"
+#include "sim/simulation.h"
 
 #include <gtest/gtest.h>
 
@@ -123,8 +123,8 @@ TEST(Drape, BandSewsShutAroundTheBody) {
     ASSERT_FALSE(assembleGarment(t.garment, t.mesh, t.body, settings, a).has_value());
     sim::Simulation simulation(a.scene);
     ASSERT_TRUE(simulation.error().empty()) << simulation.error();
-    const DrapeOutcome outcome = drapeUntilRest(simulation, settings);
-    ASSERT_EQ(outcome.status, sim::RunStatus::Finished) << simulation.stats().error;
+    ASSERT_EQ(simulation.run(settings.timeLimit), sim::RunStatus::Finished)
+        << simulation.stats().error;
     EXPECT_EQ(seamGapMax(a, simulation.positions()), 0.0);
     EXPECT_EQ(simulation.stats().weldedSeamPairs, static_cast<long>(a.scene.seams.size()));
     // Sewing ended when the last pair closed, not at its set end (gravity started then).
@@ -164,7 +164,7 @@ TEST(Drape, ForcedWeldsNameTheSeamsWidestFirst) {
     }();
     sim::Simulation simulation(a.scene);
     ASSERT_TRUE(simulation.error().empty()) << simulation.error();
-    drapeUntilRest(simulation, settings);
+    simulation.run(settings.timeLimit);
     const std::vector<double>& gaps = simulation.stats().forcedWeldGaps;
     ASSERT_EQ(gaps.size(), a.scene.seams.size());
     double widest[2] = {0, 0};

@@ -1,0 +1,480 @@
+#include "patterns/drape_session.h"
+
+#include "patterns/placement.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+namespace atelier::patterns {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+Error sessionError(std::string message) { return Error{"", "", std::move(message)}; }
+
+} // namespace
+
+std::string_view phaseName(DrapePhase phase) {
+    switch (phase) {
+    case DrapePhase::Empty: return "empty";
+    case DrapePhase::Placing: return "placing";
+    case DrapePhase::Sewing: return "sewing";
+    case DrapePhase::Settling: return "settling";
+    case DrapePhase::AtRest: return "at rest";
+    case DrapePhase::Failed: return "failed";
+    }
+    return "?";
+}
+
+std::string_view eventName(DrapeEvent::Kind kind) {
+    switch (kind) {
+    case DrapeEvent::Kind::Placed: return "placed";
+    case DrapeEvent::Kind::SeamsSewn: return "seams sewn";
+    case DrapeEvent::Kind::ForcedWelds: return "forced welds";
+    case DrapeEvent::Kind::GravityOn: return "gravity on";
+    case DrapeEvent::Kind::AtRest: return "at rest";
+    case DrapeEvent::Kind::TimeLimit: return "time limit";
+    case DrapeEvent::Kind::Failed: return "failed";
+    case DrapeEvent::Kind::Restarted: return "restarted";
+    }
+    return "?";
+}
+
+/// How a (re)built simulation starts.
+struct DrapeSession::Start {
+    /// Per panel: positions to start from (|V_p|×3), or empty to place the panel on its slot.
+    std::vector<sim::MatX3> positions;
+    /// Sewing already done: the simulation starts with gravity on and every pair welded at
+    /// its first step (pairs of a finished drape are closed, so nothing is forced).
+    bool sewn = false;
+    /// Sewing under way for this long [s]: the new simulation sews for what remains.
+    double sewingElapsed = 0;
+};
+
+DrapeSession::DrapeSession(BodyProvider bodies) : m_bodies(std::move(bodies)) {}
+DrapeSession::~DrapeSession() = default;
+
+void DrapeSession::setProject(Project project) {
+    m_project = std::move(project);
+    m_meshValid = false; // the cache keeps what did not change
+    m_simulation.reset();
+    m_phase = DrapePhase::Empty;
+}
+
+Result<void> DrapeSession::ensureBody() {
+    if (m_haveBodySource && m_bodySource == m_project.body) {
+        return {};
+    }
+    if (!m_bodies) {
+        return sessionError("no body provider");
+    }
+    auto body = m_bodies(m_project.body);
+    if (!body.ok()) {
+        return body.error();
+    }
+    m_body = std::move(body).value();
+    m_bodySource = m_project.body;
+    m_haveBodySource = true;
+    return {};
+}
+
+Result<void> DrapeSession::ensureMesh() {
+    if (m_meshValid) {
+        return {};
+    }
+    MeshOptions options;
+    options.particleDistance = m_project.drape.particleDistance;
+    options.cache = &m_triangulations;
+    GarmentMesh mesh;
+    if (auto err = meshGarment(m_project.garment, options, mesh)) {
+        return sessionError(*err);
+    }
+    m_mesh = std::move(mesh);
+    m_meshValid = true;
+    return {};
+}
+
+Result<void> DrapeSession::prepare() {
+    if (auto r = ensureBody(); !r.ok()) {
+        return r;
+    }
+    if (auto r = ensureMesh(); !r.ok()) {
+        return r;
+    }
+    m_simulation.reset(); // a new drape: time starts at 0
+    m_timeOffset = 0;
+    m_stepSecondsBefore = 0;
+    m_sewnAt = -1;
+    if (auto r = build(Start{}); !r.ok()) {
+        return r;
+    }
+    m_startPenetration = m_simulation->penetration();
+    char message[160];
+    std::snprintf(message, sizeof message,
+                  "%zu panels, %ld triangles, %zu seam pairs placed on the body",
+                  m_mesh.panels.size(), m_mesh.triangleCount, m_assembled.scene.seams.size());
+    raise(DrapeEvent::Kind::Placed, message);
+    return {};
+}
+
+Result<void> DrapeSession::build(const Start& start) {
+    AssembledGarment assembled;
+    if (auto err = assembleGarment(m_project.garment, m_mesh, m_body, m_project.drape, assembled)) {
+        return sessionError(*err);
+    }
+    sim::SceneSpec& scene = assembled.scene;
+    for (std::size_t p = 0; p < start.positions.size() && p < scene.cloths.size(); ++p) {
+        if (start.positions[p].rows() == scene.cloths[p].position.rows()) {
+            scene.cloths[p].position = start.positions[p];
+        }
+    }
+    if (start.sewn) {
+        scene.gravityStartTime = 0;
+        scene.seamWeldAllTime = 0;
+        scene.seamReachGrowthStart = -1;
+    } else if (start.sewingElapsed > 0) {
+        const double e = start.sewingElapsed;
+        scene.gravityStartTime = std::max(0.0, scene.gravityStartTime - e);
+        scene.seamWeldAllTime = std::max(0.0, scene.seamWeldAllTime - e);
+        if (scene.seamReachGrowthStart >= 0) {
+            scene.seamReachGrowthStart = std::max(0.0, scene.seamReachGrowthStart - e);
+        }
+    }
+    auto simulation = std::make_unique<sim::Simulation>(scene);
+    if (!simulation->error().empty()) {
+        return sessionError(simulation->error());
+    }
+    if (m_simulation) {
+        m_timeOffset += m_simulation->time();
+        m_stepSecondsBefore += m_simulation->stats().wallTime;
+    }
+    m_assembled = std::move(assembled);
+    m_simulation = std::move(simulation);
+    if (m_publishing) {
+        m_simulation->publishTo(&m_snapshots);
+    }
+    m_restSince = -1;
+    m_restTime = -1;
+    m_timeLimit = false;
+    m_gravityRaised = false;
+    m_error.clear();
+    m_kineticEnergyPerVertex = 0;
+    if (start.sewn) {
+        m_sewnAt = m_sewnAt >= 0 ? m_sewnAt : m_timeOffset;
+    } else {
+        m_sewnAt = -1;
+    }
+    m_phase = DrapePhase::Placing;
+    return {};
+}
+
+void DrapeSession::raise(DrapeEvent::Kind kind, std::string message) {
+    m_events.push_back({kind, time(), std::move(message)});
+}
+
+std::vector<DrapeEvent> DrapeSession::takeEvents() {
+    std::vector<DrapeEvent> out;
+    out.swap(m_events);
+    return out;
+}
+
+double DrapeSession::time() const {
+    return m_timeOffset + (m_simulation ? m_simulation->time() : 0.0);
+}
+
+const sim::MatX3& DrapeSession::positions() const {
+    static const sim::MatX3 none;
+    return m_simulation ? m_simulation->positions() : none;
+}
+
+bool DrapeSession::finished() const {
+    const DrapePhase p = m_phase.load();
+    return p == DrapePhase::AtRest || p == DrapePhase::Failed || m_timeLimit;
+}
+
+void DrapeSession::setPublishing(bool on) {
+    m_publishing = on;
+    if (m_simulation) {
+        m_simulation->publishTo(on ? &m_snapshots : nullptr);
+    }
+}
+
+DrapeStatus DrapeSession::finalStatus() const {
+    switch (m_phase.load()) {
+    case DrapePhase::AtRest: return DrapeStatus::AtRest;
+    case DrapePhase::Failed: return DrapeStatus::Failed;
+    default: return m_timeLimit ? DrapeStatus::TimeLimit : DrapeStatus::Running;
+    }
+}
+
+void DrapeSession::afterStep() {
+    sim::Simulation& s = *m_simulation;
+    const sim::RunStats& stats = s.stats();
+    const sim::SceneSpec& scene = s.scene();
+    if (m_sewnAt < 0 && stats.sewingEndTime >= 0) {
+        m_sewnAt = m_timeOffset + stats.sewingEndTime;
+        if (stats.largestForcedWeld > 0) {
+            std::string seams;
+            for (const ForcedWeld& w :
+                 forcedWelds(m_project.garment, m_assembled, stats.forcedWeldGaps)) {
+                char part[160];
+                std::snprintf(part, sizeof part, "%s%s %.1f mm (%d pairs)",
+                              seams.empty() ? "" : ", ", w.seam.c_str(), 1000 * w.widest,
+                              w.pairs);
+                seams += part;
+            }
+            raise(DrapeEvent::Kind::ForcedWelds,
+                  "sewing time is up; welded where they were, widest pair per seam: " + seams);
+        } else {
+            raise(DrapeEvent::Kind::SeamsSewn, "every seam pair closed");
+        }
+    }
+    if (!m_gravityRaised && scene.gravity && s.time() >= scene.gravityStartTime - 1e-12) {
+        m_gravityRaised = true;
+        raise(DrapeEvent::Kind::GravityOn, "gravity acts");
+    }
+    if (m_phase != DrapePhase::AtRest) {
+        m_phase = (m_sewnAt < 0 && !scene.seams.empty()) ? DrapePhase::Sewing : DrapePhase::Settling;
+    }
+    if (!s.atFrame()) {
+        return;
+    }
+    const double vertices = std::max(1.0, static_cast<double>(s.positions().rows()));
+    const double ke = s.kineticEnergy() / vertices;
+    m_kineticEnergyPerVertex = ke;
+    // Rest counts after sewing: at its set end, or earlier once every seam is sewn.
+    const double t = s.time();
+    const double sewn = stats.sewingEndTime;
+    const double sewingEnd = sewn >= 0 ? sewn : std::max(0.0, scene.seamWeldAllTime);
+    const DrapeSettings& settings = m_project.drape;
+    if (t >= sewingEnd - 1e-12 && ke < settings.restKineticEnergy) {
+        if (m_restSince < 0) {
+            m_restSince = t;
+        }
+        if (t - m_restSince >= settings.restDuration - 1e-12) {
+            m_restTime = time();
+            m_phase = DrapePhase::AtRest;
+            char message[96];
+            std::snprintf(message, sizeof message, "kinetic energy %.2e J per vertex", ke);
+            raise(DrapeEvent::Kind::AtRest, message);
+        }
+    } else {
+        m_restSince = -1;
+    }
+    if (m_onFrame) {
+        m_onFrame(s.frameIndex(), time(), ke);
+    }
+}
+
+DrapeStatus DrapeSession::stepOnce() {
+    if (m_cancel.exchange(false)) {
+        return DrapeStatus::Cancelled;
+    }
+    if (m_pause.exchange(false)) {
+        return DrapeStatus::Paused;
+    }
+    if (finished()) {
+        return finalStatus();
+    }
+    const double until = m_project.drape.timeLimit - m_timeOffset;
+    if (m_simulation->step(until) != sim::RunStatus::Finished) {
+        const sim::RunStats& stats = m_simulation->stats();
+        m_error = !m_simulation->error().empty() ? m_simulation->error() : stats.error;
+        m_phase = DrapePhase::Failed;
+        raise(DrapeEvent::Kind::Failed, m_error);
+        return DrapeStatus::Failed;
+    }
+    afterStep();
+    if (m_phase == DrapePhase::AtRest) {
+        return DrapeStatus::AtRest;
+    }
+    if (!(m_simulation->time() < until - 1e-12)) {
+        m_timeLimit = true;
+        char message[96];
+        std::snprintf(message, sizeof message, "not at rest after %.2f s", time());
+        raise(DrapeEvent::Kind::TimeLimit, message);
+        return DrapeStatus::TimeLimit;
+    }
+    return DrapeStatus::Running;
+}
+
+bool DrapeSession::ensurePrepared() {
+    if (m_simulation) {
+        return true;
+    }
+    if (auto r = prepare(); !r.ok()) {
+        m_error = r.error().toString();
+        m_phase = DrapePhase::Failed;
+        return false;
+    }
+    return true;
+}
+
+DrapeStatus DrapeSession::step() {
+    return ensurePrepared() ? stepOnce() : DrapeStatus::Failed;
+}
+
+DrapeStatus DrapeSession::runUntil(const std::function<bool(const DrapeSession&)>& stop) {
+    if (!ensurePrepared()) {
+        return DrapeStatus::Failed;
+    }
+    for (;;) {
+        const DrapeStatus status = stepOnce();
+        if (status != DrapeStatus::Running) {
+            return status;
+        }
+        if (stop && stop(*this)) {
+            return DrapeStatus::Stopped;
+        }
+    }
+}
+
+DrapeStatus DrapeSession::advance(double dt) {
+    if (!ensurePrepared()) {
+        return DrapeStatus::Failed;
+    }
+    const double target = time() + dt;
+    const DrapeStatus status =
+        runUntil([target](const DrapeSession& s) { return s.time() >= target - 1e-12; });
+    return status == DrapeStatus::Stopped ? DrapeStatus::Running : status;
+}
+
+DrapeFigures DrapeSession::figures() const {
+    DrapeFigures f;
+    f.phase = m_phase.load();
+    f.triangles = m_mesh.triangleCount;
+    f.meshSeconds = m_mesh.seconds;
+    f.minAngleDeg = m_mesh.minAngleDeg;
+    f.panelsMeshed = m_mesh.panelsTriangulated;
+    f.error = m_error;
+    if (!m_simulation) {
+        return f;
+    }
+    const sim::Simulation& s = *m_simulation;
+    f.rested = f.phase == DrapePhase::AtRest;
+    f.timeLimitReached = m_timeLimit;
+    f.time = time();
+    f.restTime = m_restTime;
+    f.sewnAt = m_sewnAt;
+    f.stepSeconds = m_stepSecondsBefore + s.stats().wallTime;
+    f.kineticEnergyPerVertex =
+        s.kineticEnergy() / std::max(1.0, static_cast<double>(s.positions().rows()));
+    f.seamGapMax = seamGapMax(m_assembled, s.positions());
+    f.areaRatio = areaRatio(m_assembled.scene, s.positions());
+    f.startPenetration = m_startPenetration;
+    f.forcedWelds = forcedWelds(m_project.garment, m_assembled, s.stats().forcedWeldGaps);
+    f.seamPairs = static_cast<long>(m_assembled.scene.seams.size());
+    return f;
+}
+
+// ---- Edits ----
+
+Result<void> DrapeSession::continueDrape(const std::string& why) {
+    if (!m_simulation) {
+        return {}; // nothing draped yet: the next prepare() uses the new values
+    }
+    Start start;
+    const std::vector<int>& offsets = m_assembled.panelOffsets;
+    for (std::size_t p = 0; p + 1 < offsets.size(); ++p) {
+        start.positions.push_back(
+            m_simulation->positions().middleRows(offsets[p], offsets[p + 1] - offsets[p]));
+    }
+    start.sewn = m_sewnAt >= 0;
+    start.sewingElapsed = start.sewn ? 0.0 : m_simulation->time();
+    if (auto r = build(start); !r.ok()) {
+        return r;
+    }
+    raise(DrapeEvent::Kind::Restarted, why + ": continuing from the current drape");
+    return {};
+}
+
+Result<void> DrapeSession::setDrapeSettings(const DrapeSettings& settings) {
+    const bool remesh = settings.particleDistance != m_project.drape.particleDistance;
+    m_project.drape = settings;
+    if (!remesh) {
+        return continueDrape("drape settings changed");
+    }
+    m_meshValid = false;
+    if (!m_simulation) {
+        return {};
+    }
+    if (auto r = prepare(); !r.ok()) {
+        return r;
+    }
+    raise(DrapeEvent::Kind::Restarted, "particle distance changed: re-meshed and placed again");
+    return {};
+}
+
+Result<void> DrapeSession::setMaterial(const std::string& name, const sim::Material& material) {
+    for (GarmentMaterial& m : m_project.garment.materials) {
+        if (m.name == name) {
+            m.material = material;
+            return continueDrape("material \"" + name + "\" changed");
+        }
+    }
+    return sessionError("no material \"" + name + "\"");
+}
+
+Result<void> DrapeSession::setPanel(std::size_t index, Panel panel) {
+    if (index >= m_project.garment.panels.size()) {
+        return sessionError("no panel " + std::to_string(index));
+    }
+    const GarmentMesh before = m_mesh;
+    const std::vector<int> offsets = m_assembled.panelOffsets;
+    m_project.garment.panels[index] = std::move(panel);
+    m_meshValid = false;
+    if (!m_simulation) {
+        return {};
+    }
+    if (auto r = ensureMesh(); !r.ok()) {
+        return r;
+    }
+    // Panels whose mesh is the same keep their draped positions; the others are placed again.
+    Start start;
+    int kept = 0;
+    for (std::size_t p = 0; p < m_mesh.panels.size(); ++p) {
+        const bool same = p < before.panels.size() && p + 1 < offsets.size() &&
+                          before.panels[p].rest == m_mesh.panels[p].rest &&
+                          before.panels[p].triangles == m_mesh.panels[p].triangles;
+        start.positions.push_back(
+            same ? sim::MatX3(m_simulation->positions().middleRows(offsets[p],
+                                                                   offsets[p + 1] - offsets[p]))
+                 : sim::MatX3());
+        kept += same ? 1 : 0;
+    }
+    if (auto r = build(start); !r.ok()) {
+        return r;
+    }
+    raise(DrapeEvent::Kind::Restarted,
+          "panel \"" + m_project.garment.panels[index].name + "\" edited: " +
+              std::to_string(m_mesh.panelsTriangulated) + " panel(s) re-meshed, " +
+              std::to_string(kept) + " kept where they were");
+    return {};
+}
+
+Result<void> DrapeSession::placePanel(std::size_t index, const Placement& placement) {
+    if (index >= m_project.garment.panels.size()) {
+        return sessionError("no panel " + std::to_string(index));
+    }
+    m_project.garment.panels[index].placement = placement;
+    if (!m_simulation) {
+        return {};
+    }
+    Start start;
+    const std::vector<int>& offsets = m_assembled.panelOffsets;
+    for (std::size_t p = 0; p + 1 < offsets.size(); ++p) {
+        start.positions.push_back(p == index ? sim::MatX3()
+                                             : sim::MatX3(m_simulation->positions().middleRows(
+                                                   offsets[p], offsets[p + 1] - offsets[p])));
+    }
+    if (auto r = build(start); !r.ok()) {
+        return r;
+    }
+    raise(DrapeEvent::Kind::Restarted, "panel \"" + m_project.garment.panels[index].name +
+                                           "\" placed again; sewing it anew");
+    return {};
+}
+
+} // namespace atelier::patterns

@@ -1,0 +1,213 @@
+#pragma once
+/// The drape session: the one owner of a drape's pipeline (body → meshes → scene → simulation
+/// → rest → figures). The command line, batch jobs, tests and the window all drive it; none
+/// re-implements it. One thread drives it (prepare, advance, runUntil, edits); any thread may
+/// pause or cancel it, read its phase and copy its latest snapshot.
+
+#include "patterns/assemble.h"
+#include "patterns/body.h"
+#include "patterns/mesh.h"
+#include "patterns/project.h"
+#include "patterns/triangulation_cache.h"
+
+#include "sim/core/result.h"
+#include "sim/simulation.h"
+#include "sim/snapshot.h"
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace atelier::patterns {
+
+/// Where a drape is. Sewing: seams close while gravity waits; settling: the garment falls and
+/// comes to rest; at rest and failed are final until something changes.
+enum class DrapePhase { Empty, Placing, Sewing, Settling, AtRest, Failed };
+std::string_view phaseName(DrapePhase phase);
+
+/// Something that happened during a drape, raised by the session as it steps.
+struct DrapeEvent {
+    enum class Kind {
+        Placed,      ///< prepared: panels placed around the body, nothing stepped yet
+        SeamsSewn,   ///< every seam pair closed by itself: sewing ends
+        ForcedWelds, ///< sewing time is up: pairs still open were welded where they were
+        GravityOn,   ///< gravity acts from now on
+        AtRest,      ///< the garment has come to rest
+        TimeLimit,   ///< the simulated time limit was reached before rest
+        Failed,      ///< the simulation stopped with an error
+        Restarted,   ///< an edit rebuilt the simulation (the message says which)
+    };
+    Kind kind = Kind::Placed;
+    double time = 0;     ///< drape time when it happened [s]
+    std::string message; ///< for a person: what happened, with figures
+};
+std::string_view eventName(DrapeEvent::Kind kind);
+
+/// Why advance() or runUntil() returned.
+enum class DrapeStatus {
+    Running,   ///< advance(): the time asked for has passed, the drape goes on
+    Stopped,   ///< runUntil(): the caller's predicate said stop
+    Paused,    ///< pause() was called (from any thread); call again to resume
+    Cancelled, ///< cancel() was called; the state so far is kept (it can be exported)
+    AtRest,
+    TimeLimit,
+    Failed,
+};
+
+/// A drape's figures: what its report says.
+struct DrapeFigures {
+    DrapePhase phase = DrapePhase::Empty;
+    bool rested = false;
+    bool timeLimitReached = false;
+    double time = 0;             ///< drape time [s] (simulated, across restarts)
+    double restTime = -1;        ///< drape time at which rest was reached, or −1 [s]
+    double sewnAt = -1;          ///< drape time at which sewing ended, or −1 [s]
+    double stepSeconds = 0;      ///< wall time spent stepping [s]
+    double kineticEnergyPerVertex = 0; ///< mean, now [J]
+    double seamGapMax = 0;       ///< largest distance between sewn pairs now [m]
+    double areaRatio = 0;        ///< cloth area over rest area now [-]
+    double startPenetration = 0; ///< deepest cloth vertex inside the body as placed [m]
+    std::vector<ForcedWeld> forcedWelds; ///< seams welded by force, widest first
+    long triangles = 0;
+    long seamPairs = 0;
+    double meshSeconds = 0;      ///< wall time of the last meshing [s]
+    double minAngleDeg = 0;      ///< smallest triangle angle of the meshes [deg]
+    int panelsMeshed = 0;        ///< panels triangulated by the last prepare (the rest reused)
+    std::string error;           ///< why the drape failed, if it did
+};
+
+/// Supplies the body a project drapes on (the io layer loads mesh bodies and builds the
+/// mannequin with its measurement checks). Called only when the project's body source changes.
+using BodyProvider = std::function<Result<Body>(const BodySource& source)>;
+
+class DrapeSession {
+  public:
+    explicit DrapeSession(BodyProvider bodies);
+    ~DrapeSession();
+    DrapeSession(const DrapeSession&) = delete;
+    DrapeSession& operator=(const DrapeSession&) = delete;
+
+    // ---- Inputs ----
+
+    /// The project to drape. Nothing is computed until prepare(); what still applies (the
+    /// body, panel meshes) is kept.
+    void setProject(Project project);
+    const Project& project() const { return m_project; }
+
+    // ---- The pipeline ----
+
+    /// Builds what changed (the body once per body source, the meshes of changed panels),
+    /// places the panels and builds the simulation: phase Placing. Warnings (seam ease) go to
+    /// warnings().
+    Result<void> prepare();
+    /// Takes one step (prepares first if needed).
+    DrapeStatus step();
+    /// Steps until `dt` [s] of drape time has passed, or the drape ends (rest, time limit,
+    /// failure), or it is paused or cancelled. Prepares first if needed.
+    DrapeStatus advance(double dt);
+    /// Steps until the drape ends, it is paused or cancelled, or stop(*this) says so (asked
+    /// after every step).
+    DrapeStatus runUntil(const std::function<bool(const DrapeSession&)>& stop = {});
+    /// Any thread: advance()/runUntil() return after the current step (Paused). Resuming is
+    /// calling them again; the steps are those of a run that was never paused.
+    void pause() { m_pause.store(true); }
+    /// Any thread: advance()/runUntil() return after the current step (Cancelled).
+    void cancel() { m_cancel.store(true); }
+    /// Any thread.
+    DrapePhase phase() const { return m_phase.load(); }
+    /// At rest, failed, or at the time limit.
+    bool finished() const;
+    /// Events since the last call, oldest first.
+    std::vector<DrapeEvent> takeEvents();
+    /// Called on the stepping thread after every step that ends an output frame (frame
+    /// number, drape time [s], mean kinetic energy per vertex [J]).
+    void onFrame(std::function<void(long, double, double)> callback) {
+        m_onFrame = std::move(callback);
+    }
+
+    // ---- Touching the drape (between steps, from the stepping thread) ----
+
+    /// Grab, pin, obstacle poses: the engine's own API (null before prepare()).
+    sim::Simulation* simulation() { return m_simulation.get(); }
+    const sim::Simulation* simulation() const { return m_simulation.get(); }
+    /// Publishes a snapshot after every step into snapshots() (off by default).
+    void setPublishing(bool on);
+    /// Any thread may read() the latest snapshot from here, across restarts.
+    sim::SnapshotBuffer& snapshots() { return m_snapshots; }
+
+    // ---- Edits that keep the drape (as commercial tools do) ----
+
+    /// New drape settings. A new particle distance re-meshes and starts again; anything else
+    /// continues from the current drape.
+    Result<void> setDrapeSettings(const DrapeSettings& settings);
+    /// A garment material's new values: continues from the current drape.
+    Result<void> setMaterial(const std::string& name, const sim::Material& material);
+    /// Panel `index` edited: re-meshes what changed (that panel, and a partner whose seam
+    /// points moved with it) and starts again with every panel whose mesh is unchanged kept
+    /// where it is; changed ones are placed on their slots.
+    Result<void> setPanel(std::size_t index, Panel panel);
+    /// Places panel `index` on its slot again (its placement may have changed), the other
+    /// panels kept where they are, and sews it anew.
+    Result<void> placePanel(std::size_t index, const Placement& placement);
+
+    // ---- Results ----
+
+    DrapeFigures figures() const;
+    const GarmentMesh& mesh() const { return m_mesh; }
+    const AssembledGarment& assembled() const { return m_assembled; }
+    const Body& body() const { return m_body; }
+    const std::vector<std::string>& warnings() const { return m_mesh.warnings; }
+    /// Drape time [s]: simulated time across restarts.
+    double time() const;
+    /// Global draped positions (|V|×3), in mesh.panels order.
+    const sim::MatX3& positions() const;
+
+  private:
+    struct Start; // how a (re)built simulation starts
+    bool ensurePrepared();
+    Result<void> ensureBody();
+    Result<void> ensureMesh();
+    Result<void> build(const Start& start);
+    Result<void> continueDrape(const std::string& why);
+    void afterStep();
+    void raise(DrapeEvent::Kind kind, std::string message);
+    DrapeStatus stepOnce();
+    DrapeStatus finalStatus() const;
+
+    BodyProvider m_bodies;
+    Project m_project;
+    bool m_haveBodySource = false;
+    BodySource m_bodySource; ///< the source m_body was made from
+    Body m_body;
+    GarmentMesh m_mesh;
+    bool m_meshValid = false;
+    TriangulationCache m_triangulations;
+    AssembledGarment m_assembled;
+    std::unique_ptr<sim::Simulation> m_simulation;
+    sim::SnapshotBuffer m_snapshots;
+    bool m_publishing = false;
+
+    std::atomic<DrapePhase> m_phase{DrapePhase::Empty};
+    std::atomic<bool> m_pause{false};
+    std::atomic<bool> m_cancel{false};
+    std::vector<DrapeEvent> m_events;
+    std::function<void(long, double, double)> m_onFrame;
+
+    // Time and rest across restarts: a restarted simulation counts from 0.
+    double m_timeOffset = 0;     ///< drape time at which the current simulation started [s]
+    double m_stepSecondsBefore = 0; ///< wall time of earlier simulations' steps [s]
+    double m_restSince = -1;     ///< drape time since which the energy has stayed low [s]
+    double m_restTime = -1;
+    double m_sewnAt = -1;
+    double m_gravityAt = -1;     ///< simulation time gravity starts (from its scene) [s]
+    bool m_gravityRaised = false;
+    bool m_timeLimit = false;
+    std::string m_error;
+    double m_startPenetration = 0;
+    double m_kineticEnergyPerVertex = 0;
+};
+
+} // namespace atelier::patterns
