@@ -125,20 +125,16 @@ class Pool {
             m_wake.notify_all();
         }
         t_inLoop = true;
-        std::exception_ptr failure;
-        try {
-            work();
-        } catch (...) {
-            failure = std::current_exception();
-            m_next.store(m_tasks, std::memory_order_relaxed); // the others stop taking tasks
-        }
+        workCatching();
         t_inLoop = false;
         const auto finished = [this] { return m_running.load(std::memory_order_acquire) == 0; };
         if (!spinUntil(spin(), finished)) {
             std::unique_lock lock(m_mutex);
             m_done.wait(lock, finished);
         }
-        if (failure) {
+        if (m_failure) {
+            std::exception_ptr failure;
+            std::swap(failure, m_failure);
             std::rethrow_exception(failure);
         }
     }
@@ -151,6 +147,20 @@ class Pool {
                 return;
             }
             m_task(m_context, k);
+        }
+    }
+
+    /// work(), keeping the first exception a task throws for the caller (the other
+    /// participants then stop taking tasks).
+    void workCatching() {
+        try {
+            work();
+        } catch (...) {
+            const std::lock_guard lock(m_failureMutex);
+            if (!m_failure) {
+                m_failure = std::current_exception();
+            }
+            m_next.store(m_tasks, std::memory_order_relaxed);
         }
     }
 
@@ -175,7 +185,7 @@ class Pool {
             if (static_cast<std::uint64_t>(index) > (seen & 0xff)) {
                 continue; // not asked to take part in this loop
             }
-            work(); // tasks never throw past here: the engine does not throw mid-step
+            workCatching();
             if (m_running.fetch_sub(1, std::memory_order_acq_rel) == 1) {
                 const std::lock_guard lock(m_mutex); // so the caller cannot miss the wake-up
                 m_done.notify_one();
@@ -196,6 +206,8 @@ class Pool {
     std::int64_t m_tasks = 0;
     std::atomic<std::int64_t> m_next{0};
     std::atomic<int> m_running{0}; ///< helpers still working on the loop
+    std::mutex m_failureMutex;
+    std::exception_ptr m_failure; ///< the loop's first exception (read once helpers are done)
 
     std::mutex m_mutex;
     std::condition_variable m_wake; ///< a loop is published (or the pool stops)

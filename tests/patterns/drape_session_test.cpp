@@ -1,0 +1,244 @@
+// The drape session on a small garment (a band of two panels sewn around a capsule, and a
+// loose patch): events and phases, pause and cancel from another thread, and the edits that
+// keep the drape.
+
+#include "patterns/drape_session.h"
+
+#include "sim/collision/obstacle.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstring>
+#include <thread>
+
+namespace atelier::patterns {
+namespace {
+
+Loop rectangle(double w, double h) {
+    const Vec2 c[4] = {{0, 0}, {w, 0}, {w, h}, {0, h}};
+    Loop loop;
+    for (int k = 0; k < 4; ++k) {
+        Segment s;
+        s.start = c[k];
+        s.end = c[(k + 1) % 4];
+        loop.push_back(s);
+    }
+    return loop;
+}
+
+/// Front and back 0.34 × 0.1 m around a capsule of radius 0.1 (0.63 m round; the band is
+/// 0.68 m), sewn at both sides; a 0.1 m patch on its own higher up, sewn to nothing.
+Project bandProject() {
+    Project p;
+    for (const char* name : {"front", "back"}) {
+        Panel panel;
+        panel.name = name;
+        panel.outline = rectangle(0.34, 0.1);
+        panel.material = "cotton";
+        panel.placement.slot = name;
+        panel.placement.clearance = 0.02;
+        p.garment.panels.push_back(panel);
+    }
+    Panel patch;
+    patch.name = "patch";
+    patch.outline = rectangle(0.1, 0.1);
+    patch.material = "cotton";
+    patch.placement.slot = "front";
+    patch.placement.offset = Vec2(0, 0.25);
+    p.garment.panels.push_back(patch);
+    // Front's right edge to back's left edge, and the other way round, bottom to bottom.
+    p.garment.seams.push_back({"right", {{"front", 1, 0, 1}}, {{"back", 3, 1, 0}}});
+    p.garment.seams.push_back({"left", {{"front", 3, 1, 0}}, {{"back", 1, 0, 1}}});
+    GarmentMaterial cotton;
+    cotton.name = "cotton";
+    cotton.material.density = 0.15;
+    p.garment.materials.push_back(cotton);
+    p.drape.particleDistance = 0.02;
+    p.drape.timeLimit = 0.5;
+    p.drape.sewingTime = 0.3;
+    p.drape.closingTime = 0.2;
+    return p;
+}
+
+Body capsuleBody() {
+    Body body;
+    sim::makeCapsuleMesh(0.1, 0.6, 32, body.vertices, body.triangles);
+    for (const auto& [name, facing] : {std::pair{"front", sim::Vec3(0, 0, 1)},
+                                       std::pair{"back", sim::Vec3(0, 0, -1)}}) {
+        ArrangementSlot s;
+        s.name = name;
+        s.origin = sim::Vec3(0, 0.0, 0);
+        s.facing = facing;
+        s.radius = 0.1;
+        body.slots.push_back(s);
+    }
+    return body;
+}
+
+struct Fixture {
+    int bodiesMade = 0;
+    DrapeSession session{[this](const BodySource&) -> Result<Body> {
+        ++bodiesMade;
+        return capsuleBody();
+    }};
+    Fixture() { session.setProject(bandProject()); }
+};
+
+bool sameBits(const sim::MatX3& a, const sim::MatX3& b) {
+    return a.rows() == b.rows() && std::memcmp(a.data(), b.data(), sizeof(double) * a.size()) == 0;
+}
+
+/// Rows of panel p in the session's global positions.
+sim::MatX3 panelRows(const DrapeSession& s, std::size_t p) {
+    const std::vector<int>& o = s.assembled().panelOffsets;
+    return s.positions().middleRows(o[p], o[p + 1] - o[p]);
+}
+
+TEST(DrapeSession, PhasesAndEventsOfASewnBand) {
+    Fixture f;
+    EXPECT_EQ(f.session.phase(), DrapePhase::Empty);
+    ASSERT_TRUE(f.session.prepare().ok());
+    EXPECT_EQ(f.session.phase(), DrapePhase::Placing);
+    EXPECT_EQ(f.session.figures().seamPairs, f.session.figures().seamPairs);
+    EXPECT_EQ(f.session.step(), DrapeStatus::Running);
+    EXPECT_EQ(f.session.phase(), DrapePhase::Sewing);
+    const DrapeStatus end = f.session.runUntil();
+    EXPECT_TRUE(end == DrapeStatus::AtRest || end == DrapeStatus::TimeLimit);
+    EXPECT_TRUE(f.session.finished());
+    std::vector<DrapeEvent::Kind> kinds;
+    double sewnAt = -1, gravityAt = -1;
+    for (const DrapeEvent& e : f.session.takeEvents()) {
+        kinds.push_back(e.kind);
+        if (e.kind == DrapeEvent::Kind::SeamsSewn || e.kind == DrapeEvent::Kind::ForcedWelds) {
+            sewnAt = e.time;
+        }
+        if (e.kind == DrapeEvent::Kind::GravityOn) {
+            gravityAt = e.time;
+        }
+    }
+    ASSERT_GE(kinds.size(), 4u);
+    EXPECT_EQ(kinds.front(), DrapeEvent::Kind::Placed);
+    EXPECT_TRUE(kinds.back() == DrapeEvent::Kind::AtRest || kinds.back() == DrapeEvent::Kind::TimeLimit);
+    // The band closes by itself before the sewing time is up, and gravity starts then.
+    EXPECT_GT(sewnAt, 0.0);
+    EXPECT_LT(sewnAt, 0.3);
+    EXPECT_NEAR(gravityAt, sewnAt, 0.02);
+    EXPECT_TRUE(f.session.takeEvents().empty());
+    const DrapeFigures fig = f.session.figures();
+    EXPECT_EQ(fig.seamGapMax, 0.0);
+    EXPECT_NEAR(fig.sewnAt, sewnAt, 1e-12);
+    EXPECT_EQ(fig.panelsMeshed, 2) << "front and back are one drawing, triangulated once";
+    EXPECT_EQ(f.bodiesMade, 1);
+}
+
+TEST(DrapeSession, PauseFromAnotherThreadAndResumeGivesTheSameBits) {
+    Fixture whole;
+    ASSERT_TRUE(whole.session.prepare().ok());
+    const DrapeStatus end = whole.session.runUntil();
+
+    Fixture paused;
+    ASSERT_TRUE(paused.session.prepare().ok());
+    std::atomic<bool> done{false};
+    std::thread presser([&] {
+        while (!done.load()) {
+            paused.session.pause();
+            std::this_thread::sleep_for(std::chrono::milliseconds(3));
+        }
+    });
+    int pauses = 0;
+    DrapeStatus status;
+    while ((status = paused.session.runUntil()) == DrapeStatus::Paused) {
+        ++pauses;
+    }
+    done = true;
+    presser.join();
+    EXPECT_GT(pauses, 0);
+    EXPECT_EQ(status, end);
+    EXPECT_EQ(paused.session.time(), whole.session.time());
+    EXPECT_TRUE(sameBits(paused.session.positions(), whole.session.positions()));
+}
+
+TEST(DrapeSession, CancelKeepsTheDrapeSoFarAndItCanGoOn) {
+    Fixture f;
+    ASSERT_TRUE(f.session.prepare().ok());
+    ASSERT_EQ(f.session.advance(0.1), DrapeStatus::Running);
+    const double t = f.session.time();
+    EXPECT_GE(t, 0.1 - 1e-12);
+    f.session.cancel();
+    EXPECT_EQ(f.session.runUntil(), DrapeStatus::Cancelled);
+    EXPECT_EQ(f.session.time(), t);
+    EXPECT_TRUE(f.session.positions().allFinite());
+    EXPECT_EQ(f.session.advance(0.05), DrapeStatus::Running);
+    EXPECT_GT(f.session.time(), t);
+}
+
+TEST(DrapeSession, BodyIsMadeOncePerBodySource) {
+    Fixture f;
+    ASSERT_TRUE(f.session.prepare().ok());
+    ASSERT_TRUE(f.session.prepare().ok());
+    EXPECT_EQ(f.bodiesMade, 1);
+    Project p = bandProject();
+    p.body.measurements.push_back({"waist", 0.7});
+    f.session.setProject(p);
+    ASSERT_TRUE(f.session.prepare().ok());
+    EXPECT_EQ(f.bodiesMade, 2);
+    EXPECT_EQ(f.session.figures().panelsMeshed, 0) << "the panels did not change";
+}
+
+TEST(DrapeSession, NewMaterialContinuesFromTheCurrentDrape) {
+    Fixture f;
+    ASSERT_TRUE(f.session.prepare().ok());
+    ASSERT_EQ(f.session.advance(0.35), DrapeStatus::Running);
+    const double t = f.session.time();
+    const sim::MatX3 x = f.session.positions();
+    f.session.takeEvents();
+    sim::Material heavier = f.session.project().garment.materials[0].material;
+    heavier.density = 0.3;
+    ASSERT_TRUE(f.session.setMaterial("cotton", heavier).ok());
+    EXPECT_FALSE(f.session.setMaterial("silk", heavier).ok());
+    const std::vector<DrapeEvent> events = f.session.takeEvents();
+    ASSERT_EQ(events.size(), 1u);
+    EXPECT_EQ(events[0].kind, DrapeEvent::Kind::Restarted);
+    EXPECT_EQ(f.session.time(), t) << "drape time goes on";
+    EXPECT_LT((f.session.positions() - x).cwiseAbs().maxCoeff(), 1e-9) << "where it was";
+    EXPECT_EQ(f.session.simulation()->scene().cloths[0].material.density, 0.3);
+    ASSERT_EQ(f.session.advance(0.05), DrapeStatus::Running);
+    EXPECT_EQ(f.session.figures().seamGapMax, 0.0) << "sewn seams stay sewn";
+}
+
+TEST(DrapeSession, EditedPanelIsTheOnlyOneMeshedAndPlacedAgain) {
+    Fixture f;
+    ASSERT_TRUE(f.session.prepare().ok());
+    ASSERT_EQ(f.session.advance(0.2), DrapeStatus::Running);
+    const sim::MatX3 front = panelRows(f.session, 0);
+    const sim::MatX3 back = panelRows(f.session, 1);
+    Panel patch = f.session.project().garment.panels[2];
+    patch.outline = rectangle(0.12, 0.08);
+    ASSERT_TRUE(f.session.setPanel(2, patch).ok());
+    EXPECT_EQ(f.session.figures().panelsMeshed, 1);
+    EXPECT_TRUE(sameBits(panelRows(f.session, 0), front));
+    EXPECT_TRUE(sameBits(panelRows(f.session, 1), back));
+    EXPECT_NEAR(panelRows(f.session, 2).col(0).maxCoeff() - panelRows(f.session, 2).col(0).minCoeff(),
+                0.12, 0.02)
+        << "the new patch is placed, flat on its slot";
+    EXPECT_EQ(f.session.advance(0.05), DrapeStatus::Running);
+}
+
+TEST(DrapeSession, PlacingOnePanelAgainLeavesTheOthers) {
+    Fixture f;
+    ASSERT_TRUE(f.session.prepare().ok());
+    const sim::MatX3 placedBack = panelRows(f.session, 1);
+    ASSERT_EQ(f.session.advance(0.2), DrapeStatus::Running);
+    const sim::MatX3 front = panelRows(f.session, 0);
+    EXPECT_FALSE(sameBits(panelRows(f.session, 1), placedBack)) << "the back has moved";
+    ASSERT_TRUE(f.session.placePanel(1, f.session.project().garment.panels[1].placement).ok());
+    EXPECT_TRUE(sameBits(panelRows(f.session, 0), front));
+    EXPECT_LT((panelRows(f.session, 1) - placedBack).cwiseAbs().maxCoeff(), 1e-9);
+    EXPECT_EQ(f.session.phase(), DrapePhase::Placing);
+    EXPECT_EQ(f.session.step(), DrapeStatus::Running);
+    EXPECT_EQ(f.session.phase(), DrapePhase::Sewing) << "sewing again";
+}
+
+} // namespace
+} // namespace atelier::patterns
