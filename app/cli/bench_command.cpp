@@ -1,6 +1,7 @@
 /// `atelier-cli bench`: benchmarks of the engine as subcommands. Only the CLI11 parsing lives
 /// here; the work is in bench_work_precision.cpp and bench_material.cpp (plain C++).
 
+#include "app/cli/bench_drape.h"
 #include "app/cli/bench_material.h"
 #include "app/cli/bench_work_precision.h"
 #include "app/cli/commands.h"
@@ -113,14 +114,46 @@ void addMaterial(CLI::App& bench) {
     });
 }
 
+void addDrape(CLI::App& bench) {
+    auto o = std::make_shared<DrapeBenchOptions>();
+    CLI::App* cmd = bench.add_subcommand(
+        "drape", "A project draped step by step as a window drapes it: simulated seconds per "
+                 "wall second, step times, with a snapshot reader and busy cores if asked (JSON)");
+    cmd->add_option("project", o->project, "Garment project (.atelier)")
+        ->required()
+        ->check(CLI::ExistingFile);
+    cmd->add_option("--out,-o", o->out, "JSON output (default: stdout)");
+    cmd->add_option("--particle-distance", o->particleDistanceMm,
+                    "Mesh particle distance [mm] (default: the project's)")
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--time-limit", o->timeLimit, "Simulated time limit [s] (default: the project's)")
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--threads,-j", o->threads, "Engine threads (default: all cores)")
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--reader-hz", o->readerHz,
+                    "Another thread reads a snapshot this many times a second (a viewport: 60)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--busy", o->busy, "Processes that each keep a core busy meanwhile")
+        ->check(CLI::Range(0, 64));
+    cmd->add_option("--spin-us", o->spinUs,
+                    "The engine threads' spin before sleeping [us] (default: the pool's)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->callback([o] {
+        if (const int code = runDrapeBench(*o); code != EXIT_OK) {
+            throw CLI::RuntimeError(code);
+        }
+    });
+}
+
 } // namespace
 
 void addBenchCommand(CLI::App& app) {
     CLI::App* bench = app.add_subcommand("bench", "Benchmarks: integrator work-precision, "
-                                                  "material tension test");
+                                                  "material tension test, interactive drape");
     bench->require_subcommand(1);
     addWorkPrecision(*bench);
     addMaterial(*bench);
+    addDrape(*bench);
 }
 
 } // namespace atelier::app

@@ -1,0 +1,174 @@
+#include "app/cli/bench_drape.h"
+
+#include "app/cli/commands.h"
+
+#include "io/atomic_file.h"
+#include "io/body_file.h"
+#include "io/project_file.h"
+
+#include "patterns/drape_session.h"
+
+#include "sim/core/parallel.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <iostream>
+#include <thread>
+#include <vector>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace atelier::app {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+/// Processes that each keep a core busy until destroyed (forked before any thread starts).
+class BusyProcesses {
+  public:
+    explicit BusyProcesses(int count) {
+        for (int k = 0; k < count; ++k) {
+            const pid_t pid = ::fork();
+            if (pid == 0) {
+                volatile unsigned long spin = 0;
+                for (;;) {
+                    spin = spin + 1;
+                }
+            }
+            if (pid > 0) {
+                m_pids.push_back(pid);
+            }
+        }
+    }
+    ~BusyProcesses() {
+        for (pid_t pid : m_pids) {
+            ::kill(pid, SIGKILL);
+            ::waitpid(pid, nullptr, 0);
+        }
+    }
+    BusyProcesses(const BusyProcesses&) = delete;
+    BusyProcesses& operator=(const BusyProcesses&) = delete;
+    int count() const { return static_cast<int>(m_pids.size()); }
+
+  private:
+    std::vector<pid_t> m_pids;
+};
+
+} // namespace
+
+int runDrapeBench(const DrapeBenchOptions& o) {
+    const BusyProcesses busy(o.busy); // first: fork before the pool's threads exist
+    if (busy.count() != o.busy) {
+        std::cerr << "error: could not start " << o.busy << " busy processes\n";
+        return EXIT_RUN_FAILED;
+    }
+    auto loaded = io::loadProject(o.project);
+    if (!loaded.ok()) {
+        std::cerr << "error: " << loaded.error().toString() << "\n";
+        return EXIT_BAD_INPUT;
+    }
+    patterns::Project project = std::move(loaded).value();
+    if (o.particleDistanceMm > 0) {
+        project.drape.particleDistance = o.particleDistanceMm / 1000.0;
+    }
+    if (o.timeLimit > 0) {
+        project.drape.timeLimit = o.timeLimit;
+    }
+    if (o.threads > 0) {
+        sim::setThreadCount(o.threads);
+    }
+    sim::setSpinMicroseconds(o.spinUs);
+    const std::filesystem::path dir = std::filesystem::absolute(o.project).parent_path();
+    patterns::DrapeSession session([&](const patterns::BodySource& source) {
+        return io::loadBody(source, dir, o.project);
+    });
+    session.setProject(std::move(project));
+    if (auto prepared = session.prepare(); !prepared.ok()) {
+        std::cerr << "error: " << o.project << ": " << prepared.error().toString() << "\n";
+        return EXIT_BAD_INPUT;
+    }
+
+    std::atomic<bool> done{false};
+    long reads = 0;
+    double longestRead = 0;
+    std::thread reader;
+    if (o.readerHz > 0) {
+        session.setPublishing(true);
+        reader = std::thread([&] {
+            sim::Snapshot snap;
+            const auto period = std::chrono::duration<double>(1.0 / o.readerHz);
+            auto next = Clock::now();
+            while (!done.load()) {
+                const auto start = Clock::now();
+                if (session.snapshots().read(snap)) {
+                    ++reads;
+                }
+                longestRead = std::max(longestRead, since(start));
+                next += std::chrono::duration_cast<Clock::duration>(period);
+                std::this_thread::sleep_until(next);
+            }
+        });
+    }
+    std::vector<double> stepSeconds;
+    const auto start = Clock::now();
+    patterns::DrapeStatus status;
+    for (;;) {
+        const auto stepStart = Clock::now();
+        status = session.step();
+        stepSeconds.push_back(since(stepStart));
+        if (status != patterns::DrapeStatus::Running) {
+            break;
+        }
+    }
+    const double wall = since(start);
+    done = true;
+    if (reader.joinable()) {
+        reader.join();
+    }
+    std::sort(stepSeconds.begin(), stepSeconds.end());
+    const auto quantile = [&](double q) {
+        return stepSeconds.empty()
+                   ? 0.0
+                   : stepSeconds[static_cast<std::size_t>(q * static_cast<double>(stepSeconds.size() - 1))];
+    };
+    const patterns::DrapeFigures f = session.figures();
+    nlohmann::ordered_json j;
+    j["project"] = o.project;
+    j["particle_distance_mm"] = 1000 * session.project().drape.particleDistance;
+    j["triangles"] = f.triangles;
+    j["threads"] = sim::threadCount();
+    j["spin_us"] = sim::spinMicroseconds();
+    j["busy_processes"] = o.busy;
+    j["reader_hz"] = o.readerHz;
+    j["snapshots_read"] = reads;
+    j["longest_read_s"] = longestRead;
+    j["status"] = std::string(patterns::phaseName(f.phase)) + (f.timeLimitReached ? " (time limit)" : "");
+    j["sim_time_s"] = f.time;
+    j["wall_time_s"] = wall;
+    j["sim_seconds_per_wall_second"] = wall > 0 ? f.time / wall : 0.0;
+    j["steps"] = stepSeconds.size();
+    j["step_median_s"] = quantile(0.5);
+    j["step_p99_s"] = quantile(0.99);
+    j["step_longest_s"] = stepSeconds.empty() ? 0.0 : stepSeconds.back();
+    j["seam_gap_max_m"] = f.seamGapMax;
+    const std::string text = j.dump(2) + "\n";
+    if (o.out.empty()) {
+        std::cout << text;
+    } else if (auto written = io::writeFileAtomically(o.out, text); !written.ok()) {
+        std::cerr << "error: " << written.error().toString() << "\n";
+        return EXIT_RUN_FAILED;
+    }
+    return status == patterns::DrapeStatus::Failed ? EXIT_RUN_FAILED : EXIT_OK;
+}
+
+} // namespace atelier::app
