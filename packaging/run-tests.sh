@@ -3,7 +3,9 @@
 #   1. Release with -Werror: unit tier + slow tier (long stability/accuracy scenes);
 #   2. AddressSanitizer + UndefinedBehaviorSanitizer: the unit tier and the benchmark smoke run
 #      again (the slow tier's long scenes take 10-50x longer under the sanitizers, beyond CI's
-#      time; run it with ATELIER_ASAN_CTEST_ARGS="-L slow" when needed).
+#      time; run it with ATELIER_ASAN_CTEST_ARGS="-L slow" when needed);
+#   3. ThreadSanitizer: the threads tier (a reader thread copying snapshots while a drape runs
+#      on the engine's threads).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -25,3 +27,9 @@ echo "== Tests (ASan + UBSan)"
 ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1} \
 UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1} \
   ctest --preset asan -j "$JOBS" ${ATELIER_ASAN_CTEST_ARGS:--L "unit|bench"}
+
+echo "== ThreadSanitizer build (the threads tier only)"
+cmake --preset tsan
+cmake --build --preset tsan -j "$JOBS"
+echo "== Tests (TSan)"
+TSAN_OPTIONS=${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1} ctest --preset tsan
