@@ -118,6 +118,7 @@ io::ReportFields drapeReportFields(const DrapeOptions& options, const patterns::
 
 int runDrape(const DrapeOptions& options) {
     const auto start = std::chrono::steady_clock::now();
+    RunLoop loop("drape", 0, options.framesDir); // from here on, Ctrl-C stops the drape
     auto loaded = io::loadProject(options.project);
     if (!loaded.ok()) {
         std::cerr << "error: " << loaded.error().toString() << "\n";
@@ -133,7 +134,7 @@ int runDrape(const DrapeOptions& options) {
     if (options.threads > 0) {
         sim::setThreadCount(options.threads);
     }
-    RunLoop loop("drape", project.drape.timeLimit, options.framesDir);
+    loop.setEndTime(project.drape.timeLimit);
     if (!loop.prepare()) {
         return EXIT_BAD_INPUT;
     }

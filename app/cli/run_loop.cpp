@@ -16,18 +16,6 @@ std::atomic<bool> g_interrupted{false};
 
 extern "C" void onInterrupt(int /*signal*/) { g_interrupted.store(true); }
 
-/// Catches SIGINT while alive, restoring the previous handler after.
-class InterruptGuard {
-  public:
-    InterruptGuard() : m_previous(std::signal(SIGINT, onInterrupt)) { g_interrupted.store(false); }
-    ~InterruptGuard() { std::signal(SIGINT, m_previous); }
-    InterruptGuard(const InterruptGuard&) = delete;
-    InterruptGuard& operator=(const InterruptGuard&) = delete;
-
-  private:
-    void (*m_previous)(int);
-};
-
 } // namespace
 
 std::string_view runEndName(RunEnd end) {
@@ -41,9 +29,13 @@ std::string_view runEndName(RunEnd end) {
 
 RunLoop::RunLoop(std::string command, double endTime, std::string framesDir)
     : m_command(std::move(command)), m_endTime(endTime), m_framesDir(std::move(framesDir)),
-      m_tty(::isatty(STDERR_FILENO) != 0) {}
+      m_tty(::isatty(STDERR_FILENO) != 0) {
+    g_interrupted.store(false);
+    m_previousHandler = std::signal(SIGINT, onInterrupt);
+}
 
 RunLoop::~RunLoop() {
+    std::signal(SIGINT, m_previousHandler);
     if (m_lineOpen) {
         std::cerr << "\n";
     }
@@ -63,7 +55,6 @@ bool RunLoop::prepare() {
 }
 
 RunEnd RunLoop::run(const std::function<StepState()>& step) {
-    const InterruptGuard guard;
     RunEnd end = RunEnd::Done;
     for (;;) {
         if (g_interrupted.load()) {

@@ -21,17 +21,19 @@ class RunLoop {
   public:
     /// `command` starts the progress line; `endTime` is the simulated time the run goes to at
     /// most [s] (for the progress marks when stderr is not a terminal); `framesDir` may be
-    /// empty (no frames written).
+    /// empty (no frames written). SIGINT is caught from here on (Ctrl-C while the run is being
+    /// prepared stops it before its first step) until the loop is destroyed.
     RunLoop(std::string command, double endTime, std::string framesDir);
     ~RunLoop();
     RunLoop(const RunLoop&) = delete;
     RunLoop& operator=(const RunLoop&) = delete;
 
+    void setEndTime(double endTime) { m_endTime = endTime; }
     /// Creates the frames folder if there is one; prints the error and returns false if it
     /// cannot.
     bool prepare();
-    /// Calls step() until it returns Done or Failed, or Ctrl-C is pressed (checked before
-    /// every step: SIGINT is caught while the loop runs).
+    /// Calls step() until it returns Done or Failed, or Ctrl-C has been pressed (checked
+    /// before every step).
     RunEnd run(const std::function<StepState()>& step);
 
     /// At an output frame: the progress line (`figures` after the time), and, with a frames
@@ -51,6 +53,7 @@ class RunLoop {
   private:
     void progress(double time, const std::string& figures);
 
+    void (*m_previousHandler)(int) = nullptr;
     std::string m_command;
     double m_endTime;
     std::string m_framesDir;

@@ -122,6 +122,7 @@ std::filesystem::path obstaclesPath(const std::filesystem::path& out) {
 
 int runSimulate(const SimulateOptions& options) {
     const auto start = std::chrono::steady_clock::now();
+    RunLoop loop("simulate", 0, options.framesDir); // from here on, Ctrl-C stops the run
     auto loaded = io::loadScene(options.scene);
     if (!loaded.ok()) {
         std::cerr << "error: " << loaded.error().toString() << "\n";
@@ -139,7 +140,7 @@ int runSimulate(const SimulateOptions& options) {
         !simulation->scene().obstacles.empty() && simulation->collision() != nullptr;
     const ObstacleMesh obstacles = obstacleMesh(simulation->scene());
 
-    RunLoop loop("simulate", duration, options.framesDir);
+    loop.setEndTime(duration);
     if (!loop.prepare()) {
         return EXIT_BAD_INPUT;
     }

@@ -32,10 +32,11 @@ struct CliRun {
     std::string stderrText;
 };
 
-CliRun runCli(const test::TempDir& dir, const std::string& args) {
+/// Runs `prefix "ATELIER_CLI" args` in the shell, stderr to a file.
+CliRun runCli(const test::TempDir& dir, const std::string& args, const std::string& prefix = "") {
     const auto errPath = dir / "stderr.txt";
-    const std::string command =
-        std::string("\"") + ATELIER_CLI + "\" " + args + " 2> \"" + errPath.string() + "\"";
+    const std::string command = prefix + "\"" + ATELIER_CLI + "\" " + args + " 2> \"" +
+                                errPath.string() + "\"";
     const int status = std::system(command.c_str());
     CliRun run;
     run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -97,6 +98,41 @@ TEST(Cli, MissingSceneAndBadArguments) {
     EXPECT_EQ(runCli(dir, "frobnicate").exitCode, 2);
     EXPECT_EQ(runCli(dir, "simulate x.json --threads 0").exitCode, 2);
     EXPECT_EQ(runCli(dir, "--help > /dev/null").exitCode, 0);
+}
+
+/// Ctrl-C (SIGINT, sent by `timeout` after `seconds`) stops a run between steps: exit 130, the
+/// state so far written with its report.
+void expectInterruptedRunWritesItsState(const test::TempDir& dir, const std::string& args,
+                                        double seconds) {
+    const auto out = dir / "out.obj";
+    const auto report = dir / "report.json";
+    const CliRun run = runCli(
+        dir, args + " --out \"" + out.string() + "\" --report \"" + report.string() + "\"",
+        "timeout --preserve-status -s INT " + std::to_string(seconds) + " ");
+    EXPECT_EQ(run.exitCode, 130) << run.stderrText;
+    ASSERT_TRUE(std::filesystem::exists(report)) << run.stderrText;
+    EXPECT_TRUE(std::filesystem::exists(out)) << run.stderrText;
+    const auto r = nlohmann::json::parse(test::readText(report));
+    EXPECT_EQ(r["status"], "cancelled");
+    EXPECT_EQ(r["exit_code"], 130);
+}
+
+TEST(Cli, CtrlCStopsASimulationBetweenFramesFarApart) {
+    // One output frame every 2 s of simulated time and 1000 s to go: the run stops at the
+    // next step, not at the next frame.
+    test::TempDir dir;
+    std::string scene = TINY_SCENE;
+    scene.replace(scene.find("\"duration\": 0.05"), 16, "\"duration\": 1000");
+    scene.replace(scene.find("\"frame_rate\": 100"), 17, "\"frame_rate\": 0.5");
+    const auto path = dir.write("long.json", scene);
+    expectInterruptedRunWritesItsState(dir, "simulate \"" + path.string() + "\"", 1.0);
+}
+
+TEST(Cli, CtrlCStopsADrapeAndWritesTheDrapeSoFar) {
+    test::TempDir dir;
+    const std::string project = std::string(ATELIER_SOURCE_DIR) + "/assets/garments/skirt.atelier";
+    expectInterruptedRunWritesItsState(
+        dir, "drape \"" + project + "\" --particle-distance 20 --time-limit 60", 1.0);
 }
 
 } // namespace
