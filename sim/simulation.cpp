@@ -578,9 +578,8 @@ bool Simulation::Impl::implicitStep(double h) {
     return xNew.allFinite() && vNew.allFinite();
 }
 
-bool Simulation::Impl::step(double maxH) {
-    const IntegratorOptions& opt = scene.integrator;
-    double h = std::min({dtNext, maxH, opt.maxDt});
+double Simulation::Impl::beginStep(double maxH) {
+    double h = std::min({dtNext, maxH, scene.integrator.maxDt});
     for (const Drive& d : scene.drives) {
         const double ev = nextPathEvent(d, t);
         if (ev > t + 1e-12 && ev < t + h) {
@@ -602,6 +601,161 @@ bool Simulation::Impl::step(double maxH) {
         const bool sewing = scene.seamWeldAllTime >= 0 && t < scene.seamWeldAllTime - 1e-12;
         collision->setFrictionScale(sewing ? scene.sewingFrictionScale : 1.0);
     }
+    return h;
+}
+
+bool Simulation::Impl::attemptStep(double h, double& errorRatio, double& work) {
+    const IntegratorOptions& opt = scene.integrator;
+    hStep = h;
+    collisionPower = 0;
+    seamPower = 0;
+    contactPotential = 0;
+    xSave = x; // members: no allocation after the first step
+    vSave = v;
+    applyCorrectionsA(h);
+    errorRatio = 0;
+    bool ok = opt.kind == IntegratorKind::ImplicitEuler ? implicitStep(h)
+                                                         : explicitStep(h, errorRatio);
+    work = 0;
+    bool energyRejected = false;
+    double keRejected = 0;
+    if (ok && errorRatio <= 1.0) {
+        if (heldVerticesMove()) {
+            // Work of the drives over the step, trapezoidal in their reaction forces (one
+            // more force evaluation, only while a drive moves a vertex).
+            const double p0 = constraintPower(forceStart, acc, v);
+            accelerations(t + h, xNew, vNew, accEnd);
+            work = 0.5 * h * (p0 + constraintPower(force, accEnd, vNew));
+        }
+        const double ke = 0.5 * (mass.array() * vNew.rowwise().squaredNorm().array()).sum();
+        // Contacts with moving obstacles do work too (B, or the implicit velocity pass).
+        const double contactWork =
+            std::max(0.0, collisionPower * h) + std::max(0.0, seamPower * h) + contactPotential;
+        ok = ke <= opt.divergenceEnergyFactor *
+                           (energyBound(xNew) + std::max(0.0, work) + contactWork) +
+                       1e-6 * mass.sum(); // below ~1 mm/s of motion: never a divergence
+        energyRejected = !ok;
+        keRejected = ke;
+    }
+    const bool accept = ok && errorRatio <= 1.0;
+    if (accept && collision) {
+        // Collision detection over the step and the kinematic corrections (A) of the end
+        // state; energy the corrections add (moving obstacles, friction carrying the cloth)
+        // counts as put in.
+        StageTimer timer(*timerCollision);
+        const double before = 0.5 * (mass.array() * vNew.rowwise().squaredNorm().array()).sum();
+        collision->update(t, t + h, x, xNew, vNew, invMass);
+        const double after = 0.5 * (mass.array() * vNew.rowwise().squaredNorm().array()).sum();
+        work += std::max(0.0, after - before) + std::max(0.0, collisionPower * h);
+        collisionPower = 0;
+        stats.contacts = collision->figures().contacts;
+    }
+    if (accept) {
+        work += std::max(0.0, seamPower * h) +
+                std::max(0.0, contactPotential - lastContactPotential);
+        seamPower = 0;
+        lastContactPotential = contactPotential;
+        return true;
+    }
+    std::ostringstream why;
+    if (energyRejected) {
+        why << "kinetic energy " << keRejected << " J above " << opt.divergenceEnergyFactor
+            << " × the energy put in";
+    } else if (!ok) {
+        why << "non-finite state";
+    } else {
+        why << "error estimate " << errorRatio << " × tolerance";
+    }
+    why << " at h = " << h << " s";
+    lastRejection = why.str();
+    if (!ok) {
+        errorRatio = std::numeric_limits<double>::infinity(); // shrink the step by 4
+    }
+    return false;
+}
+
+void Simulation::Impl::weldAfterStep() {
+    const double forcedBefore = weldFigures.largestForced;
+    const bool newWelds = weldClosedSeams();
+    if (newWelds || !welds.empty()) {
+        // Also after the collision corrections, which move vertices one by one: a welded
+        // group leaves every step as one point.
+        StageTimer timer(*timerConstraints);
+        // Pairs welded from afar (end of sewing) stretch the cloth: that elastic energy is
+        // put in by the weld, so the divergence check counts it.
+        double elasticBefore = 0;
+        const bool forced = newWelds && weldFigures.largestForced > forcedBefore;
+        if (forced) {
+            for (const auto& m : models) {
+                elasticBefore += m->hasEnergy() ? m->energy(x) : 0.0;
+            }
+        }
+        xPreMerge = x;
+        vPreMerge = v;
+        welds.merge(&x, v, mass, invMass);
+        if (collision && collision->selfCollision()) {
+            // A weld moves both sides of the pair onto their common point: where that
+            // carries a triangle through the cloth beside the seam, the pair is not welded
+            // this step (its elastic keeps pulling), so welds never make intersections.
+            StageTimer collisionTimer(*timerCollision); // collision work (nested here)
+            welds.unweldCrossing(
+                xPreMerge, vPreMerge, x, v, mass, invMass,
+                [this](const MatX3& before, const MatX3& after, const std::vector<int>& moved) {
+                    return collision->crossingVertices(before, after, moved);
+                },
+                weldFigures);
+        }
+        if (forced) {
+            double elasticAfter = 0;
+            for (const auto& m : models) {
+                elasticAfter += m->hasEnergy() ? m->energy(x) : 0.0;
+            }
+            baseEnergyInput += std::max(0.0, elasticAfter - elasticBefore);
+        }
+    }
+    if (!scene.seams.empty()) {
+        stats.weldedSeamPairs = weldFigures.weldedPairs;
+        stats.largestForcedWeld = weldFigures.largestForced;
+        stats.deferredWelds = weldFigures.deferred;
+        stats.forcedWeldGaps = weldFigures.forcedGaps;
+    }
+    if (scene.sewingEndsWhenSewn) {
+        endSewingIfSewn();
+    }
+}
+
+void Simulation::Impl::endStep(double h, double errorRatio) {
+    const IntegratorOptions& opt = scene.integrator;
+    ++stats.steps;
+    stats.minDt = stats.steps == 1 ? h : std::min(stats.minDt, h);
+    stats.maxDt = std::max(stats.maxDt, h);
+    stats.simTime = t;
+    if (scene.gravity) {
+        const Vec3 g = scene.gravityVector;
+        // Height along −g of the lowest vertex.
+        const double gn = g.norm();
+        if (gn > 0) {
+            const double low = (x * (-g / gn)).minCoeff();
+            lowestY = std::min(lowestY, low);
+        }
+    }
+    if (opt.kind == IntegratorKind::Rk45) {
+        // PI step control (Gustafsson 1991; Hairer & Wanner II §IV.2): the integral term
+        // alone hunts at the stability limit of stiff cloth; the proportional term on the
+        // previous error damps that, cutting rejections.
+        const double e = std::max(errorRatio, 1e-6);
+        const double grow = 0.9 * std::pow(e, -0.7 / 5.0) * std::pow(previousErrorRatio, 0.4 / 5.0);
+        previousErrorRatio = e;
+        dtNext = h * std::clamp(grow, 0.2, opt.growth);
+    } else {
+        // Fixed-step methods return to the nominal step after a rejection, gradually.
+        dtNext = std::min(dtNominal, h * 2.0);
+    }
+}
+
+bool Simulation::Impl::step(double maxH) {
+    const IntegratorOptions& opt = scene.integrator;
+    double h = beginStep(maxH);
     for (;;) {
         if (h < opt.minDt) {
             std::ostringstream s;
@@ -613,83 +767,17 @@ bool Simulation::Impl::step(double maxH) {
             return false;
         }
         const auto start = Clock::now();
-        hStep = h;
-        collisionPower = 0;
-        seamPower = 0;
-        contactPotential = 0;
-        xSave = x; // members: no allocation after the first step
-        vSave = v;
-        applyCorrectionsA(h);
-        bool ok;
         double errorRatio = 0;
-        if (opt.kind == IntegratorKind::ImplicitEuler) {
-            ok = implicitStep(h);
-        } else {
-            ok = explicitStep(h, errorRatio);
-        }
         double work = 0;
-        bool energyRejected = false;
-        double keRejected = 0;
-        if (ok && errorRatio <= 1.0) {
-            if (heldVerticesMove()) {
-                // Work of the drives over the step, trapezoidal in their reaction forces (one
-                // more force evaluation, only while a drive moves a vertex).
-                const double p0 = constraintPower(forceStart, acc, v);
-                accelerations(t + h, xNew, vNew, accEnd);
-                work = 0.5 * h * (p0 + constraintPower(force, accEnd, vNew));
-            }
-            const double ke = 0.5 * (mass.array() * vNew.rowwise().squaredNorm().array()).sum();
-            // Contacts with moving obstacles do work too (B, or the implicit velocity pass).
-            const double contactWork =
-                std::max(0.0, collisionPower * h) + std::max(0.0, seamPower * h) + contactPotential;
-            ok = ke <= opt.divergenceEnergyFactor *
-                               (energyBound(xNew) + std::max(0.0, work) + contactWork) +
-                           1e-6 * mass.sum(); // below ~1 mm/s of motion: never a divergence
-            energyRejected = !ok;
-            keRejected = ke;
-        }
-        const bool accept = ok && errorRatio <= 1.0;
-        if (accept && collision) {
-            // Collision detection over the step and the kinematic corrections (A) of the end
-            // state; energy the corrections add (moving obstacles, friction carrying the cloth)
-            // counts as put in.
-            StageTimer timer(*timerCollision);
-            const double before = 0.5 * (mass.array() * vNew.rowwise().squaredNorm().array()).sum();
-            collision->update(t, t + h, x, xNew, vNew, invMass);
-            const double after = 0.5 * (mass.array() * vNew.rowwise().squaredNorm().array()).sum();
-            work += std::max(0.0, after - before) + std::max(0.0, collisionPower * h);
-            collisionPower = 0;
-            stats.contacts = collision->figures().contacts;
-        }
-        if (accept) {
-            work += std::max(0.0, seamPower * h) +
-                    std::max(0.0, contactPotential - lastContactPotential);
-            seamPower = 0;
-            lastContactPotential = contactPotential;
-        }
-        if (!accept) {
-            std::ostringstream why;
-            if (energyRejected) {
-                why << "kinetic energy " << keRejected << " J above " << opt.divergenceEnergyFactor
-                    << " × the energy put in";
-            } else if (!ok) {
-                why << "non-finite state";
-            } else {
-                why << "error estimate " << errorRatio << " × tolerance";
-            }
-            why << " at h = " << h << " s";
-            lastRejection = why.str();
-        }
+        const bool accept = attemptStep(h, errorRatio, work);
         stats.wallTime += seconds(start, Clock::now());
         if (!accept) {
             ++stats.rejectedSteps;
             x = xSave;
             v = vSave;
-            if (!ok || !std::isfinite(errorRatio)) {
-                h *= 0.25;
-            } else {
-                h *= std::max(0.1, 0.9 * std::pow(errorRatio, -0.25));
-            }
+            // A non-finite or diverging state: a quarter; too large an error: by the estimate.
+            h *= std::isfinite(errorRatio) ? std::max(0.1, 0.9 * std::pow(errorRatio, -0.25))
+                                           : 0.25;
             dtNext = h;
             continue;
         }
@@ -701,79 +789,9 @@ bool Simulation::Impl::step(double maxH) {
             m->acceptStep(x, h);
         }
         const auto weldStart = Clock::now(); // the welds are part of the step's wall time
-        const double forcedBefore = weldFigures.largestForced;
-        const bool newWelds = weldClosedSeams();
-        if (newWelds || !welds.empty()) {
-            // Also after the collision corrections, which move vertices one by one: a welded
-            // group leaves every step as one point.
-            StageTimer timer(*timerConstraints);
-            // Pairs welded from afar (end of sewing) stretch the cloth: that elastic energy is
-            // put in by the weld, so the divergence check counts it.
-            double elasticBefore = 0;
-            const bool forced = newWelds && weldFigures.largestForced > forcedBefore;
-            if (forced) {
-                for (const auto& m : models) {
-                    elasticBefore += m->hasEnergy() ? m->energy(x) : 0.0;
-                }
-            }
-            xPreMerge = x;
-            vPreMerge = v;
-            welds.merge(&x, v, mass, invMass);
-            if (collision && collision->selfCollision()) {
-                // A weld moves both sides of the pair onto their common point: where that
-                // carries a triangle through the cloth beside the seam, the pair is not welded
-                // this step (its elastic keeps pulling), so welds never make intersections.
-                StageTimer collisionTimer(*timerCollision); // collision work (nested here)
-                welds.unweldCrossing(
-                    xPreMerge, vPreMerge, x, v, mass, invMass,
-                    [this](const MatX3& before, const MatX3& after, const std::vector<int>& moved) {
-                        return collision->crossingVertices(before, after, moved);
-                    },
-                    weldFigures);
-            }
-            if (forced) {
-                double elasticAfter = 0;
-                for (const auto& m : models) {
-                    elasticAfter += m->hasEnergy() ? m->energy(x) : 0.0;
-                }
-                baseEnergyInput += std::max(0.0, elasticAfter - elasticBefore);
-            }
-        }
-        if (!scene.seams.empty()) {
-            stats.weldedSeamPairs = weldFigures.weldedPairs;
-            stats.largestForcedWeld = weldFigures.largestForced;
-            stats.deferredWelds = weldFigures.deferred;
-            stats.forcedWeldGaps = weldFigures.forcedGaps;
-        }
-        if (scene.sewingEndsWhenSewn) {
-            endSewingIfSewn();
-        }
+        weldAfterStep();
         stats.wallTime += seconds(weldStart, Clock::now());
-        ++stats.steps;
-        stats.minDt = stats.steps == 1 ? h : std::min(stats.minDt, h);
-        stats.maxDt = std::max(stats.maxDt, h);
-        stats.simTime = t;
-        if (scene.gravity) {
-            const Vec3 g = scene.gravityVector;
-            // Height along −g of the lowest vertex.
-            const double gn = g.norm();
-            if (gn > 0) {
-                const double low = (x * (-g / gn)).minCoeff();
-                lowestY = std::min(lowestY, low);
-            }
-        }
-        if (opt.kind == IntegratorKind::Rk45) {
-            // PI step control (Gustafsson 1991; Hairer & Wanner II §IV.2): the integral term
-            // alone hunts at the stability limit of stiff cloth; the proportional term on the
-            // previous error damps that, cutting rejections.
-            const double e = std::max(errorRatio, 1e-6);
-            const double grow = 0.9 * std::pow(e, -0.7 / 5.0) * std::pow(previousErrorRatio, 0.4 / 5.0);
-            previousErrorRatio = e;
-            dtNext = h * std::clamp(grow, 0.2, opt.growth);
-        } else {
-            // Fixed-step methods return to the nominal step after a rejection, gradually.
-            dtNext = std::min(dtNominal, h * 2.0);
-        }
+        endStep(h, errorRatio);
         return true;
     }
 }

@@ -166,6 +166,18 @@ struct Simulation::Impl {
     bool explicitStep(double h, double& errorRatio);
     bool implicitStep(double h);
     bool step(double maxH);
+    /// The step to try, at most maxH: cut at drive, obstacle and gravity events; sets the
+    /// sewing phase's seam reach, routes and friction for it [s].
+    double beginStep(double maxH);
+    /// One try of a step of h: integrates, checks divergence, detects and corrects
+    /// collisions. Returns whether it is accepted; `errorRatio` is the error estimate over
+    /// the tolerance (+inf when the state was not finite or diverged), `work` the energy put
+    /// in [J].
+    bool attemptStep(double h, double& errorRatio, double& work);
+    /// After an accepted step: welds closed seams and merges weld groups.
+    void weldAfterStep();
+    /// Counters, the lowest point and the next step size after an accepted step.
+    void endStep(double h, double errorRatio);
     double constraintPower(const MatX3& f, const MatX3& a, const MatX3& vel) const;
     /// Whether some vertex held by a drive moves (then the constraint does work).
     bool heldVerticesMove() const;
