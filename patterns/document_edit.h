@@ -1,0 +1,103 @@
+#pragma once
+/// Edits of a GarmentDocument, as free functions that keep every reference valid. Each returns
+/// an Edit: the state before and after of the few panels and seams it touched (whole objects,
+/// ids included) and of the id counter, so `undo` restores the document exactly and `redo`
+/// replays it. A failed edit returns an Error and leaves the document untouched.
+///
+/// Undo restores the id counter too: an id freed by an undo is handed out again only by an
+/// edit made after it, when the undone edit can no longer be redone (an undo stack drops its
+/// redo entries on a new edit), so no live object or redoable edit ever shares an id.
+
+#include "patterns/document.h"
+
+#include "sim/core/result.h"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace atelier::patterns {
+
+/// One object before and after an edit (nullopt: absent) with its position in its list.
+template <class T>
+struct Change {
+    std::optional<T> before;
+    std::optional<T> after;
+    std::size_t beforeIndex = 0;
+    std::size_t afterIndex = 0;
+};
+
+struct Edit {
+    std::string description; ///< for an undo stack's menu: "split edge #12 of \"front\""
+    std::vector<Change<doc::Panel>> panels;
+    std::vector<Change<doc::Seam>> seams;
+    std::uint32_t nextIdBefore = 0;
+    std::uint32_t nextIdAfter = 0;
+    /// The id of what the edit created (the point of a split, the panel of an add or a
+    /// duplicate, the seam of an add); 0 when none.
+    std::uint32_t created = 0;
+};
+
+/// The edit that takes the document from `edit`'s after-state back to its before-state.
+Edit inverse(const Edit& edit);
+/// Puts the document in `edit`'s after-state (from its before-state).
+void redo(GarmentDocument& document, const Edit& edit);
+/// Puts the document back in `edit`'s before-state (from its after-state).
+void undo(GarmentDocument& document, const Edit& edit);
+
+/// Moves a point of the outline, a hole or an internal line to `position` [m]; curve handles
+/// stay where they are.
+Result<Edit> movePoint(GarmentDocument& document, PanelId panel, PointId point, Vec2 position);
+
+/// Inserts a point on an outline or hole edge at curve parameter t ∈ (0, 1): the edge keeps
+/// its id for the first half, a new edge is the second; the curve is split exactly (de
+/// Casteljau, arc sweep). Seam ranges and notches on the edge are re-expressed on the two
+/// halves (a range across t becomes two), so they cover the same curve. Refused on a dart leg.
+Result<Edit> splitEdge(GarmentDocument& document, PanelId panel, EdgeId edge, double t);
+
+/// `splitEdge` at t, then the new point moved to `position` [m]: one edit.
+Result<Edit> addPoint(GarmentDocument& document, PanelId panel, EdgeId edge, double t,
+                      Vec2 position);
+
+/// Removes an outline or hole point: its outgoing edge goes, its incoming edge now ends at the
+/// next point. Refused when the contour would have fewer than 3 points, when a seam or dart
+/// uses either edge (the seam would move to another curve) or a notch the outgoing edge.
+Result<Edit> deletePoint(GarmentDocument& document, PanelId panel, PointId point);
+
+/// Sets an edge's curve kind and handles (outline, hole or internal line).
+Result<Edit> setCurve(GarmentDocument& document, PanelId panel, EdgeId edge,
+                      const doc::Curve& curve);
+
+/// Adds a drawn panel with new ids (its darts and notches by outline index); its name must be
+/// new and its outline have ≥ 3 segments. `created` is the panel's id.
+Result<Edit> addPanel(GarmentDocument& document, const Panel& drawn);
+
+/// Removes a panel and every seam with a range on it.
+Result<Edit> removePanel(GarmentDocument& document, PanelId panel);
+
+/// Adds a seam; each range must be on an existing panel's outline edge, t0, t1 ∈ [0, 1],
+/// t0 ≠ t1, both sides non-empty. `created` is the seam's id.
+Result<Edit> addSeam(GarmentDocument& document, std::string name, std::vector<doc::SeamRange> a,
+                     std::vector<doc::SeamRange> b);
+
+Result<Edit> removeSeam(GarmentDocument& document, SeamId seam);
+
+/// Sews side b the other way round: its ranges in reverse order, each reversed.
+Result<Edit> reverseSeam(GarmentDocument& document, SeamId seam);
+
+/// Mirrors a panel about the vertical line through the middle of its outline's points: every
+/// point, handle and the grain line; contours are reversed to keep their orientation, so seam
+/// ranges and notches on them map t → 1 − t and dart legs swap. Ids stay.
+Result<Edit> mirrorPanel(GarmentDocument& document, PanelId panel);
+
+/// A copy of a panel with new ids under a new name (seams are not copied). `created` is the
+/// copy's id.
+Result<Edit> duplicatePanel(GarmentDocument& document, PanelId panel, std::string name);
+
+/// Renames a panel (a new, non-empty name); seams refer to ids and are unaffected.
+Result<Edit> renamePanel(GarmentDocument& document, PanelId panel, std::string name);
+
+/// Places a panel on a body slot.
+Result<Edit> placePanel(GarmentDocument& document, PanelId panel, const Placement& placement);
+
+} // namespace atelier::patterns

@@ -1,0 +1,310 @@
+// Edits of the garment document: they keep references valid (split edge keeps seam coverage,
+// rename keeps seams), refused edits leave the document untouched, and undoing random edit
+// sequences over the samples gives back the document byte for byte.
+
+#include "patterns/curve.h"
+#include "patterns/document.h"
+#include "patterns/document_edit.h"
+#include "patterns/mesh.h"
+
+#include "io/project_file.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <map>
+#include <random>
+
+namespace atelier::patterns {
+namespace {
+
+const std::filesystem::path SAMPLES = std::filesystem::path(ATELIER_SOURCE_DIR) / "assets/garments";
+
+/// The sample garments by file name, loaded once.
+const std::map<std::string, Garment>& samples() {
+    static const std::map<std::string, Garment> loaded = [] {
+        std::map<std::string, Garment> out;
+        for (const auto& entry : std::filesystem::directory_iterator(SAMPLES)) {
+            if (entry.path().extension() == ".atelier") {
+                const auto project = io::loadProject(entry.path());
+                if (project.ok()) {
+                    out[entry.path().stem().string()] = project.value().garment;
+                } else {
+                    ADD_FAILURE() << project.error().toString();
+                }
+            }
+        }
+        return out;
+    }();
+    return loaded;
+}
+
+GarmentMesh meshOf(const Garment& g) {
+    MeshOptions options;
+    options.particleDistance = 0.02;
+    GarmentMesh mesh;
+    const auto error = meshGarment(g, options, mesh);
+    EXPECT_FALSE(error.has_value()) << *error;
+    return mesh;
+}
+
+GarmentDocument tshirt() { return fromGarment(samples().at("tshirt")); }
+
+double sideLength(const GarmentDocument& d, const std::vector<doc::SeamRange>& side) {
+    double total = 0;
+    for (const doc::SeamRange& r : side) {
+        const doc::Panel& p = *d.panel(r.panel);
+        total += arcLength(contourSegment(p.outline, static_cast<std::size_t>(outlineEdgeIndex(p, r.edge))),
+                           r.t0, r.t1);
+    }
+    return total;
+}
+
+Vec2 rangePoint(const GarmentDocument& d, const doc::SeamRange& r, double t) {
+    const doc::Panel& p = *d.panel(r.panel);
+    return pointAt(contourSegment(p.outline, static_cast<std::size_t>(outlineEdgeIndex(p, r.edge))), t);
+}
+
+TEST(DocumentEdits, SplitEdgeKeepsSeamCoverage) {
+    GarmentDocument d = tshirt();
+    const doc::Seam before = d.seams.front();
+    const doc::SeamRange r = before.a.front();
+    const double t = r.t0 + 0.37 * (r.t1 - r.t0);
+    const std::string dump = dumpDocument(d);
+    const auto edit = splitEdge(d, r.panel, r.edge, t);
+    ASSERT_TRUE(edit.ok()) << edit.error().toString();
+    const doc::Seam& after = *d.seam(before.id);
+    ASSERT_EQ(after.a.size(), before.a.size() + 1);
+    EXPECT_NEAR(sideLength(d, after.a), sideLength(fromGarment(samples().at("tshirt")), before.a), 1e-9);
+    const GarmentDocument original = tshirt();
+    EXPECT_LT((rangePoint(d, after.a[0], after.a[0].t0) - rangePoint(original, r, r.t0)).norm(), 1e-12);
+    EXPECT_LT((rangePoint(d, after.a[1], after.a[1].t1) - rangePoint(original, r, r.t1)).norm(), 1e-12);
+    EXPECT_LT((rangePoint(d, after.a[0], after.a[0].t1) - rangePoint(d, after.a[1], after.a[1].t0)).norm(), 1e-12);
+    EXPECT_LT((rangePoint(d, after.a[0], after.a[0].t1) - rangePoint(original, r, t)).norm(), 1e-9);
+    EXPECT_TRUE(checkDocument(d).ok());
+    // The garment still meshes, its seams matched.
+    EXPECT_FALSE(meshOf(toGarment(d)).seamPairs.empty());
+    undo(d, edit.value());
+    EXPECT_EQ(dumpDocument(d), dump);
+}
+
+TEST(DocumentEdits, SplitCurvedEdgesKeepsTheCurve) {
+    GarmentDocument d = tshirt();
+    for (const doc::Panel& panel : std::vector<doc::Panel>(d.panels)) {
+        for (const doc::Edge& e : panel.outline.edges) {
+            const doc::Panel& p = *d.panel(panel.id);
+            const Segment s = contourSegment(p.outline, static_cast<std::size_t>(outlineEdgeIndex(p, e.id)));
+            const auto edit = splitEdge(d, panel.id, e.id, 0.3);
+            ASSERT_TRUE(edit.ok()) << edit.error().toString();
+            const doc::Panel& q = *d.panel(panel.id);
+            const auto i = static_cast<std::size_t>(outlineEdgeIndex(q, e.id));
+            const Segment first = contourSegment(q.outline, i), second = contourSegment(q.outline, i + 1);
+            EXPECT_LT((pointAt(first, 0.5) - pointAt(s, 0.15)).norm(), 1e-12);
+            EXPECT_LT((pointAt(second, 0.5) - pointAt(s, 0.65)).norm(), 1e-12);
+        }
+    }
+}
+
+TEST(DocumentEdits, RenameKeepsSeams) {
+    GarmentDocument d = tshirt();
+    const PanelId id = d.panels.front().id;
+    const std::string oldName = d.panels.front().name;
+    const auto edit = renamePanel(d, id, "renamed");
+    ASSERT_TRUE(edit.ok());
+    const Garment g = toGarment(d);
+    const Garment original = samples().at("tshirt");
+    ASSERT_EQ(g.seams.size(), original.seams.size());
+    for (std::size_t s = 0; s < g.seams.size(); ++s) {
+        for (std::size_t k = 0; k < g.seams[s].a.size(); ++k) {
+            const SeamEdge& e = g.seams[s].a[k];
+            EXPECT_EQ(e.panel, original.seams[s].a[k].panel == oldName ? "renamed" : original.seams[s].a[k].panel);
+            EXPECT_EQ(e.segment, original.seams[s].a[k].segment);
+        }
+    }
+    EXPECT_FALSE(renamePanel(d, id, d.panels.back().name).ok()); // taken
+    EXPECT_FALSE(renamePanel(d, id, "").ok());
+}
+
+TEST(DocumentEdits, RemovePanelAndUndoRestoresSeamsWithTheirIds) {
+    GarmentDocument d = tshirt();
+    const std::string dump = dumpDocument(d);
+    const PanelId id = d.panels.front().id;
+    const std::size_t seamCount = d.seams.size();
+    const auto edit = removePanel(d, id);
+    ASSERT_TRUE(edit.ok());
+    EXPECT_EQ(d.panel(id), nullptr);
+    EXPECT_LT(d.seams.size(), seamCount);
+    EXPECT_TRUE(checkDocument(d).ok());
+    undo(d, edit.value());
+    EXPECT_EQ(dumpDocument(d), dump);
+    redo(d, edit.value());
+    EXPECT_EQ(d.panel(id), nullptr);
+}
+
+TEST(DocumentEdits, RefusedEditsLeaveTheDocumentUntouched) {
+    GarmentDocument d = tshirt();
+    const std::string dump = dumpDocument(d);
+    const doc::Panel& p = d.panels.front();
+    const doc::SeamRange sewn = d.seams.front().a.front();
+    const doc::Panel& sewnPanel = *d.panel(sewn.panel);
+    const auto k = static_cast<std::size_t>(outlineEdgeIndex(sewnPanel, sewn.edge));
+    EXPECT_FALSE(deletePoint(d, sewn.panel, sewnPanel.outline.points[k].id).ok()); // sewn edge
+    EXPECT_FALSE(splitEdge(d, p.id, p.outline.edges[0].id, 1.0).ok());
+    EXPECT_FALSE(splitEdge(d, PanelId{999999}, p.outline.edges[0].id, 0.5).ok());
+    EXPECT_FALSE(addSeam(d, "x", {{p.id, EdgeId{999999}, 0, 1}}, {{p.id, p.outline.edges[0].id, 0, 1}}).ok());
+    EXPECT_FALSE(duplicatePanel(d, p.id, p.name).ok());
+    EXPECT_EQ(dumpDocument(d), dump);
+}
+
+// --- Random edit sequences --------------------------------------------------------------
+
+struct RandomEditor {
+    std::mt19937 rng;
+    int names = 0;
+
+    double uniform(double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
+    std::size_t pick(std::size_t n) { return std::uniform_int_distribution<std::size_t>(0, n - 1)(rng); }
+    bool chance(double p) { return uniform(0, 1) < p; }
+
+    PanelId panel(const GarmentDocument& d) {
+        return d.panels.empty() || chance(0.05) ? PanelId{999999} : d.panels[pick(d.panels.size())].id;
+    }
+    const doc::Contour* contour(const GarmentDocument& d, PanelId id) {
+        const doc::Panel* p = d.panel(id);
+        if (p == nullptr) {
+            return nullptr;
+        }
+        return p->holes.empty() || chance(0.7) ? &p->outline : &p->holes[pick(p->holes.size())].contour;
+    }
+    EdgeId edge(const GarmentDocument& d, PanelId id) {
+        const doc::Contour* c = contour(d, id);
+        return c == nullptr || chance(0.05) ? EdgeId{999999} : c->edges[pick(c->edges.size())].id;
+    }
+    PointId point(const GarmentDocument& d, PanelId id) {
+        const doc::Contour* c = contour(d, id);
+        return c == nullptr || chance(0.05) ? PointId{999999} : c->points[pick(c->points.size())].id;
+    }
+    std::string name(const GarmentDocument& d) {
+        if (!d.panels.empty() && chance(0.3)) {
+            return d.panels[pick(d.panels.size())].name; // taken: refused
+        }
+        return "piece " + std::to_string(names++);
+    }
+    double parameter() { return chance(0.1) ? uniform(-0.5, 1.5) : uniform(0.05, 0.95); }
+    doc::SeamRange range(const GarmentDocument& d) {
+        const PanelId p = panel(d);
+        const doc::Panel* q = d.panel(p);
+        const EdgeId e = q == nullptr ? EdgeId{} : q->outline.edges[pick(q->outline.edges.size())].id;
+        return {p, e, parameter(), parameter()};
+    }
+    SeamId seam(const GarmentDocument& d) {
+        return d.seams.empty() || chance(0.05) ? SeamId{999999} : d.seams[pick(d.seams.size())].id;
+    }
+
+    Result<Edit> edit(GarmentDocument& d) {
+        const PanelId p = panel(d);
+        switch (pick(14)) {
+        case 0:
+            return movePoint(d, p, point(d, p), Vec2(uniform(-0.3, 0.3), uniform(0, 0.6)));
+        case 1:
+        case 2:
+            return splitEdge(d, p, edge(d, p), parameter());
+        case 3:
+            return addPoint(d, p, edge(d, p), parameter(), Vec2(uniform(-0.3, 0.3), uniform(0, 0.6)));
+        case 4:
+            return deletePoint(d, p, point(d, p));
+        case 5: {
+            doc::Curve c;
+            c.kind = static_cast<SegmentKind>(pick(4));
+            c.control1 = Vec2(uniform(-0.3, 0.3), uniform(0, 0.6));
+            c.control2 = Vec2(uniform(-0.3, 0.3), uniform(0, 0.6));
+            c.bulge = uniform(-0.5, 0.5);
+            return setCurve(d, p, edge(d, p), c);
+        }
+        case 6: {
+            Panel drawn;
+            drawn.name = name(d);
+            drawn.material = d.materials.empty() ? "" : d.materials.front().name;
+            const double s = uniform(0.1, 0.3);
+            const auto segment = [](SegmentKind kind, Vec2 a, Vec2 b, double bulge) {
+                Segment out; // handles zero (Eigen leaves a braced `{}` uninitialised)
+                out.kind = kind;
+                out.start = a;
+                out.end = b;
+                out.bulge = bulge;
+                return out;
+            };
+            drawn.outline = {segment(SegmentKind::Line, {0, 0}, {s, 0}, 0),
+                             segment(SegmentKind::Line, {s, 0}, {s, s}, 0),
+                             segment(SegmentKind::Arc, {s, s}, {0, s}, 0.2),
+                             segment(SegmentKind::Line, {0, s}, {0, 0}, 0)};
+            drawn.notches = {{1, 0.5}};
+            drawn.darts = {{1}};
+            return addPanel(d, drawn);
+        }
+        case 7:
+            return chance(0.3) ? removePanel(d, p) : reverseSeam(d, seam(d));
+        case 8:
+            return addSeam(d, "seam " + std::to_string(names++), {range(d)}, {range(d), range(d)});
+        case 9:
+            return removeSeam(d, seam(d));
+        case 10:
+            return mirrorPanel(d, p);
+        case 11:
+            return duplicatePanel(d, p, name(d));
+        case 12:
+            return renamePanel(d, p, name(d));
+        default: {
+            Placement placement;
+            placement.slot = chance(0.5) ? "torso_front" : "torso_back";
+            placement.offset = Vec2(uniform(-0.1, 0.1), uniform(-0.1, 0.1));
+            placement.rotation = uniform(-1, 1);
+            placement.clearance = chance(0.1) ? -1.0 : 0.02;
+            return placePanel(d, p, placement);
+        }
+        }
+    }
+};
+
+TEST(DocumentUndo, RandomEditSequencesUndoToTheSameBytes) {
+    int applied = 0, refused = 0;
+    unsigned seed = 1;
+    for (const auto& [name, garment] : samples()) {
+        SCOPED_TRACE(name);
+        GarmentDocument d = fromGarment(garment);
+        RandomEditor editor{std::mt19937(seed++)};
+        const std::string start = dumpDocument(d);
+        std::vector<Edit> edits;
+        std::vector<std::string> befores, afters;
+        for (int step = 0; step < 150; ++step) {
+            const std::string before = dumpDocument(d);
+            const auto edit = editor.edit(d);
+            if (!edit.ok()) {
+                ++refused;
+                ASSERT_EQ(dumpDocument(d), before) << "refused edit changed the document: "
+                                                   << edit.error().toString();
+                continue;
+            }
+            ++applied;
+            const auto check = checkDocument(d);
+            ASSERT_TRUE(check.ok()) << edit.value().description << ": " << check.error().toString();
+            edits.push_back(edit.value());
+            befores.push_back(before);
+            afters.push_back(dumpDocument(d));
+        }
+        for (std::size_t k = edits.size(); k-- > 0;) {
+            undo(d, edits[k]);
+            ASSERT_EQ(dumpDocument(d), befores[k]) << "undo of " << edits[k].description;
+        }
+        EXPECT_EQ(dumpDocument(d), start);
+        for (std::size_t k = 0; k < edits.size(); ++k) {
+            redo(d, edits[k]);
+            ASSERT_EQ(dumpDocument(d), afters[k]) << "redo of " << edits[k].description;
+        }
+    }
+    EXPECT_GT(applied, 300);
+    EXPECT_GT(refused, 30);
+}
+
+} // namespace
+} // namespace atelier::patterns
