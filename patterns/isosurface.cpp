@@ -149,8 +149,11 @@ Vec3 implicitNormal(const ImplicitFunction& f, const Vec3& p, double h) {
     return n > 0 ? Vec3(g / n) : Vec3(Vec3::UnitY());
 }
 
-Isosurface extractIsosurface(const ImplicitFunction& f, const IsosurfaceOptions& options) {
-    Grid grid;
+namespace {
+
+/// The grid over the options' box, sampled with f (values exactly zero or not finite moved to
+/// the outside). False when the grid has no cells or too many for 32-bit edge keys.
+bool sampleGrid(const ImplicitFunction& f, const IsosurfaceOptions& options, Grid& grid) {
     grid.h = options.cell;
     grid.origin = options.boxMin;
     const Vec3 extent = options.boxMax - options.boxMin;
@@ -159,7 +162,7 @@ Isosurface extractIsosurface(const ImplicitFunction& f, const IsosurfaceOptions&
     grid.nz = static_cast<int>(std::ceil(extent.z() / grid.h)) + 1;
     const auto cells = static_cast<std::int64_t>(grid.nx) * grid.ny * grid.nz;
     if (cells <= 0 || cells >= (std::int64_t{1} << 32)) {
-        return {};
+        return false;
     }
     grid.value.resize(static_cast<std::size_t>(cells));
     // Every sample on its own (f is pure), in parallel: the same values for any thread count.
@@ -171,15 +174,18 @@ Isosurface extractIsosurface(const ImplicitFunction& f, const IsosurfaceOptions&
         }
         grid.value[static_cast<std::size_t>(id)] = v;
     });
+    return true;
+}
 
-    std::vector<Vec3> x;
-    std::vector<std::array<int, 3>> tris;
+/// Marching tetrahedra on the sampled grid: one vertex per crossed grid edge (linear
+/// interpolation), triangles oriented from inside (f < 0) to outside.
+void polygonize(const Grid& grid, std::vector<Vec3>& x, std::vector<std::array<int, 3>>& tris) {
     std::unordered_map<std::uint64_t, int> edgeVertex;
     auto crossing = [&](std::int64_t a, std::int64_t b) {
         if (a > b) {
             std::swap(a, b);
         }
-        // Grid indices fit 32 bits (checked below), so the key is exact.
+        // Grid indices fit 32 bits (sampleGrid checks), so the key is exact.
         const auto key = (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint64_t>(b);
         auto [it, fresh] = edgeVertex.try_emplace(key, static_cast<int>(x.size()));
         if (fresh) {
@@ -245,17 +251,19 @@ Isosurface extractIsosurface(const ImplicitFunction& f, const IsosurfaceOptions&
             }
         }
     }
-    grid.value = {};
+}
 
-    // Relaxation: tangential smoothing toward the neighbours' centroid, edge flips, projection.
-    const double hGrad = grid.h * 0.05;
+/// Relaxation: tangential smoothing toward the neighbours' centroid, edge flips, projection
+/// (`hGrad`: the gradients' difference step [m]).
+void relax(const ImplicitFunction& f, double hGrad, int iterations, std::vector<Vec3>& x,
+           std::vector<std::array<int, 3>>& tris) {
     const int nv = static_cast<int>(x.size());
     parallelFor(nv, [&](std::int64_t v64) {
         const int v = static_cast<int>(v64);
         x[static_cast<std::size_t>(v)] = project(f, x[static_cast<std::size_t>(v)], hGrad, 2);
     });
     std::vector<std::vector<int>> neighbours(static_cast<std::size_t>(nv));
-    for (int it = 0; it < options.relaxIterations; ++it) {
+    for (int it = 0; it < iterations; ++it) {
         flipPass(x, tris);
         for (auto& n : neighbours) {
             n.clear();
@@ -286,7 +294,12 @@ Isosurface extractIsosurface(const ImplicitFunction& f, const IsosurfaceOptions&
         x.swap(next);
     }
     flipPass(x, tris);
+}
 
+/// The surface's arrays: vertices projected onto f = 0 once more, with their unit normals.
+Isosurface surfaceOf(const ImplicitFunction& f, double hGrad, const std::vector<Vec3>& x,
+                     const std::vector<std::array<int, 3>>& tris) {
+    const int nv = static_cast<int>(x.size());
     Isosurface out;
     out.vertices.resize(nv, 3);
     out.normals.resize(nv, 3);
@@ -301,6 +314,22 @@ Isosurface extractIsosurface(const ImplicitFunction& f, const IsosurfaceOptions&
         out.triangles.row(static_cast<Eigen::Index>(t)) << tris[t][0], tris[t][1], tris[t][2];
     }
     return out;
+}
+
+} // namespace
+
+Isosurface extractIsosurface(const ImplicitFunction& f, const IsosurfaceOptions& options) {
+    Grid grid;
+    if (!sampleGrid(f, options, grid)) {
+        return {};
+    }
+    std::vector<Vec3> x;
+    std::vector<std::array<int, 3>> tris;
+    polygonize(grid, x, tris);
+    grid.value = {};
+    const double hGrad = grid.h * 0.05;
+    relax(f, hGrad, options.relaxIterations, x, tris);
+    return surfaceOf(f, hGrad, x, tris);
 }
 
 } // namespace atelier::patterns

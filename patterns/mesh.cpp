@@ -311,6 +311,448 @@ double minTriangleAngleDeg(const sim::MatX2& points, const sim::MatX3i& triangle
     return worst;
 }
 
+namespace {
+
+/// Seams and darts as pairs of side ranges, matched by arc-length fraction.
+struct SeamSides {
+    int seam; // index, or −1 − panel for a dart
+    std::string name;
+    std::vector<SideRange> a, b;
+};
+
+/// Two boundary points to be sewn, resolved to vertices once the panels are meshed.
+struct PendingPair {
+    SeamSidePoint a, b;
+    int seam;
+};
+
+/// Per panel: the vertex at each (loop, segment, parameter) of its boundary.
+using BoundaryVertices = std::map<std::tuple<int, int, double>, int>;
+
+/// Loop `loop` of panel p: 0 the outline, 1 + i hole i.
+const Loop& loopOf(const Garment& garment, std::size_t p, int loop) {
+    const Panel& panel = garment.panels[p];
+    return loop == 0 ? panel.outline : panel.holes[static_cast<std::size_t>(loop - 1)];
+}
+
+/// Per panel: every segment of every loop starts at a fixed point (t = 0); notches are fixed
+/// points too.
+std::vector<PanelPoints> initialPoints(const Garment& garment) {
+    const std::size_t panelCount = garment.panels.size();
+    std::vector<PanelPoints> points(panelCount);
+    for (std::size_t p = 0; p < panelCount; ++p) {
+        const Panel& panel = garment.panels[p];
+        const std::size_t loops = 1 + panel.holes.size();
+        points[p].fixed.resize(loops);
+        points[p].covered.resize(loops);
+        for (std::size_t l = 0; l < loops; ++l) {
+            const Loop& loop = loopOf(garment, p, static_cast<int>(l));
+            points[p].fixed[l].resize(loop.size());
+            points[p].covered[l].resize(loop.size());
+            for (auto& ts : points[p].fixed[l]) {
+                ts.insert(0.0);
+            }
+        }
+        for (const Notch& n : panel.notches) {
+            const BoundaryKey k = normalise(panel.outline, 0, n.segment, n.t);
+            insertSnapped(points[p].fixed[0][static_cast<std::size_t>(k.segment)], k.t);
+        }
+    }
+    return points;
+}
+
+/// The garment's seams, then every panel's darts (each dart's two legs), as pairs of sides.
+std::vector<SeamSides> sewingSides(const Garment& garment) {
+    std::vector<SeamSides> sewing;
+    for (std::size_t s = 0; s < garment.seams.size(); ++s) {
+        SeamSides ss{static_cast<int>(s), garment.seams[s].name, {}, {}};
+        for (const SeamEdge& e : garment.seams[s].a) {
+            ss.a.push_back({garment.panelIndex(e.panel), e.segment, e.t0, e.t1});
+        }
+        for (const SeamEdge& e : garment.seams[s].b) {
+            ss.b.push_back({garment.panelIndex(e.panel), e.segment, e.t0, e.t1});
+        }
+        sewing.push_back(std::move(ss));
+    }
+    for (std::size_t p = 0; p < garment.panels.size(); ++p) {
+        for (const Dart& d : garment.panels[p].darts) {
+            const int pi = static_cast<int>(p);
+            sewing.push_back(
+                {-1 - pi,
+                 "dart " + std::to_string(d.leg) + " of \"" + garment.panels[p].name + "\"",
+                 {{pi, d.leg, 1.0, 0.0}},
+                 {{pi, d.leg + 1, 0.0, 1.0}}});
+        }
+    }
+    return sewing;
+}
+
+/// One side of a seam with the length of each of its ranges and their total [m].
+struct MeasuredSide {
+    const std::vector<SideRange>& ranges;
+    std::vector<double> lengths;
+    double total = 0;
+};
+
+MeasuredSide measure(const Garment& garment, const std::vector<SideRange>& ranges) {
+    MeasuredSide side{ranges, {}, 0};
+    for (const SideRange& r : ranges) {
+        side.lengths.push_back(rangeLength(garment, r));
+        side.total += side.lengths.back();
+    }
+    return side;
+}
+
+/// Maps a fraction of a side to its boundary points (two at a junction of edges).
+std::vector<SeamSidePoint> locate(const Garment& garment, const MeasuredSide& measured, double f) {
+    const std::vector<SideRange>& side = measured.ranges;
+    const std::vector<double>& lens = measured.lengths;
+    const double total = measured.total;
+    std::vector<SeamSidePoint> pts;
+    const double s = f * total;
+    double cum = 0;
+    for (std::size_t i = 0; i < side.size(); ++i) {
+        const SideRange& r = side[i];
+        const Loop& loop = garment.panels[static_cast<std::size_t>(r.panel)].outline;
+        const double lo = cum, hi = cum + lens[i];
+        const bool first = i == 0, last = i + 1 == side.size();
+        if (s >= lo - 1e-12 * total - (first ? 1e-9 : 0) &&
+            s <= hi + 1e-12 * total + (last ? 1e-9 : 0)) {
+            double t;
+            if (std::abs(s - lo) <= 1e-12 * std::max(1.0, total)) {
+                t = r.t0;
+            } else if (std::abs(s - hi) <= 1e-12 * std::max(1.0, total)) {
+                t = r.t1;
+            } else {
+                t = parameterAtLength(loop[static_cast<std::size_t>(r.segment)], r.t0, r.t1,
+                                      s - lo);
+            }
+            pts.push_back({r.panel, normalise(loop, 0, r.segment, t)});
+        }
+        cum = hi;
+    }
+    return pts;
+}
+
+/// The fractions where both sides break into edges: 0, 1 and every junction of ranges on
+/// either side.
+std::vector<double> breakFractions(const MeasuredSide& a, const MeasuredSide& b) {
+    std::vector<double> breaks = {0.0, 1.0};
+    double acc = 0;
+    for (std::size_t i = 0; i + 1 < a.lengths.size(); ++i) {
+        acc += a.lengths[i];
+        breaks.push_back(acc / a.total);
+    }
+    acc = 0;
+    for (std::size_t i = 0; i + 1 < b.lengths.size(); ++i) {
+        acc += b.lengths[i];
+        breaks.push_back(acc / b.total);
+    }
+    std::sort(breaks.begin(), breaks.end());
+    breaks.erase(std::unique(breaks.begin(), breaks.end(),
+                             [](double x, double y) { return std::abs(x - y) < 1e-9; }),
+                 breaks.end());
+    return breaks;
+}
+
+/// Whether n equal pieces of [f0, f1] keep every piece's chord within the sagitta on both sides.
+bool chordsFine(const Garment& garment, const MeasuredSide& a, const MeasuredSide& b, double f0,
+                double f1, int n, double sagitta) {
+    bool fine = true;
+    for (int i = 0; i < n && fine; ++i) {
+        const double fa = f0 + (f1 - f0) * i / n, fb = f0 + (f1 - f0) * (i + 1) / n;
+        for (int side = 0; side < 2 && fine; ++side) {
+            const MeasuredSide& rs = side == 0 ? a : b;
+            const auto pa = locate(garment, rs, 0.5 * (fa + fb));
+            const auto p0 = locate(garment, rs, fa);
+            const auto p1 = locate(garment, rs, fb);
+            if (pa.empty() || p0.empty() || p1.empty()) {
+                continue;
+            }
+            auto pos = [&](const SeamSidePoint& q) {
+                const Panel& panel = garment.panels[static_cast<std::size_t>(q.panel)];
+                return pointAt(panel.outline[static_cast<std::size_t>(q.key.segment)], q.key.t);
+            };
+            const Vec2 pA = pos(p0.back()), pB = pos(p1.front()), m = pos(pa.front());
+            const Vec2 ab = pB - pA;
+            const double len = ab.norm();
+            if (len > 0 && std::abs(cross2(ab, m - pA)) / len > sagitta) {
+                fine = false;
+            }
+        }
+    }
+    return fine;
+}
+
+/// The fractions of a seam where both sides get a point: between consecutive breaks, pieces of
+/// about h, finer where either side bends (every piece's chord within the sagitta), and 1.
+std::vector<double> seamFractions(const Garment& garment, const MeasuredSide& a,
+                                  const MeasuredSide& b, double h, double sagitta) {
+    const std::vector<double> breaks = breakFractions(a, b);
+    std::vector<double> fractions;
+    for (std::size_t j = 0; j + 1 < breaks.size(); ++j) {
+        const double f0 = breaks[j], f1 = breaks[j + 1];
+        int n =
+            std::max(1, static_cast<int>(std::lround(std::max(a.total, b.total) * (f1 - f0) / h)));
+        // Finer where either side bends: every piece's chord within the sagitta.
+        for (int attempt = 0; attempt < 6; ++attempt) {
+            if (chordsFine(garment, a, b, f0, f1, n, sagitta)) {
+                break;
+            }
+            n *= 2;
+        }
+        for (int i = 0; i < n; ++i) {
+            fractions.push_back(f0 + (f1 - f0) * i / n);
+        }
+    }
+    fractions.push_back(1.0);
+    return fractions;
+}
+
+/// Places one seam's (or dart's) points on both sides at the same fractions, fixing them on the
+/// panels' boundaries and pairing them; the ranges it covers get no other points. Warns when
+/// the sides' lengths differ by more than the ease tolerance.
+void placeSeam(const Garment& garment, const SeamSides& ss, double h, double sagitta,
+               std::vector<PanelPoints>& points, std::vector<PendingPair>& pending,
+               std::vector<std::string>& warnings) {
+    const MeasuredSide a = measure(garment, ss.a);
+    const MeasuredSide b = measure(garment, ss.b);
+    if (std::abs(a.total - b.total) > garment.easeTolerance) {
+        std::ostringstream w;
+        w.precision(4);
+        w << "seam \"" << ss.name << "\": lengths " << a.total << " m and " << b.total
+          << " m differ by more than " << garment.easeTolerance << " m";
+        warnings.push_back(w.str());
+    }
+    for (double f : seamFractions(garment, a, b, h, sagitta)) {
+        const auto pa = locate(garment, a, f);
+        const auto pb = locate(garment, b, f);
+        for (const auto& q : pa) {
+            insertSnapped(points[static_cast<std::size_t>(q.panel)]
+                              .fixed[0][static_cast<std::size_t>(q.key.segment)],
+                          q.key.t);
+        }
+        for (const auto& q : pb) {
+            insertSnapped(points[static_cast<std::size_t>(q.panel)]
+                              .fixed[0][static_cast<std::size_t>(q.key.segment)],
+                          q.key.t);
+        }
+        for (const auto& qa : pa) {
+            for (const auto& qb : pb) {
+                pending.push_back({qa, qb, ss.seam});
+            }
+        }
+    }
+    for (int side = 0; side < 2; ++side) {
+        for (const SideRange& r : side == 0 ? ss.a : ss.b) {
+            points[static_cast<std::size_t>(r.panel)]
+                .covered[0][static_cast<std::size_t>(r.segment)]
+                .emplace_back(std::min(r.t0, r.t1), std::max(r.t0, r.t1));
+        }
+    }
+}
+
+/// Appends to `in` the points of segment s of loop l between its fixed parameters ta < tb:
+/// pieces of about h, finer where the curve bends (each chord within the sagitta); none inside
+/// a range a seam covers (the seam placed those).
+void subdivideSegment(const Segment& seg, const PanelPoints& points, std::size_t l, std::size_t s,
+                      double ta, double tb, double h, double sagitta, TriangulationInput& in) {
+    bool covered = false;
+    for (const auto& [c0, c1] : points.covered[l][s]) {
+        covered = covered || (ta >= c0 - T_EPS && tb <= c1 + T_EPS);
+    }
+    if (covered || tb - ta < T_EPS) {
+        return;
+    }
+    int n = std::max(1, static_cast<int>(std::lround(arcLength(seg, ta, tb) / h)));
+    std::vector<double> sub = equalLengthParameters(seg, ta, tb, n);
+    for (int attempt = 0; attempt < 6; ++attempt) {
+        bool fine = true;
+        for (std::size_t i = 0; i + 1 < sub.size() && fine; ++i) {
+            fine = chordDeviation(seg, sub[i], sub[i + 1]) <= sagitta;
+        }
+        if (fine) {
+            break;
+        }
+        n *= 2;
+        sub = equalLengthParameters(seg, ta, tb, n);
+    }
+    for (std::size_t i = 1; i + 1 < sub.size(); ++i) {
+        in.points.push_back(pointAt(seg, sub[i]));
+    }
+}
+
+/// A point just inside the hole whose boundary polygon is `poly`, beside one of its edges.
+void addHoleSeed(const std::vector<Vec2>& poly, TriangulationInput& in) {
+    for (std::size_t e = 0; e < poly.size(); ++e) {
+        const Vec2 a = poly[e], b = poly[(e + 1) % poly.size()];
+        const Vec2 normal = Vec2(-(b - a).y(), (b - a).x()) * 0.05;
+        const Vec2 m = 0.5 * (a + b);
+        if (insidePolygon(poly, m + normal)) {
+            in.holeSeeds.push_back(m + normal);
+            break;
+        }
+        if (insidePolygon(poly, m - normal)) {
+            in.holeSeeds.push_back(m - normal);
+            break;
+        }
+    }
+}
+
+/// Appends panel p's boundary to `in`: each loop's fixed points (recorded in vertexOf) and the
+/// points between them, as a closed chain of constraints; a seed inside each hole.
+void addBoundary(const Garment& garment, std::size_t p, const PanelPoints& points, double h,
+                 double sagitta, TriangulationInput& in, BoundaryVertices& vertexOf) {
+    const auto& fixed = points.fixed;
+    for (std::size_t l = 0; l < fixed.size(); ++l) {
+        const Loop& loop = loopOf(garment, p, static_cast<int>(l));
+        const int first = static_cast<int>(in.points.size());
+        for (std::size_t s = 0; s < loop.size(); ++s) {
+            const Segment& seg = loop[s];
+            std::vector<double> ts(fixed[l][s].begin(), fixed[l][s].end());
+            ts.push_back(1.0);
+            for (std::size_t k = 0; k + 1 < ts.size(); ++k) {
+                const double ta = ts[k], tb = ts[k + 1];
+                vertexOf[{static_cast<int>(l), static_cast<int>(s), ta}] =
+                    static_cast<int>(in.points.size());
+                in.points.push_back(pointAt(seg, ta));
+                subdivideSegment(seg, points, l, s, ta, tb, h, sagitta, in);
+            }
+        }
+        const int last = static_cast<int>(in.points.size());
+        for (int i = first; i < last; ++i) {
+            in.constraints.push_back({i, i + 1 < last ? i + 1 : first});
+        }
+        if (l > 0) {
+            const std::vector<Vec2> poly(in.points.begin() + first, in.points.begin() + last);
+            addHoleSeed(poly, in);
+        }
+    }
+}
+
+/// Appends the panel's internal lines to `in` as chains of constrained points about h apart;
+/// returns, per line edge, its constraint and the line's fold angle.
+std::vector<std::pair<int, double>> addInternalLines(const Panel& panel, double h,
+                                                     TriangulationInput& in) {
+    std::vector<std::pair<int, double>> lineEdges;
+    for (const InternalLine& line : panel.internalLines) {
+        int previous = -1;
+        for (const Segment& seg : line.path) {
+            const int n = std::max(1, static_cast<int>(std::lround(arcLength(seg) / h)));
+            const std::vector<double> sub = equalLengthParameters(seg, 0.0, 1.0, n);
+            for (std::size_t i = 0; i < sub.size(); ++i) {
+                const Vec2 q = pointAt(seg, sub[i]);
+                if (previous >= 0 &&
+                    (in.points[static_cast<std::size_t>(previous)] - q).norm() < 1e-12) {
+                    continue;
+                }
+                const int id = static_cast<int>(in.points.size());
+                in.points.push_back(q);
+                if (previous >= 0) {
+                    in.constraints.push_back({previous, id});
+                    lineEdges.emplace_back(static_cast<int>(in.constraints.size()) - 1,
+                                           line.foldAngle);
+                }
+                previous = id;
+            }
+        }
+    }
+    return lineEdges;
+}
+
+/// Rest shape: the pattern mirrored for a Back panel, rotated so that the grain is +y.
+void setRestShape(const Panel& panel, PanelMesh& pm) {
+    const int nv = static_cast<int>(pm.pattern.rows());
+    const bool mirror = panel.side == PanelSide::Back;
+    const double grain = mirror ? M_PI - panel.grainAngle : panel.grainAngle;
+    const double turn = M_PI / 2 - grain;
+    const double c = std::cos(turn), s = std::sin(turn);
+    pm.rest.resize(nv, 2);
+    for (int i = 0; i < nv; ++i) {
+        const double x = mirror ? -pm.pattern(i, 0) : pm.pattern(i, 0);
+        const double y = pm.pattern(i, 1);
+        pm.rest.row(i) << c * x - s * y, s * x + c * y;
+    }
+    if (mirror) {
+        pm.triangles.col(1).swap(pm.triangles.col(2));
+    }
+}
+
+/// Triangulates panel p with its boundary points and internal lines into `pm`; adds its
+/// smallest angle and triangle count to `out`. Returns what went wrong, naming the panel.
+std::optional<std::string> meshPanel(const Garment& garment, std::size_t p,
+                                     const PanelPoints& points, const MeshOptions& options,
+                                     double h, double sagitta, BoundaryVertices& vertexOf,
+                                     GarmentMesh& out) {
+    const Panel& panel = garment.panels[p];
+    TriangulationInput in;
+    in.maxEdge = 1.45 * h; // the size bound is on the longest edge: mean edges come out ≈ h
+    in.minAngleDeg = options.minAngleDeg;
+    addBoundary(garment, p, points, h, sagitta, in, vertexOf);
+    PanelMesh& pm = out.panels[p];
+    const std::vector<std::pair<int, double>> lineEdges = addInternalLines(panel, h, in);
+    TriangulationOutput tri;
+    const long computedBefore = options.cache ? options.cache->computed() : 0;
+    auto err = options.cache ? options.cache->triangulate(in, tri) : triangulate(in, tri);
+    out.panelsTriangulated +=
+        options.cache ? static_cast<int>(options.cache->computed() - computedBefore) : 1;
+    if (err) {
+        return "panel \"" + panel.name + "\": " + *err;
+    }
+    const int nv = static_cast<int>(tri.points.size());
+    pm.pattern.resize(nv, 2);
+    for (int i = 0; i < nv; ++i) {
+        pm.pattern.row(i) = tri.points[static_cast<std::size_t>(i)].transpose();
+    }
+    pm.triangles = tri.triangles;
+    for (const auto& [constraint, fold] : lineEdges) {
+        pm.lineEdges.push_back(in.constraints[static_cast<std::size_t>(constraint)]);
+        pm.lineFoldAngles.push_back(fold);
+    }
+    for (const Notch& n : panel.notches) {
+        const BoundaryKey k = normalise(panel.outline, 0, n.segment, n.t);
+        const double t = snap(points.fixed[0][static_cast<std::size_t>(k.segment)], k.t);
+        pm.notchVertices.push_back(vertexOf.at({0, k.segment, t}));
+    }
+    setRestShape(panel, pm);
+    out.minAngleDeg = std::min(out.minAngleDeg, minTriangleAngleDeg(pm.pattern, tri.triangles));
+    out.triangleCount += pm.triangles.rows();
+    return std::nullopt;
+}
+
+/// The seam pairs resolved to vertices, each pair once (a dart's tip, sewn to itself, is not a
+/// pair).
+void resolveSeamPairs(const std::vector<PendingPair>& pending,
+                      const std::vector<PanelPoints>& points,
+                      const std::vector<BoundaryVertices>& vertexOf, GarmentMesh& out) {
+    std::set<std::tuple<int, int, int, int>> seen;
+    for (const PendingPair& pp : pending) {
+        auto vertex = [&](const SeamSidePoint& q) {
+            const auto& ts = points[static_cast<std::size_t>(q.panel)]
+                                 .fixed[0][static_cast<std::size_t>(q.key.segment)];
+            return vertexOf[static_cast<std::size_t>(q.panel)].at(
+                {0, q.key.segment, snap(ts, q.key.t)});
+        };
+        const VertexRef a{pp.a.panel, vertex(pp.a)};
+        const VertexRef b{pp.b.panel, vertex(pp.b)};
+        if (a == b) {
+            continue; // a dart's tip
+        }
+        const auto key =
+            std::make_tuple(std::min(a.panel, b.panel) == a.panel ? a.panel : b.panel,
+                            std::min(a.panel, b.panel) == a.panel ? a.vertex : b.vertex,
+                            std::min(a.panel, b.panel) == a.panel ? b.panel : a.panel,
+                            std::min(a.panel, b.panel) == a.panel ? b.vertex : a.vertex);
+        if (!seen.insert(key).second) {
+            continue;
+        }
+        out.seamPairs.push_back({a, b});
+        out.seamOfPair.push_back(pp.seam);
+    }
+}
+
+} // namespace
+
 std::optional<std::string> meshGarment(const Garment& garment, const MeshOptions& options,
                                        GarmentMesh& out) {
     const auto start = std::chrono::steady_clock::now();
@@ -325,335 +767,24 @@ std::optional<std::string> meshGarment(const Garment& garment, const MeshOptions
     const double sagitta = 0.05 * h; // chord error allowed on curves (area within ~0.2%)
     const std::size_t panelCount = garment.panels.size();
 
-    std::vector<PanelPoints> points(panelCount);
-    auto loopOf = [&](std::size_t p, int loop) -> const Loop& {
-        const Panel& panel = garment.panels[p];
-        return loop == 0 ? panel.outline : panel.holes[static_cast<std::size_t>(loop - 1)];
-    };
-    for (std::size_t p = 0; p < panelCount; ++p) {
-        const Panel& panel = garment.panels[p];
-        const std::size_t loops = 1 + panel.holes.size();
-        points[p].fixed.resize(loops);
-        points[p].covered.resize(loops);
-        for (std::size_t l = 0; l < loops; ++l) {
-            const Loop& loop = loopOf(p, static_cast<int>(l));
-            points[p].fixed[l].resize(loop.size());
-            points[p].covered[l].resize(loop.size());
-            for (auto& ts : points[p].fixed[l]) {
-                ts.insert(0.0);
-            }
-        }
-        for (const Notch& n : panel.notches) {
-            const BoundaryKey k = normalise(panel.outline, 0, n.segment, n.t);
-            insertSnapped(points[p].fixed[0][static_cast<std::size_t>(k.segment)], k.t);
-        }
-    }
-
-    // Seams and darts as pairs of side ranges, matched by arc-length fraction.
-    struct SeamSides {
-        int seam; // index, or −1 − panel for a dart
-        std::string name;
-        std::vector<SideRange> a, b;
-    };
-    std::vector<SeamSides> sewing;
-    for (std::size_t s = 0; s < garment.seams.size(); ++s) {
-        SeamSides ss{static_cast<int>(s), garment.seams[s].name, {}, {}};
-        for (const SeamEdge& e : garment.seams[s].a) {
-            ss.a.push_back({garment.panelIndex(e.panel), e.segment, e.t0, e.t1});
-        }
-        for (const SeamEdge& e : garment.seams[s].b) {
-            ss.b.push_back({garment.panelIndex(e.panel), e.segment, e.t0, e.t1});
-        }
-        sewing.push_back(std::move(ss));
-    }
-    for (std::size_t p = 0; p < panelCount; ++p) {
-        for (const Dart& d : garment.panels[p].darts) {
-            const int pi = static_cast<int>(p);
-            sewing.push_back({-1 - pi,
-                              "dart " + std::to_string(d.leg) + " of \"" + garment.panels[p].name + "\"",
-                              {{pi, d.leg, 1.0, 0.0}},
-                              {{pi, d.leg + 1, 0.0, 1.0}}});
-        }
-    }
-
-    struct PendingPair {
-        SeamSidePoint a, b;
-        int seam;
-    };
+    // Seams and darts first: their points, matched by arc-length fraction, are fixed on both
+    // sides before the panels are meshed.
+    std::vector<PanelPoints> points = initialPoints(garment);
     std::vector<PendingPair> pending;
-    for (const SeamSides& ss : sewing) {
-        std::vector<double> la, lb;
-        double totalA = 0, totalB = 0;
-        for (const SideRange& r : ss.a) {
-            la.push_back(rangeLength(garment, r));
-            totalA += la.back();
-        }
-        for (const SideRange& r : ss.b) {
-            lb.push_back(rangeLength(garment, r));
-            totalB += lb.back();
-        }
-        if (std::abs(totalA - totalB) > garment.easeTolerance) {
-            std::ostringstream w;
-            w.precision(4);
-            w << "seam \"" << ss.name << "\": lengths " << totalA << " m and " << totalB
-              << " m differ by more than " << garment.easeTolerance << " m";
-            out.warnings.push_back(w.str());
-        }
-        std::vector<double> breaks = {0.0, 1.0};
-        double acc = 0;
-        for (std::size_t i = 0; i + 1 < la.size(); ++i) {
-            acc += la[i];
-            breaks.push_back(acc / totalA);
-        }
-        acc = 0;
-        for (std::size_t i = 0; i + 1 < lb.size(); ++i) {
-            acc += lb[i];
-            breaks.push_back(acc / totalB);
-        }
-        std::sort(breaks.begin(), breaks.end());
-        breaks.erase(std::unique(breaks.begin(), breaks.end(),
-                                 [](double x, double y) { return std::abs(x - y) < 1e-9; }),
-                     breaks.end());
-        // Maps a fraction of a side to its boundary points (two at a junction of edges).
-        auto locate = [&](const std::vector<SideRange>& side, const std::vector<double>& lens,
-                          double total, double f) {
-            std::vector<SeamSidePoint> pts;
-            const double s = f * total;
-            double cum = 0;
-            for (std::size_t i = 0; i < side.size(); ++i) {
-                const SideRange& r = side[i];
-                const Loop& loop = garment.panels[static_cast<std::size_t>(r.panel)].outline;
-                const double lo = cum, hi = cum + lens[i];
-                const bool first = i == 0, last = i + 1 == side.size();
-                if (s >= lo - 1e-12 * total - (first ? 1e-9 : 0) && s <= hi + 1e-12 * total + (last ? 1e-9 : 0)) {
-                    double t;
-                    if (std::abs(s - lo) <= 1e-12 * std::max(1.0, total)) {
-                        t = r.t0;
-                    } else if (std::abs(s - hi) <= 1e-12 * std::max(1.0, total)) {
-                        t = r.t1;
-                    } else {
-                        t = parameterAtLength(loop[static_cast<std::size_t>(r.segment)], r.t0, r.t1, s - lo);
-                    }
-                    pts.push_back({r.panel, normalise(loop, 0, r.segment, t)});
-                }
-                cum = hi;
-            }
-            return pts;
-        };
-        std::vector<double> fractions;
-        for (std::size_t j = 0; j + 1 < breaks.size(); ++j) {
-            const double f0 = breaks[j], f1 = breaks[j + 1];
-            int n = std::max(1, static_cast<int>(std::lround(std::max(totalA, totalB) * (f1 - f0) / h)));
-            // Finer where either side bends: every piece's chord within the sagitta.
-            for (int attempt = 0; attempt < 6; ++attempt) {
-                bool fine = true;
-                for (int i = 0; i < n && fine; ++i) {
-                    const double fa = f0 + (f1 - f0) * i / n, fb = f0 + (f1 - f0) * (i + 1) / n;
-                    for (int side = 0; side < 2 && fine; ++side) {
-                        const auto& rs = side == 0 ? ss.a : ss.b;
-                        const auto pa = locate(rs, side == 0 ? la : lb, side == 0 ? totalA : totalB, 0.5 * (fa + fb));
-                        const auto p0 = locate(rs, side == 0 ? la : lb, side == 0 ? totalA : totalB, fa);
-                        const auto p1 = locate(rs, side == 0 ? la : lb, side == 0 ? totalA : totalB, fb);
-                        if (pa.empty() || p0.empty() || p1.empty()) {
-                            continue;
-                        }
-                        auto pos = [&](const SeamSidePoint& q) {
-                            const Panel& panel = garment.panels[static_cast<std::size_t>(q.panel)];
-                            return pointAt(panel.outline[static_cast<std::size_t>(q.key.segment)], q.key.t);
-                        };
-                        const Vec2 a = pos(p0.back()), b = pos(p1.front()), m = pos(pa.front());
-                        const Vec2 ab = b - a;
-                        const double len = ab.norm();
-                        if (len > 0 && std::abs(cross2(ab, m - a)) / len > sagitta) {
-                            fine = false;
-                        }
-                    }
-                }
-                if (fine) {
-                    break;
-                }
-                n *= 2;
-            }
-            for (int i = 0; i < n; ++i) {
-                fractions.push_back(f0 + (f1 - f0) * i / n);
-            }
-        }
-        fractions.push_back(1.0);
-        for (double f : fractions) {
-            const auto pa = locate(ss.a, la, totalA, f);
-            const auto pb = locate(ss.b, lb, totalB, f);
-            for (const auto& q : pa) {
-                insertSnapped(points[static_cast<std::size_t>(q.panel)].fixed[0][static_cast<std::size_t>(q.key.segment)], q.key.t);
-            }
-            for (const auto& q : pb) {
-                insertSnapped(points[static_cast<std::size_t>(q.panel)].fixed[0][static_cast<std::size_t>(q.key.segment)], q.key.t);
-            }
-            for (const auto& qa : pa) {
-                for (const auto& qb : pb) {
-                    pending.push_back({qa, qb, ss.seam});
-                }
-            }
-        }
-        for (int side = 0; side < 2; ++side) {
-            for (const SideRange& r : side == 0 ? ss.a : ss.b) {
-                points[static_cast<std::size_t>(r.panel)].covered[0][static_cast<std::size_t>(r.segment)]
-                    .emplace_back(std::min(r.t0, r.t1), std::max(r.t0, r.t1));
-            }
-        }
+    for (const SeamSides& ss : sewingSides(garment)) {
+        placeSeam(garment, ss, h, sagitta, points, pending, out.warnings);
     }
 
     // Boundary polygons, triangulation, panel meshes.
-    std::vector<std::map<std::tuple<int, int, double>, int>> vertexOf(panelCount);
+    std::vector<BoundaryVertices> vertexOf(panelCount);
     out.panels.resize(panelCount);
     out.minAngleDeg = 180;
     for (std::size_t p = 0; p < panelCount; ++p) {
-        const Panel& panel = garment.panels[p];
-        TriangulationInput in;
-        in.maxEdge = 1.45 * h; // the size bound is on the longest edge: mean edges come out ≈ h
-        in.minAngleDeg = options.minAngleDeg;
-        auto& fixed = points[p].fixed;
-        for (std::size_t l = 0; l < fixed.size(); ++l) {
-            const Loop& loop = loopOf(p, static_cast<int>(l));
-            const int first = static_cast<int>(in.points.size());
-            for (std::size_t s = 0; s < loop.size(); ++s) {
-                const Segment& seg = loop[s];
-                std::vector<double> ts(fixed[l][s].begin(), fixed[l][s].end());
-                ts.push_back(1.0);
-                for (std::size_t k = 0; k + 1 < ts.size(); ++k) {
-                    const double ta = ts[k], tb = ts[k + 1];
-                    vertexOf[p][{static_cast<int>(l), static_cast<int>(s), ta}] = static_cast<int>(in.points.size());
-                    in.points.push_back(pointAt(seg, ta));
-                    bool covered = false;
-                    for (const auto& [c0, c1] : points[p].covered[l][s]) {
-                        covered = covered || (ta >= c0 - T_EPS && tb <= c1 + T_EPS);
-                    }
-                    if (covered || tb - ta < T_EPS) {
-                        continue;
-                    }
-                    int n = std::max(1, static_cast<int>(std::lround(arcLength(seg, ta, tb) / h)));
-                    std::vector<double> sub = equalLengthParameters(seg, ta, tb, n);
-                    for (int attempt = 0; attempt < 6; ++attempt) {
-                        bool fine = true;
-                        for (std::size_t i = 0; i + 1 < sub.size() && fine; ++i) {
-                            fine = chordDeviation(seg, sub[i], sub[i + 1]) <= sagitta;
-                        }
-                        if (fine) {
-                            break;
-                        }
-                        n *= 2;
-                        sub = equalLengthParameters(seg, ta, tb, n);
-                    }
-                    for (std::size_t i = 1; i + 1 < sub.size(); ++i) {
-                        in.points.push_back(pointAt(seg, sub[i]));
-                    }
-                }
-            }
-            const int last = static_cast<int>(in.points.size());
-            for (int i = first; i < last; ++i) {
-                in.constraints.push_back({i, i + 1 < last ? i + 1 : first});
-            }
-            if (l > 0) {
-                // A point just inside the hole, beside one of its edges.
-                const std::vector<Vec2> poly(in.points.begin() + first, in.points.begin() + last);
-                for (std::size_t e = 0; e < poly.size(); ++e) {
-                    const Vec2 a = poly[e], b = poly[(e + 1) % poly.size()];
-                    const Vec2 normal = Vec2(-(b - a).y(), (b - a).x()) * 0.05;
-                    const Vec2 m = 0.5 * (a + b);
-                    if (insidePolygon(poly, m + normal)) {
-                        in.holeSeeds.push_back(m + normal);
-                        break;
-                    }
-                    if (insidePolygon(poly, m - normal)) {
-                        in.holeSeeds.push_back(m - normal);
-                        break;
-                    }
-                }
-            }
+        if (auto err = meshPanel(garment, p, points[p], options, h, sagitta, vertexOf[p], out)) {
+            return err;
         }
-        PanelMesh& pm = out.panels[p];
-        std::vector<std::pair<int, double>> lineEdges;
-        for (const InternalLine& line : panel.internalLines) {
-            int previous = -1;
-            for (const Segment& seg : line.path) {
-                const int n = std::max(1, static_cast<int>(std::lround(arcLength(seg) / h)));
-                const std::vector<double> sub = equalLengthParameters(seg, 0.0, 1.0, n);
-                for (std::size_t i = 0; i < sub.size(); ++i) {
-                    const Vec2 q = pointAt(seg, sub[i]);
-                    if (previous >= 0 && (in.points[static_cast<std::size_t>(previous)] - q).norm() < 1e-12) {
-                        continue;
-                    }
-                    const int id = static_cast<int>(in.points.size());
-                    in.points.push_back(q);
-                    if (previous >= 0) {
-                        in.constraints.push_back({previous, id});
-                        lineEdges.emplace_back(static_cast<int>(in.constraints.size()) - 1, line.foldAngle);
-                    }
-                    previous = id;
-                }
-            }
-        }
-        TriangulationOutput tri;
-        const long computedBefore = options.cache ? options.cache->computed() : 0;
-        auto err = options.cache ? options.cache->triangulate(in, tri) : triangulate(in, tri);
-        out.panelsTriangulated +=
-            options.cache ? static_cast<int>(options.cache->computed() - computedBefore) : 1;
-        if (err) {
-            return "panel \"" + panel.name + "\": " + *err;
-        }
-        const int nv = static_cast<int>(tri.points.size());
-        pm.pattern.resize(nv, 2);
-        for (int i = 0; i < nv; ++i) {
-            pm.pattern.row(i) = tri.points[static_cast<std::size_t>(i)].transpose();
-        }
-        pm.triangles = tri.triangles;
-        for (const auto& [constraint, fold] : lineEdges) {
-            pm.lineEdges.push_back(in.constraints[static_cast<std::size_t>(constraint)]);
-            pm.lineFoldAngles.push_back(fold);
-        }
-        for (const Notch& n : panel.notches) {
-            const BoundaryKey k = normalise(panel.outline, 0, n.segment, n.t);
-            const double t = snap(fixed[0][static_cast<std::size_t>(k.segment)], k.t);
-            pm.notchVertices.push_back(vertexOf[p].at({0, k.segment, t}));
-        }
-        // Rest shape: mirrored for a Back panel, rotated so that the grain is +y.
-        const bool mirror = panel.side == PanelSide::Back;
-        const double grain = mirror ? M_PI - panel.grainAngle : panel.grainAngle;
-        const double turn = M_PI / 2 - grain;
-        const double c = std::cos(turn), s = std::sin(turn);
-        pm.rest.resize(nv, 2);
-        for (int i = 0; i < nv; ++i) {
-            const double x = mirror ? -pm.pattern(i, 0) : pm.pattern(i, 0);
-            const double y = pm.pattern(i, 1);
-            pm.rest.row(i) << c * x - s * y, s * x + c * y;
-        }
-        if (mirror) {
-            pm.triangles.col(1).swap(pm.triangles.col(2));
-        }
-        out.minAngleDeg = std::min(out.minAngleDeg, minTriangleAngleDeg(pm.pattern, tri.triangles));
-        out.triangleCount += pm.triangles.rows();
     }
-    // Seam pairs, resolved to vertices.
-    std::set<std::tuple<int, int, int, int>> seen;
-    for (const PendingPair& pp : pending) {
-        auto vertex = [&](const SeamSidePoint& q) {
-            const auto& ts = points[static_cast<std::size_t>(q.panel)].fixed[0][static_cast<std::size_t>(q.key.segment)];
-            return vertexOf[static_cast<std::size_t>(q.panel)].at({0, q.key.segment, snap(ts, q.key.t)});
-        };
-        const VertexRef a{pp.a.panel, vertex(pp.a)};
-        const VertexRef b{pp.b.panel, vertex(pp.b)};
-        if (a == b) {
-            continue; // a dart's tip
-        }
-        const auto key = std::make_tuple(std::min(a.panel, b.panel) == a.panel ? a.panel : b.panel,
-                                         std::min(a.panel, b.panel) == a.panel ? a.vertex : b.vertex,
-                                         std::min(a.panel, b.panel) == a.panel ? b.panel : a.panel,
-                                         std::min(a.panel, b.panel) == a.panel ? b.vertex : a.vertex);
-        if (!seen.insert(key).second) {
-            continue;
-        }
-        out.seamPairs.push_back({a, b});
-        out.seamOfPair.push_back(pp.seam);
-    }
+    resolveSeamPairs(pending, points, vertexOf, out);
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return std::nullopt;
 }

@@ -14,6 +14,9 @@
 #include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <utility>
 #include <vector>
 
 namespace atelier::app {
@@ -54,6 +57,235 @@ const char* directionName(PullDirection d) {
 
 const char* triangulationName(sim::Triangulation t) {
     return t == sim::Triangulation::Regular ? "regular" : "irregular";
+}
+
+/// The strip's boundary sets, by rest coordinate (makeRectangle keeps boundary vertices on the
+/// border), and the vertices the test holds or measures.
+struct StripBoundary {
+    std::vector<int> fixedEdge, pulledEdge, lowSide, highSide;
+    int anchor = 0;  ///< the fixed edge's corner on lateral boundary 0, also held across the pull
+    int midLow = 0;  ///< lateral boundary 0's vertex nearest mid-length
+    int midHigh = 0; ///< the other lateral boundary's
+};
+
+StripBoundary stripBoundary(const sim::MatX2& rest, int n, int pull, int side,
+                            const TensionTestOptions& o) {
+    StripBoundary b;
+    const double eps = 1e-9 * std::max(o.length, o.width);
+    for (int i = 0; i < n; ++i) {
+        if (rest(i, pull) < eps) {
+            b.fixedEdge.push_back(i);
+        }
+        if (rest(i, pull) > o.length - eps) {
+            b.pulledEdge.push_back(i);
+        }
+        if (rest(i, side) < eps) {
+            b.lowSide.push_back(i);
+        }
+        if (rest(i, side) > o.width - eps) {
+            b.highSide.push_back(i);
+        }
+    }
+    b.anchor = nearestAlong(rest, b.lowSide, pull, 0.0);
+    b.midLow = nearestAlong(rest, b.lowSide, pull, 0.5 * o.length);
+    b.midHigh = nearestAlong(rest, b.highSide, pull, 0.5 * o.length);
+    return b;
+}
+
+/// DOF d = 3·vertex + axis; free DOFs get consecutive indices, held ones -1 (every z, the
+/// grips along the pull, the anchor across it).
+std::vector<int> freeIndices(int n, const StripBoundary& b, int pull, int side, int& freeCount) {
+    std::vector<int> freeIndex(static_cast<std::size_t>(3 * n), 0);
+    for (int i = 0; i < n; ++i) {
+        freeIndex[static_cast<std::size_t>(3 * i + 2)] = -1;
+    }
+    for (int i : b.fixedEdge) {
+        freeIndex[static_cast<std::size_t>(3 * i + pull)] = -1;
+    }
+    for (int i : b.pulledEdge) {
+        freeIndex[static_cast<std::size_t>(3 * i + pull)] = -1;
+    }
+    freeIndex[static_cast<std::size_t>(3 * b.anchor + side)] = -1;
+    freeCount = 0;
+    for (int& f : freeIndex) {
+        if (f == 0) {
+            f = freeCount++;
+        }
+    }
+    return freeIndex;
+}
+
+/// The strip's static equilibrium on its free degrees of freedom: forces, residual and the
+/// pulled grip's reaction, and Newton steps with the model's exact Jacobian (sparse LU).
+class StripEquilibrium {
+  public:
+    StripEquilibrium(sim::ForceModel& model, int n, int pull, std::vector<int> freeIndex,
+                     int freeCount, const std::vector<int>& pulledEdge)
+        : m_model(model), m_n(n), m_pull(pull), m_freeIndex(std::move(freeIndex)),
+          m_freeCount(freeCount), m_pulledEdge(pulledEdge), m_v(sim::MatX3::Zero(n, 3)),
+          m_jacobian(n, pattern(model)) {}
+
+    int freeCount() const { return m_freeCount; }
+
+    /// Forces, the free residual and the pulled grip's reaction at xs.
+    void evaluate(const sim::MatX3& xs, Eigen::VectorXd& res, double& reaction) {
+        m_f.setZero(m_n, 3);
+        m_model.addForces(xs, m_v, m_f);
+        for (int i = 0; i < m_n; ++i) {
+            for (int a = 0; a < 3; ++a) {
+                const int k = m_freeIndex[static_cast<std::size_t>(3 * i + a)];
+                if (k >= 0) {
+                    res[k] = m_f(i, a);
+                }
+            }
+        }
+        reaction = 0;
+        for (int i : m_pulledEdge) {
+            reaction -= m_f(i, m_pull); // the grip balances the internal force
+        }
+    }
+
+    /// The Newton step at x with residual r: f(x + Δ) ≈ f + K Δ = 0 on the free DOFs. Returns
+    /// why there is none (a singular Jacobian, a non-finite step).
+    std::optional<std::string> newtonStep(const sim::MatX3& x, const Eigen::VectorXd& r,
+                                          Eigen::VectorXd& step) {
+        m_jacobian.setZero();
+        m_model.addJacobian(x, m_v, 1.0, 0.0, sim::JacobianMode::Exact, m_jacobian);
+        freeTriplets();
+        Eigen::SparseMatrix<double> K(m_freeCount, m_freeCount);
+        K.setFromTriplets(m_triplets.begin(), m_triplets.end());
+        K.makeCompressed();
+        m_lu.compute(K);
+        if (m_lu.info() != Eigen::Success) {
+            return "Newton: the Jacobian on the free degrees of freedom is singular";
+        }
+        step = m_lu.solve(-r);
+        if (!step.allFinite()) {
+            return "Newton: non-finite step";
+        }
+        return std::nullopt;
+    }
+
+    /// trial = x + alpha·step on the free DOFs.
+    void advance(const sim::MatX3& x, const Eigen::VectorXd& step, double alpha,
+                 sim::MatX3& trial) const {
+        trial = x;
+        for (int i = 0; i < m_n; ++i) {
+            for (int a = 0; a < 3; ++a) {
+                const int k = m_freeIndex[static_cast<std::size_t>(3 * i + a)];
+                if (k >= 0) {
+                    trial(i, a) += alpha * step[k];
+                }
+            }
+        }
+    }
+
+  private:
+    static std::vector<std::pair<int, int>> pattern(sim::ForceModel& model) {
+        std::vector<std::pair<int, int>> pairs;
+        model.jacobianPattern(pairs);
+        return pairs;
+    }
+    /// The Jacobian's entries on the free DOFs (nonzero ones) into m_triplets.
+    void freeTriplets() {
+        m_triplets.clear();
+        const std::vector<int>& rowStart = m_jacobian.rowStart();
+        const std::vector<int>& cols = m_jacobian.columns();
+        for (int bi = 0; bi < m_n; ++bi) {
+            for (int s = rowStart[static_cast<std::size_t>(bi)];
+                 s < rowStart[static_cast<std::size_t>(bi) + 1]; ++s) {
+                const int bj = cols[static_cast<std::size_t>(s)];
+                const sim::Mat3& b = m_jacobian.block(s);
+                for (int p = 0; p < 3; ++p) {
+                    const int row = m_freeIndex[static_cast<std::size_t>(3 * bi + p)];
+                    if (row < 0) {
+                        continue;
+                    }
+                    for (int q = 0; q < 3; ++q) {
+                        const int col = m_freeIndex[static_cast<std::size_t>(3 * bj + q)];
+                        if (col >= 0 && b(p, q) != 0.0) {
+                            m_triplets.emplace_back(row, col, b(p, q));
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    sim::ForceModel& m_model;
+    int m_n;
+    int m_pull;
+    std::vector<int> m_freeIndex;
+    int m_freeCount;
+    const std::vector<int>& m_pulledEdge;
+    const sim::MatX3 m_v; ///< velocities: zero (the test is static)
+    sim::MatX3 m_f;
+    sim::BlockSparseMatrix m_jacobian;
+    Eigen::SparseLU<Eigen::SparseMatrix<double>> m_lu;
+    std::vector<Eigen::Triplet<double>> m_triplets;
+};
+
+/// Where Newton's method on the strip stopped.
+struct NewtonState {
+    sim::MatX3 x;        ///< positions [m]
+    Eigen::VectorXd r;   ///< free residual [N]
+    double reaction = 0; ///< the pulled grip's reaction [N]
+    double norm = 0;     ///< |r|
+    int iterations = 0;
+    std::string error;
+};
+
+/// Backtracking on |r| from state s along `step`: the first step length that decreases it
+/// enough, into the trial state. False when the Newton direction does not decrease it (at the
+/// rounding floor, or stuck).
+bool lineSearch(StripEquilibrium& eq, const NewtonState& s, const Eigen::VectorXd& step,
+                NewtonState& trial) {
+    double alpha = 1.0;
+    trial.x = s.x;
+    trial.r.resize(eq.freeCount());
+    trial.reaction = 0;
+    trial.norm = s.norm;
+    for (int ls = 0; ls < 30; ++ls) {
+        eq.advance(s.x, step, alpha, trial.x);
+        eq.evaluate(trial.x, trial.r, trial.reaction);
+        trial.norm = trial.r.norm();
+        if (std::isfinite(trial.norm) && trial.norm < (1.0 - 1e-4 * alpha) * s.norm) {
+            break;
+        }
+        alpha *= 0.5;
+    }
+    return std::isfinite(trial.norm) && trial.norm < s.norm;
+}
+
+/// Newton's method with a backtracking line search from x until |r_free| <= tolerance·|reaction|,
+/// the iteration cap, or a failure (NewtonState::error).
+NewtonState solveEquilibrium(StripEquilibrium& eq, sim::MatX3 x, const TensionTestOptions& o) {
+    NewtonState s;
+    s.x = std::move(x);
+    s.r.resize(eq.freeCount());
+    eq.evaluate(s.x, s.r, s.reaction);
+    const auto converged = [&](double norm) {
+        return norm <= o.tolerance * std::max(std::abs(s.reaction), 1e-300);
+    };
+    s.norm = s.r.norm();
+    NewtonState trial;
+    Eigen::VectorXd step;
+    int it = 0;
+    for (; it < o.maxIterations && !converged(s.norm); ++it) {
+        if (auto error = eq.newtonStep(s.x, s.r, step)) {
+            s.error = *error;
+            break;
+        }
+        if (!lineSearch(eq, s, step, trial)) {
+            break;
+        }
+        s.x = trial.x;
+        s.r = trial.r;
+        s.reaction = trial.reaction;
+        s.norm = trial.norm;
+    }
+    s.iterations = it;
+    return s;
 }
 
 } // namespace
@@ -100,172 +332,33 @@ TensionTestResult runTensionTest(const TensionTestOptions& o) {
     result.triangles = mesh.triangleCount();
     const std::unique_ptr<sim::ForceModel> model = makeStretchModel(o, mesh);
 
-    // Boundary sets, by rest coordinate (makeRectangle keeps boundary vertices on the border).
-    const double eps = 1e-9 * std::max(o.length, o.width);
-    std::vector<int> fixedEdge, pulledEdge, lowSide, highSide;
-    for (int i = 0; i < n; ++i) {
-        if (rest(i, pull) < eps) {
-            fixedEdge.push_back(i);
-        }
-        if (rest(i, pull) > o.length - eps) {
-            pulledEdge.push_back(i);
-        }
-        if (rest(i, side) < eps) {
-            lowSide.push_back(i);
-        }
-        if (rest(i, side) > o.width - eps) {
-            highSide.push_back(i);
-        }
-    }
-    const int anchor = nearestAlong(rest, lowSide, pull, 0.0);
-    const int midLow = nearestAlong(rest, lowSide, pull, 0.5 * o.length);
-    const int midHigh = nearestAlong(rest, highSide, pull, 0.5 * o.length);
-
-    // DOF d = 3·vertex + axis; free DOFs get consecutive indices, held ones -1.
-    std::vector<int> freeIndex(static_cast<std::size_t>(3 * n), 0);
-    for (int i = 0; i < n; ++i) {
-        freeIndex[static_cast<std::size_t>(3 * i + 2)] = -1;
-    }
-    for (int i : fixedEdge) {
-        freeIndex[static_cast<std::size_t>(3 * i + pull)] = -1;
-    }
-    for (int i : pulledEdge) {
-        freeIndex[static_cast<std::size_t>(3 * i + pull)] = -1;
-    }
-    freeIndex[static_cast<std::size_t>(3 * anchor + side)] = -1;
+    const StripBoundary b = stripBoundary(rest, n, pull, side, o);
     int freeCount = 0;
-    for (int& f : freeIndex) {
-        if (f == 0) {
-            f = freeCount++;
-        }
-    }
-
+    std::vector<int> freeIndex = freeIndices(n, b, pull, side, freeCount);
     sim::MatX3 x = sim::MatX3::Zero(n, 3);
     for (int i = 0; i < n; ++i) {
         x(i, pull) = rest(i, pull) * (1.0 + o.strain);
         x(i, side) = rest(i, side);
     }
-    const sim::MatX3 v = sim::MatX3::Zero(n, 3);
-    sim::MatX3 f;
+    StripEquilibrium eq(*model, n, pull, std::move(freeIndex), freeCount, b.pulledEdge);
+    const NewtonState s = solveEquilibrium(eq, std::move(x), o);
 
-    // Forces, the free residual and the pulled grip's reaction at x.
-    Eigen::VectorXd r(freeCount);
-    const auto evaluate = [&](const sim::MatX3& xs, Eigen::VectorXd& res, double& reaction) {
-        f.setZero(n, 3);
-        model->addForces(xs, v, f);
-        for (int i = 0; i < n; ++i) {
-            for (int a = 0; a < 3; ++a) {
-                const int k = freeIndex[static_cast<std::size_t>(3 * i + a)];
-                if (k >= 0) {
-                    res[k] = f(i, a);
-                }
-            }
-        }
-        reaction = 0;
-        for (int i : pulledEdge) {
-            reaction -= f(i, pull); // the grip balances the internal force
-        }
-    };
-
-    std::vector<std::pair<int, int>> pairs;
-    model->jacobianPattern(pairs);
-    sim::BlockSparseMatrix jacobian(n, pairs);
-    Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
-    std::vector<Eigen::Triplet<double>> triplets;
-
-    double reaction = 0;
-    evaluate(x, r, reaction);
-    const auto converged = [&](double norm) {
-        return norm <= o.tolerance * std::max(std::abs(reaction), 1e-300);
-    };
-    double norm = r.norm();
-    int it = 0;
-    for (; it < o.maxIterations && !converged(norm); ++it) {
-        jacobian.setZero();
-        model->addJacobian(x, v, 1.0, 0.0, sim::JacobianMode::Exact, jacobian);
-        triplets.clear();
-        const std::vector<int>& rowStart = jacobian.rowStart();
-        const std::vector<int>& cols = jacobian.columns();
-        for (int bi = 0; bi < n; ++bi) {
-            for (int s = rowStart[static_cast<std::size_t>(bi)];
-                 s < rowStart[static_cast<std::size_t>(bi) + 1]; ++s) {
-                const int bj = cols[static_cast<std::size_t>(s)];
-                const sim::Mat3& b = jacobian.block(s);
-                for (int p = 0; p < 3; ++p) {
-                    const int row = freeIndex[static_cast<std::size_t>(3 * bi + p)];
-                    if (row < 0) {
-                        continue;
-                    }
-                    for (int q = 0; q < 3; ++q) {
-                        const int col = freeIndex[static_cast<std::size_t>(3 * bj + q)];
-                        if (col >= 0 && b(p, q) != 0.0) {
-                            triplets.emplace_back(row, col, b(p, q));
-                        }
-                    }
-                }
-            }
-        }
-        Eigen::SparseMatrix<double> K(freeCount, freeCount);
-        K.setFromTriplets(triplets.begin(), triplets.end());
-        K.makeCompressed();
-        lu.compute(K);
-        if (lu.info() != Eigen::Success) {
-            result.error = "Newton: the Jacobian on the free degrees of freedom is singular";
-            break;
-        }
-        // f(x + Δ) ≈ f + K Δ = 0.
-        const Eigen::VectorXd step = lu.solve(-r);
-        if (!step.allFinite()) {
-            result.error = "Newton: non-finite step";
-            break;
-        }
-        // Backtracking on |r|: accept the first step length that decreases it.
-        double alpha = 1.0;
-        sim::MatX3 trial = x;
-        Eigen::VectorXd trialR(freeCount);
-        double trialReaction = 0;
-        double trialNorm = norm;
-        for (int ls = 0; ls < 30; ++ls) {
-            trial = x;
-            for (int i = 0; i < n; ++i) {
-                for (int a = 0; a < 3; ++a) {
-                    const int k = freeIndex[static_cast<std::size_t>(3 * i + a)];
-                    if (k >= 0) {
-                        trial(i, a) += alpha * step[k];
-                    }
-                }
-            }
-            evaluate(trial, trialR, trialReaction);
-            trialNorm = trialR.norm();
-            if (std::isfinite(trialNorm) && trialNorm < (1.0 - 1e-4 * alpha) * norm) {
-                break;
-            }
-            alpha *= 0.5;
-        }
-        if (!(std::isfinite(trialNorm) && trialNorm < norm)) {
-            // No decrease along the Newton direction: at the rounding floor, or stuck.
-            break;
-        }
-        x = trial;
-        r = trialR;
-        reaction = trialReaction;
-        norm = trialNorm;
-    }
-
-    result.iterations = it;
-    result.reactionForce = reaction;
-    result.residual = norm / std::max(std::abs(reaction), 1e-300);
-    result.converged = converged(norm) && result.error.empty();
+    result.iterations = s.iterations;
+    result.reactionForce = s.reaction;
+    result.error = s.error;
+    result.residual = s.norm / std::max(std::abs(s.reaction), 1e-300);
+    result.converged =
+        s.norm <= o.tolerance * std::max(std::abs(s.reaction), 1e-300) && result.error.empty();
     if (!result.converged && result.error.empty()) {
         char buf[160];
         std::snprintf(buf, sizeof buf,
                       "Newton did not converge: relative residual %.3g after %d iterations",
-                      result.residual, it);
+                      result.residual, s.iterations);
         result.error = buf;
     }
-    result.measuredStretch = reaction / (o.width * o.strain);
-    const double widthNow = x(midHigh, side) - x(midLow, side);
-    const double restWidth = rest(midHigh, side) - rest(midLow, side);
+    result.measuredStretch = s.reaction / (o.width * o.strain);
+    const double widthNow = s.x(b.midHigh, side) - s.x(b.midLow, side);
+    const double restWidth = rest(b.midHigh, side) - rest(b.midLow, side);
     result.lateralStrain = widthNow / restWidth - 1.0;
     result.measuredPoisson = -result.lateralStrain / o.strain;
     return result;

@@ -1,5 +1,6 @@
 #include "sim/collision/bvh.h"
 
+#include "sim/collision/bvh_builder.h"
 #include "sim/core/parallel.h"
 
 #include <Eigen/Geometry>
@@ -9,17 +10,13 @@
 #include <cstdint>
 #include <limits>
 #include <numbers>
-#include <numeric>
+#include <utility>
 
 namespace atelier::sim {
 
 namespace {
 
 constexpr double PI = std::numbers::pi;
-/// Morton codes use this many bits per axis (3 × 21 = 63 bits).
-constexpr int MORTON_BITS = 21;
-/// Nodes in Morton order a node looks ahead at when components are joined by proximity.
-constexpr int JOIN_WINDOW = 8;
 /// Outward rounding of a merged cone's half-angle [rad], so that rounding never leaves a normal
 /// outside it (two exactly opposite flat layers must give a cone of at least π/2, never π/2
 /// minus an ulp, which the default culling angle would cull).
@@ -31,21 +28,6 @@ constexpr double NEAR_OPPOSITE = 1e-3;
 constexpr double AXIS_ROUNDING = 8 * std::numeric_limits<double>::epsilon();
 /// A triangle whose angle has a sine below this is degenerate: its normal is unknown.
 constexpr double DEGENERATE_SINE = 1e-10;
-
-double surfaceArea(const Aabb& b) {
-    const Vec3 d = (b.hi - b.lo).cwiseMax(Vec3::Zero());
-    return 2.0 * (d.x() * d.y() + d.y() * d.z() + d.z() * d.x());
-}
-
-Aabb merged(const Aabb& a, const Aabb& b) {
-    Aabb m = a;
-    m.add(b);
-    return m;
-}
-
-Vec3 centre(const Aabb& b) {
-    return 0.5 * (b.lo + b.hi);
-}
 
 /// Cone of a triangle's normal: zero half-angle around the unit normal, or "any direction"
 /// (half-angle π) when the triangle is degenerate up to rounding (the sine of its angle at `a`
@@ -217,125 +199,6 @@ void refitLeaf(SurfaceBvh::Node& node, const MatX3i& triangles, const MatX3& x0,
     node.cone = cone;
 }
 
-/// Spreads the low 21 bits of v so that there are two zero bits between consecutive ones.
-std::uint64_t spreadBits(std::uint64_t v) {
-    v &= 0x1fffffULL;
-    v = (v | v << 32) & 0x1f00000000ffffULL;
-    v = (v | v << 16) & 0x1f0000ff0000ffULL;
-    v = (v | v << 8) & 0x100f00f00f00f00fULL;
-    v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
-    v = (v | v << 2) & 0x1249249249249249ULL;
-    return v;
-}
-
-/// Indices 0..|centres|-1 sorted along the Morton (Z-order) curve of the points.
-std::vector<int> mortonOrder(const std::vector<Vec3>& centres) {
-    Aabb bounds;
-    for (const Vec3& c : centres) {
-        bounds.add(c);
-    }
-    const Vec3 extent = (bounds.hi - bounds.lo).cwiseMax(Vec3::Constant(1e-300));
-    const double cells = static_cast<double>((1 << MORTON_BITS) - 1);
-    std::vector<std::pair<std::uint64_t, int>> keyed(centres.size());
-    for (std::size_t i = 0; i < centres.size(); ++i) {
-        const Vec3 q = ((centres[i] - bounds.lo).array() / extent.array() * cells).matrix();
-        std::uint64_t code = 0;
-        for (int a = 0; a < 3; ++a) {
-            const double clamped = std::clamp(q[a], 0.0, cells);
-            code |= spreadBits(static_cast<std::uint64_t>(clamped)) << a;
-        }
-        keyed[i] = {code, static_cast<int>(i)};
-    }
-    std::sort(keyed.begin(), keyed.end());
-    std::vector<int> order(keyed.size());
-    for (std::size_t i = 0; i < keyed.size(); ++i) {
-        order[i] = keyed[i].second;
-    }
-    return order;
-}
-
-/// Undirected weighted graph in compressed rows: the neighbours of node i are
-/// nbr[begin[i] .. begin[i+1]) with the number of shared mesh edges in `weight`.
-struct Graph {
-    std::vector<int> begin;
-    std::vector<int> nbr;
-    std::vector<int> weight;
-    bool hasEdges() const { return !nbr.empty(); }
-};
-
-/// Graph of `n` nodes from undirected edges (a, b, weight), a != b; duplicates are merged
-/// (weights summed).
-Graph buildGraph(int n, std::vector<std::array<int, 3>>& edges) {
-    std::vector<std::array<int, 3>> directed;
-    directed.reserve(2 * edges.size());
-    for (const auto& e : edges) {
-        directed.push_back({e[0], e[1], e[2]});
-        directed.push_back({e[1], e[0], e[2]});
-    }
-    edges.clear();
-    std::sort(directed.begin(), directed.end(), [](const auto& p, const auto& q) {
-        return p[0] != q[0] ? p[0] < q[0] : p[1] < q[1];
-    });
-    Graph g;
-    g.begin.assign(static_cast<std::size_t>(n) + 1, 0);
-    g.nbr.reserve(directed.size());
-    g.weight.reserve(directed.size());
-    for (std::size_t k = 0; k < directed.size(); ++k) {
-        const auto& e = directed[k];
-        if (!g.nbr.empty() && k > 0 && directed[k - 1][0] == e[0] && directed[k - 1][1] == e[1]) {
-            g.weight.back() += e[2];
-            continue;
-        }
-        g.nbr.push_back(e[1]);
-        g.weight.push_back(e[2]);
-        ++g.begin[static_cast<std::size_t>(e[0]) + 1];
-    }
-    std::partial_sum(g.begin.begin(), g.begin.end(), g.begin.begin());
-    return g;
-}
-
-/// Triangle edge adjacency: triangles sharing an edge (all pairs on a non-manifold edge).
-Graph triangleAdjacency(const MatX3i& triangles) {
-    const int nt = static_cast<int>(triangles.rows());
-    std::vector<std::array<int, 3>> halfEdges; // (lower vertex, upper vertex, triangle)
-    halfEdges.reserve(3 * static_cast<std::size_t>(nt));
-    for (int t = 0; t < nt; ++t) {
-        for (int k = 0; k < 3; ++k) {
-            const int u = triangles(t, k);
-            const int v = triangles(t, (k + 1) % 3);
-            if (u != v) {
-                halfEdges.push_back({std::min(u, v), std::max(u, v), t});
-            }
-        }
-    }
-    std::sort(halfEdges.begin(), halfEdges.end());
-    std::vector<std::array<int, 3>> edges;
-    edges.reserve(halfEdges.size());
-    for (std::size_t s = 0; s < halfEdges.size();) {
-        std::size_t e = s + 1;
-        while (e < halfEdges.size() && halfEdges[e][0] == halfEdges[s][0] &&
-               halfEdges[e][1] == halfEdges[s][1]) {
-            ++e;
-        }
-        for (std::size_t i = s; i < e; ++i) {
-            for (std::size_t j = i + 1; j < e; ++j) {
-                if (halfEdges[i][2] != halfEdges[j][2]) {
-                    edges.push_back({halfEdges[i][2], halfEdges[j][2], 1});
-                }
-            }
-        }
-        s = e;
-    }
-    return buildGraph(nt, edges);
-}
-
-/// A group of 2 or 3 nodes of one level (local indices) that becomes one parent.
-struct Group {
-    std::array<int, 3> members{-1, -1, -1};
-    int size = 0;
-    Aabb box;
-};
-
 } // namespace
 
 NormalCone mergeCones(const NormalCone& a, const NormalCone& b) {
@@ -343,261 +206,13 @@ NormalCone mergeCones(const NormalCone& a, const NormalCone& b) {
 }
 
 SurfaceBvh::SurfaceBvh(const MatX3i& triangles, const MatX3& x) : m_triangles(triangles) {
-    const int nt = static_cast<int>(m_triangles.rows());
-    if (nt == 0) {
+    if (m_triangles.rows() == 0) {
         return;
     }
-    const int nv = m_triangles.maxCoeff() + 1;
-
-    // Number of distinct triangles on each vertex: a vertex is on the boundary of a patch when
-    // fewer of the patch's triangles are on it.
-    std::vector<int> trianglesOnVertex(static_cast<std::size_t>(nv), 0);
-    // Per entry of m_boundary: how many of the node's triangles are on that vertex.
-    std::vector<int> boundaryCount;
-    m_nodes.resize(static_cast<std::size_t>(nt));
-    m_boundary.reserve(6 * static_cast<std::size_t>(nt));
-    boundaryCount.reserve(6 * static_cast<std::size_t>(nt));
-    for (int t = 0; t < nt; ++t) {
-        std::array<int, 3> v{m_triangles(t, 0), m_triangles(t, 1), m_triangles(t, 2)};
-        std::sort(v.begin(), v.end());
-        const auto end = std::unique(v.begin(), v.end());
-        Node& node = m_nodes[static_cast<std::size_t>(t)];
-        node.triangle = t;
-        node.boundaryBegin = static_cast<int>(m_boundary.size());
-        for (auto it = v.begin(); it != end; ++it) {
-            ++trianglesOnVertex[static_cast<std::size_t>(*it)];
-            m_boundary.push_back(*it);
-            boundaryCount.push_back(1);
-            node.box.add(Vec3(x.row(*it).transpose()));
-        }
-        node.boundaryEnd = static_cast<int>(m_boundary.size());
-    }
-
-    // Appends the parent of 2 or 3 nodes; its boundary is the merge of the children's, less
-    // the vertices whose triangles are now all inside the patch.
-    std::vector<std::pair<int, int>> merging;
-    const auto addParent = [&](const std::array<int, 3>& children, int count) {
-        Node parent;
-        merging.clear();
-        for (std::size_t k = 0; k < static_cast<std::size_t>(count); ++k) {
-            const Node& child = m_nodes[static_cast<std::size_t>(children[k])];
-            parent.children[k] = children[k];
-            parent.box.add(child.box);
-            for (int i = child.boundaryBegin; i < child.boundaryEnd; ++i) {
-                merging.emplace_back(m_boundary[static_cast<std::size_t>(i)],
-                                     boundaryCount[static_cast<std::size_t>(i)]);
-            }
-        }
-        std::sort(merging.begin(), merging.end());
-        parent.boundaryBegin = static_cast<int>(m_boundary.size());
-        for (std::size_t i = 0; i < merging.size();) {
-            const int v = merging[i].first;
-            int inside = 0;
-            for (; i < merging.size() && merging[i].first == v; ++i) {
-                inside += merging[i].second;
-            }
-            if (inside < trianglesOnVertex[static_cast<std::size_t>(v)]) {
-                m_boundary.push_back(v);
-                boundaryCount.push_back(inside);
-            }
-        }
-        parent.boundaryEnd = static_cast<int>(m_boundary.size());
-        m_nodes.push_back(parent);
-        return static_cast<int>(m_nodes.size()) - 1;
-    };
-
-    std::vector<int> level(static_cast<std::size_t>(nt)); // node ids of the current level
-    std::iota(level.begin(), level.end(), 0);
-    Graph graph = triangleAdjacency(m_triangles);
-    std::vector<Vec3> centres;
-    std::vector<int> groupOf;
-    std::vector<Group> groups;
-    std::vector<int> nextOf;
-    std::vector<int> next;
-    std::vector<std::array<int, 3>> nextEdges;
-
-    // Turns the groups of the current level into parents; ungrouped nodes are carried up.
-    // Fills nextOf (local index → local index in the next level) and replaces `level`.
-    const auto promote = [&]() {
-        const std::size_t m = level.size();
-        next.clear();
-        nextOf.assign(m, -1);
-        for (const Group& g : groups) {
-            std::array<int, 3> ids{-1, -1, -1};
-            for (int k = 0; k < g.size; ++k) {
-                const auto local = static_cast<std::size_t>(g.members[static_cast<std::size_t>(k)]);
-                ids[static_cast<std::size_t>(k)] = level[local];
-                nextOf[local] = static_cast<int>(next.size());
-            }
-            next.push_back(addParent(ids, g.size));
-        }
-        for (std::size_t i = 0; i < m; ++i) {
-            if (nextOf[i] < 0) {
-                nextOf[i] = static_cast<int>(next.size());
-                next.push_back(level[i]);
-            }
-        }
-        level.swap(next);
-    };
-    const auto startLevel = [&]() {
-        const std::size_t m = level.size();
-        centres.resize(m);
-        for (std::size_t i = 0; i < m; ++i) {
-            centres[i] = centre(m_nodes[static_cast<std::size_t>(level[i])].box);
-        }
-        groupOf.assign(m, -1);
-        groups.clear();
-        return mortonOrder(centres);
-    };
-    const auto boxOf = [&](int local) -> const Aabb& {
-        return m_nodes[static_cast<std::size_t>(level[static_cast<std::size_t>(local)])].box;
-    };
-
-    // Levels of edge-adjacent grouping, until every remaining node is a connected component.
-    while (graph.hasEdges()) {
-        const std::vector<int> order = startLevel();
-        // Pair each node with its ungrouped neighbour giving the smallest merged box (ties: the
-        // one sharing more edges).
-        for (const int i : order) {
-            if (groupOf[static_cast<std::size_t>(i)] >= 0) {
-                continue;
-            }
-            int best = -1;
-            double bestArea = std::numeric_limits<double>::infinity();
-            int bestWeight = 0;
-            for (int k = graph.begin[static_cast<std::size_t>(i)];
-                 k < graph.begin[static_cast<std::size_t>(i) + 1]; ++k) {
-                const int j = graph.nbr[static_cast<std::size_t>(k)];
-                if (groupOf[static_cast<std::size_t>(j)] >= 0) {
-                    continue;
-                }
-                const double area = surfaceArea(merged(boxOf(i), boxOf(j)));
-                const int weight = graph.weight[static_cast<std::size_t>(k)];
-                if (area < bestArea || (area == bestArea && weight > bestWeight)) {
-                    best = j;
-                    bestArea = area;
-                    bestWeight = weight;
-                }
-            }
-            if (best >= 0) {
-                Group g;
-                g.members = {i, best, -1};
-                g.size = 2;
-                g.box = merged(boxOf(i), boxOf(best));
-                groupOf[static_cast<std::size_t>(i)] = static_cast<int>(groups.size());
-                groupOf[static_cast<std::size_t>(best)] = static_cast<int>(groups.size());
-                groups.push_back(g);
-            }
-        }
-        // A node left alone (all its neighbours grouped) joins a neighbouring pair as a third
-        // child, the one giving the smallest box; if every neighbouring group is full it is
-        // carried up.
-        for (const int i : order) {
-            if (groupOf[static_cast<std::size_t>(i)] >= 0) {
-                continue;
-            }
-            int best = -1;
-            double bestArea = std::numeric_limits<double>::infinity();
-            for (int k = graph.begin[static_cast<std::size_t>(i)];
-                 k < graph.begin[static_cast<std::size_t>(i) + 1]; ++k) {
-                const int g =
-                    groupOf[static_cast<std::size_t>(graph.nbr[static_cast<std::size_t>(k)])];
-                if (g < 0 || groups[static_cast<std::size_t>(g)].size != 2) {
-                    continue;
-                }
-                const double area =
-                    surfaceArea(merged(groups[static_cast<std::size_t>(g)].box, boxOf(i)));
-                if (area < bestArea) {
-                    best = g;
-                    bestArea = area;
-                }
-            }
-            if (best >= 0) {
-                Group& g = groups[static_cast<std::size_t>(best)];
-                g.members[2] = i;
-                g.size = 3;
-                g.box.add(boxOf(i));
-                groupOf[static_cast<std::size_t>(i)] = best;
-            }
-        }
-        promote();
-        // The next level's adjacency: the current one's edges between different parents.
-        nextEdges.clear();
-        for (std::size_t i = 0; i + 1 < graph.begin.size(); ++i) {
-            for (int k = graph.begin[i]; k < graph.begin[i + 1]; ++k) {
-                const auto j = static_cast<std::size_t>(graph.nbr[static_cast<std::size_t>(k)]);
-                if (i < j && nextOf[i] != nextOf[j]) {
-                    nextEdges.push_back(
-                        {nextOf[i], nextOf[j], graph.weight[static_cast<std::size_t>(k)]});
-                }
-            }
-        }
-        graph = buildGraph(static_cast<int>(level.size()), nextEdges);
-    }
-
-    const std::size_t firstJoin = m_nodes.size();
-    // Disconnected components: join nodes by proximity of their box centres, pairing each with
-    // the nearest of the next few ungrouped nodes along the Morton curve, until one root.
-    while (level.size() > 1) {
-        const std::vector<int> order = startLevel();
-        const std::size_t m = order.size();
-        int alone = -1;
-        for (std::size_t a = 0; a < m; ++a) {
-            const int i = order[a];
-            if (groupOf[static_cast<std::size_t>(i)] >= 0) {
-                continue;
-            }
-            int best = -1;
-            double bestDistance = std::numeric_limits<double>::infinity();
-            int looked = 0;
-            for (std::size_t b = a + 1; b < m && looked < JOIN_WINDOW; ++b) {
-                const int j = order[b];
-                if (groupOf[static_cast<std::size_t>(j)] >= 0) {
-                    continue;
-                }
-                ++looked;
-                const double d =
-                    (centres[static_cast<std::size_t>(i)] - centres[static_cast<std::size_t>(j)])
-                        .squaredNorm();
-                if (d < bestDistance) {
-                    best = j;
-                    bestDistance = d;
-                }
-            }
-            if (best < 0) {
-                alone = i; // only the last ungrouped node can be left alone
-                continue;
-            }
-            Group g;
-            g.members = {i, best, -1};
-            g.size = 2;
-            groupOf[static_cast<std::size_t>(i)] = static_cast<int>(groups.size());
-            groupOf[static_cast<std::size_t>(best)] = static_cast<int>(groups.size());
-            groups.push_back(g);
-        }
-        if (alone >= 0) { // join the pair with the nearest centre
-            int best = -1;
-            double bestDistance = std::numeric_limits<double>::infinity();
-            for (std::size_t g = 0; g < groups.size(); ++g) {
-                const Vec3 c = 0.5 * (centres[static_cast<std::size_t>(groups[g].members[0])] +
-                                      centres[static_cast<std::size_t>(groups[g].members[1])]);
-                const double d = (c - centres[static_cast<std::size_t>(alone)]).squaredNorm();
-                if (d < bestDistance) {
-                    best = static_cast<int>(g);
-                    bestDistance = d;
-                }
-            }
-            if (best >= 0) {
-                groups[static_cast<std::size_t>(best)].members[2] = alone;
-                groups[static_cast<std::size_t>(best)].size = 3;
-            }
-        }
-        promote();
-    }
-    for (std::size_t n = firstJoin; n < m_nodes.size(); ++n) {
-        m_nodes[n].connected = false;
-    }
-    storeDepthFirst(level.front());
+    BuiltSurfaceTree tree = buildSurfaceTree(m_triangles, x);
+    m_nodes = std::move(tree.nodes);
+    m_boundary = std::move(tree.boundary);
+    storeDepthFirst(tree.root);
     refit(x, nullptr, 0.0);
 }
 
@@ -666,7 +281,7 @@ void SurfaceBvh::refit(const MatX3& x0, const MatX3* x1, double margin, int vert
             }
             const Node& c0 = m_nodes[static_cast<std::size_t>(node.children[0])];
             const Node& c1 = m_nodes[static_cast<std::size_t>(node.children[1])];
-            Aabb box = merged(c0.box, c1.box);
+            Aabb box = c0.box.merged(c1.box);
             NormalCone cone = mergeConesInline(c0.cone, c1.cone);
             if (node.children[2] >= 0) {
                 const Node& c2 = m_nodes[static_cast<std::size_t>(node.children[2])];
@@ -844,7 +459,7 @@ void SurfaceBvh::overlaps(const SurfaceBvh& other, std::vector<std::pair<int, in
             return;
         }
         // Descend into the larger node (a leaf cannot be descended).
-        if (b.isLeaf() || (!a.isLeaf() && surfaceArea(a.box) >= surfaceArea(b.box))) {
+        if (b.isLeaf() || (!a.isLeaf() && a.box.surfaceArea() >= b.box.surfaceArea())) {
             for (const int c : a.children) {
                 if (c >= 0 && m_nodes[static_cast<std::size_t>(c)].box.overlaps(b.box)) {
                     stack.emplace_back(c, j);
@@ -904,7 +519,7 @@ void SurfaceBvh::selfOverlaps(std::vector<std::pair<int, int>>& out,
             found.emplace_back(std::min(a.triangle, b.triangle), std::max(a.triangle, b.triangle));
             return;
         }
-        if (b.isLeaf() || (!a.isLeaf() && surfaceArea(a.box) >= surfaceArea(b.box))) {
+        if (b.isLeaf() || (!a.isLeaf() && a.box.surfaceArea() >= b.box.surfaceArea())) {
             for (const int c : a.children) {
                 if (c >= 0 && m_nodes[static_cast<std::size_t>(c)].box.overlaps(b.box)) {
                     stack.emplace_back(c, j);
@@ -918,8 +533,8 @@ void SurfaceBvh::selfOverlaps(std::vector<std::pair<int, int>>& out,
             }
         }
     };
-    orderedTraversal({m_root, -1}, static_cast<std::int64_t>(m_nodes.size()) >= PARALLEL_GRAIN,
-                     out, expand);
+    orderedTraversal({m_root, -1}, static_cast<std::int64_t>(m_nodes.size()) >= PARALLEL_GRAIN, out,
+                     expand);
 }
 
 std::pair<int, TrianglePoint> SurfaceBvh::closestTriangle(const MatX3& x, const Vec3& p,

@@ -23,6 +23,19 @@ struct Aabb {
         lo = lo.cwiseMin(b.lo);
         hi = hi.cwiseMax(b.hi);
     }
+    /// The smallest box holding this one and b.
+    Aabb merged(const Aabb& b) const {
+        Aabb m = *this;
+        m.add(b);
+        return m;
+    }
+    /// Surface area [m²] (extents below zero count as zero).
+    double surfaceArea() const {
+        const Vec3 d = (hi - lo).cwiseMax(Vec3::Zero());
+        return 2.0 * (d.x() * d.y() + d.y() * d.z() + d.z() * d.x());
+    }
+    /// Centre [m].
+    Vec3 centre() const { return 0.5 * (lo + hi); }
     bool overlaps(const Aabb& b) const {
         return (lo.array() <= b.hi.array()).all() && (b.lo.array() <= hi.array()).all();
     }
@@ -50,14 +63,15 @@ struct SelfQueryOptions {
     double cullingAngle = 1.5707963267948966;
 };
 
-/// Hierarchy over one triangle mesh. Built once; `refit` moves it with the surface.
+/// Hierarchy over one triangle mesh. Built once (bvh_builder.h); `refit` moves it with the
+/// surface.
 class SurfaceBvh {
   public:
     struct Node {
         Aabb box;
         NormalCone cone;
         int children[3] = {-1, -1, -1}; ///< child nodes (2 or 3; -1 unused); all -1 for a leaf
-        int triangle = -1;               ///< leaf: its triangle
+        int triangle = -1;              ///< leaf: its triangle
         /// Range [boundaryBegin, boundaryEnd) in boundaryVertices(): the sorted vertices of
         /// the node's patch that are also on other triangles (for adjacency of nodes).
         int boundaryBegin = 0;
