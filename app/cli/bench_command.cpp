@@ -128,6 +128,7 @@ void addDrape(CLI::App& bench) {
         ->check(CLI::PositiveNumber);
     cmd->add_option("--time-limit", o->timeLimit, "Simulated time limit [s] (default: the project's)")
         ->check(CLI::PositiveNumber);
+    cmd->add_option("--dt", o->dt, "Step [s] (default: the project's)")->check(CLI::PositiveNumber);
     cmd->add_option("--threads,-j", o->threads, "Engine threads (default: all cores)")
         ->check(CLI::PositiveNumber);
     cmd->add_option("--reader-hz", o->readerHz,

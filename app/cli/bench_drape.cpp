@@ -84,6 +84,9 @@ int runDrapeBench(const DrapeBenchOptions& o) {
     if (o.timeLimit > 0) {
         project.drape.timeLimit = o.timeLimit;
     }
+    if (o.dt > 0) {
+        project.drape.dt = o.dt;
+    }
     if (o.threads > 0) {
         sim::setThreadCount(o.threads);
     }
@@ -160,7 +163,10 @@ int runDrapeBench(const DrapeBenchOptions& o) {
     j["step_median_s"] = quantile(0.5);
     j["step_p99_s"] = quantile(0.99);
     j["step_longest_s"] = stepSeconds.empty() ? 0.0 : stepSeconds.back();
+    j["dt_s"] = session.project().drape.dt;
     j["seam_gap_max_m"] = f.seamGapMax;
+    j["intersecting_triangle_pairs"] = session.simulation()->intersectingTrianglePairs();
+    j["largest_forced_weld_m"] = session.simulation()->stats().largestForcedWeld;
     const std::string text = j.dump(2) + "\n";
     if (o.out.empty()) {
         std::cout << text;
