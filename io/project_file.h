@@ -1,38 +1,42 @@
 #pragma once
-/// `.atelier` project files: a patterns::Project (body, garment, drape settings) as versioned
-/// JSON (`"format": "atelier-project"`, `"version": 1`).
+/// `.atelier` project files: a patterns::Project (body, garment document, drape settings) as
+/// versioned JSON (`"format": "atelier-project"`, `"version": 2`); docs/project-format.md
+/// describes both versions.
 ///
 /// Lengths in the file are millimetres and angles degrees (keys say so: `grain_deg`,
-/// `offset_mm`, outline points); body measurements are metres, other values SI. Inside, all is
-/// metres and radians. Saving writes the canonical form: every key in a fixed order, 2-space
-/// indent, a trailing newline, millimetre and degree values rounded to 1e-6, so that
-/// save → load → save gives the same bytes.
+/// `offset_mm`, points); body measurements are metres, other values SI. Inside, all is
+/// metres and radians. Saving writes the canonical form of version 2: every key in a fixed
+/// order, 2-space indent, a trailing newline, millimetre and degree values rounded to 1e-6, so
+/// that save → load → save gives the same bytes.
 ///
-/// Layout, in the order written:
+/// Version 2, in the order written:
 /// ```
-/// { "format": "atelier-project", "version": 1, "name": "tshirt",
+/// { "format": "atelier-project", "version": 2, "name": "tshirt",
 ///   "body": {"base": "female", "measurements": {"bust": 0.92}}     // or {"mesh": "body.obj"}
 ///   "materials": [{"name": "main", "fabric": "jersey-knit"}],       // a built-in preset, or
 ///                 // {"name": ..., "density_kg_per_m2": ..., ...}: the keys of scene materials
-///   "panels": [{"name": "front", "material": "main", "side": "front", "grain_deg": 90,
-///       "outline": [{"line": {"from": [x, y]}}, {"cubic": {"from": [..], "c1": [..],
-///                   "c2": [..]}}, {"quadratic": {"from": [..], "c1": [..]}},
-///                   {"arc": {"from": [..], "bulge": 0.3}}],  // each ends at the next "from"
-///       "holes": [[segments...]],
-///       "internal_lines": [{"fold_deg": 0, "segments": [{"line": {"from": [..], "to": [..]}}]}],
-///       "darts": [{"leg": 3}], "notches": [{"segment": 2, "t": 0.5}],
+///   "next_id": 15,                                                  // above every id
+///   "panels": [{"id": 1, "name": "front", "material": "main", "side": "front", "grain_deg": 90,
+///       "outline": [{"point": 2, "at": [x, y], "edge": 3, "curve": "line"},
+///                   {"point": 4, "at": [..], "edge": 5, "curve": "cubic", "c1": [..],
+///                    "c2": [..]},
+///                   {"point": 6, "at": [..], "edge": 7, "curve": "arc", "bulge": 0.3}],
+///                   // each corner once, with the edge from it to the next one
+///       "holes": [{"id": 8, "contour": [corners...]}],
+///       "internal_lines": [{"id": 9, "fold_deg": 0, "points": [{"point": 10, "at": [..],
+///           "edge": 11, "curve": "line"}, {"point": 12, "at": [..]}]}],  // the last: no edge
+///       "darts": [{"id": 13, "leg1": 3, "leg2": 5}],
+///       "notches": [{"id": 14, "edge": 3, "t": 0.5}],
 ///       "placement": {"slot": "torso_front", "offset_mm": [0, 0], "rotation_deg": 0,
 ///                     "clearance_mm": 20}}],
-///   "seams": [{"name": "side", "a": [{"panel": "front", "segment": 1, "t0": 0, "t1": 1}],
+///   "seams": [{"id": 15, "name": "side", "a": [{"panel": 1, "edge": 5, "t0": 0, "t1": 1}],
 ///              "b": [...]}],
 ///   "ease_tolerance_mm": 5,
-///   "simulation": {"particle_distance_mm": 10, "model": "fem", "integrator": "implicit-euler",
-///       "dt_s": 0.00333, "cloth_thickness_mm": 2, "self_collision": true,
-///       "body_thickness_mm": 2, "body_static_friction": 0.5, "body_kinetic_friction": 0.4,
-///       "seam_time_constant_s": 0.004, "seam_weld_distance_mm": 1,
-///       "rest_kinetic_energy_j": 1e-8, "rest_duration_s": 0.2, "time_limit_s": 5} }
+///   "simulation": {"particle_distance_mm": 10, "model": "fem", ...} }
 /// ```
-/// Absent optional keys take the defaults of patterns::Panel, Placement and DrapeSettings.
+/// Absent optional keys take the defaults of patterns::doc::Panel, Placement and DrapeSettings.
+/// A version-1 file (segments by index, seams by panel name) is read into a patterns::Garment
+/// and migrated with patterns::fromGarment, ids handed out in file order.
 
 #include "io/result.h"
 
@@ -45,25 +49,30 @@
 namespace atelier::io {
 
 /// The project file version this build reads and writes.
-inline constexpr int PROJECT_FORMAT_VERSION = 1;
+inline constexpr int PROJECT_FORMAT_VERSION = 2;
 
 /// Reads a project from JSON text; `file` names it in errors. Every key is checked: unknown
 /// keys, wrong types, non-finite or out-of-range numbers, unknown names (fabric presets,
 /// materials, sides, models, integrators) and duplicate names are errors naming the JSON
 /// pointer (`shirt.atelier: /panels/3/outline/2/cubic/c1: must be an array of two finite
-/// numbers`); then the garment goes through patterns::validateGarment, whose first issue
-/// becomes the error. Invalid JSON gives the line and column. The body mesh is not looked
-/// for (there is no directory to resolve it against): `loadProject` does that.
+/// numbers`). In version 2, ids must be unique over the document and below `next_id`, and
+/// every reference (dart legs, notch edges, seam panels and edges) must name an object of the
+/// right kind (`/seams/0/a/0/edge: panel "front" has no outline edge with id 99`). Then the
+/// garment goes through patterns::validateGarment, whose first issue becomes the error. Both
+/// `document` and `garment` of the result are filled. Invalid JSON gives the line and column.
+/// The body mesh is not looked for (there is no directory to resolve it against): `loadProject`
+/// does that.
 Result<patterns::Project> parseProject(std::string_view text, const std::string& file);
 
 /// Reads a project file. As `parseProject`, and a body mesh path is resolved against the
 /// project file's directory and must exist.
 Result<patterns::Project> loadProject(const std::filesystem::path& path);
 
-/// The canonical text of a project (see above). A material whose `material.name` is a
+/// The canonical version-2 text of `project.document` with the project's name, body and drape
+/// settings (`project.garment` is not read). A material whose `material.name` is a
 /// built-in preset and whose parameters equal that preset's is written as `"fabric": name`,
-/// any other with its full parameters. Loop segments are written by their start: each ends
-/// where the next starts. Non-finite values are written as `null` (which loading refuses).
+/// any other with its full parameters. Non-finite values are written as `null` (which loading
+/// refuses).
 std::string formatProject(const patterns::Project& project);
 
 /// Writes `formatProject(project)` to `path` atomically.

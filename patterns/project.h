@@ -2,6 +2,7 @@
 /// A garment project: the body, the garment and how to drape it. What a `.atelier` file holds
 /// (io/project_file reads and writes it).
 
+#include "patterns/document.h"
 #include "patterns/garment.h"
 
 #include "sim/scene.h"
@@ -76,12 +77,21 @@ struct DrapeSettings {
     double timeLimit = 5.0;    ///< simulated time after which the drape stops anyway [s]
 };
 
+/// The design (name, body, garment document) and the drape settings. The document is the
+/// source of truth: editing works on it and saving writes it. `garment` is the index-based
+/// form the mesher and the drape session take, `toGarment(document)`: loading fills both, and
+/// whoever edits `document` refreshes `garment` with `syncGarment`. What the drape session
+/// changes on its copy (a material's values, a redrawn panel, a placement) stays in `garment`.
 struct Project {
-    int version = 1;
+    int version = 2; ///< the file version it was read from (saving writes the newest)
     std::string name;
     BodySource body;
+    GarmentDocument document;
     Garment garment;
     DrapeSettings drape;
 };
+
+/// `project.garment = toGarment(project.document)`.
+inline void syncGarment(Project& project) { project.garment = toGarment(project.document); }
 
 } // namespace atelier::patterns

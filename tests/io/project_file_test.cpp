@@ -100,7 +100,7 @@ const char* const MINIMAL = R"({"format": "atelier-project", "version": 1,
     {"line": {"from": [0, 0]}}, {"line": {"from": [100, 0]}}, {"line": {"from": [0, 100]}}]}]})";
 const char* const MINIMAL_CANONICAL = R"({
   "format": "atelier-project",
-  "version": 1,
+  "version": 2,
   "name": "",
   "body": {
     "base": "female",
@@ -112,36 +112,41 @@ const char* const MINIMAL_CANONICAL = R"({
       "fabric": "cotton"
     }
   ],
+  "next_id": 8,
   "panels": [
     {
+      "id": 1,
       "name": "p",
       "material": "m",
       "side": "front",
       "grain_deg": 90,
       "outline": [
         {
-          "line": {
-            "from": [
-              0,
-              0
-            ]
-          }
+          "point": 2,
+          "at": [
+            0,
+            0
+          ],
+          "edge": 3,
+          "curve": "line"
         },
         {
-          "line": {
-            "from": [
-              100,
-              0
-            ]
-          }
+          "point": 4,
+          "at": [
+            100,
+            0
+          ],
+          "edge": 5,
+          "curve": "line"
         },
         {
-          "line": {
-            "from": [
-              0,
-              100
-            ]
-          }
+          "point": 6,
+          "at": [
+            0,
+            100
+          ],
+          "edge": 7,
+          "curve": "line"
         }
       ],
       "holes": [],
@@ -403,7 +408,7 @@ TEST(ProjectFile, MinimalProjectGetsDefaultsAndCanonicalText) {
 TEST(ProjectFile, FormatParseFormatIsByteIdentical) {
     const patterns::Project first = parse(FULL).value();
     const std::string text = formatProject(first);
-    EXPECT_EQ(text.rfind("{\n  \"format\": \"atelier-project\",\n  \"version\": 1,\n", 0), 0U);
+    EXPECT_EQ(text.rfind("{\n  \"format\": \"atelier-project\",\n  \"version\": 2,\n", 0), 0U);
     EXPECT_EQ(text.back(), '\n');
     const patterns::Project second = expectStableText(text);
     // Preset written back by name, inline material with its full parameters.
@@ -412,7 +417,7 @@ TEST(ProjectFile, FormatParseFormatIsByteIdentical) {
     EXPECT_EQ(doc["materials"][1].size(), 12U);
     EXPECT_EQ(doc["materials"][1]["density_kg_per_m2"], 0.08);
     // Outline points in millimetres, angles in degrees.
-    EXPECT_EQ(doc["panels"][0]["outline"][2]["cubic"]["c2"], json::parse("[100, 500]"));
+    EXPECT_EQ(doc["panels"][0]["outline"][2]["c2"], json::parse("[100, 500]"));
     EXPECT_EQ(doc["panels"][0]["grain_deg"], 80);
     EXPECT_EQ(doc["panels"][0]["internal_lines"][0]["fold_deg"], 45.5);
     EXPECT_EQ(doc["panels"][0]["placement"]["offset_mm"], json::parse("[10.5, -20]"));
@@ -423,7 +428,7 @@ TEST(ProjectFile, FormatParseFormatIsByteIdentical) {
         keys.push_back(key);
     }
     EXPECT_EQ(keys, (std::vector<std::string>{"format", "version", "name", "body", "materials",
-                                              "panels", "seams", "ease_tolerance_mm",
+                                              "next_id", "panels", "seams", "ease_tolerance_mm",
                                               "simulation"}));
     // Values survive the trip.
     EXPECT_EQ(second.body.measurements, first.body.measurements);
@@ -522,7 +527,7 @@ TEST(ProjectFile, BadValuesNameFileAndPath) {
     const std::vector<BadCase> cases = {
         {"format", fullWith("/format", "atelier-scene"), "/format", "expected \"atelier-project\""},
         {"format missing", fullWith("/format", removed()), "/", "missing required key \"format\""},
-        {"newer version", fullWith("/version", 2), "/version", "written by a newer Atelier"},
+        {"newer version", fullWith("/version", 3), "/version", "written by a newer Atelier"},
         {"version 0", fullWith("/version", 0), "/version", "unsupported version 0"},
         {"version type", fullWith("/version", "1"), "/version", "expected an integer"},
         {"name type", fullWith("/name", 3), "/name", "expected a string, found an integer"},
@@ -731,6 +736,7 @@ patterns::Project randomProject(std::mt19937& rng) {
     d.restKineticEnergy = between(1e-10, 1e-6);
     d.restDuration = between(0, 1);
     d.timeLimit = between(1, 10);
+    p.document = patterns::fromGarment(p.garment); // what is saved
     return p;
 }
 
@@ -804,8 +810,8 @@ TEST(ProjectFile, MillimetreValuesRoundedToMicrometres) {
     ASSERT_TRUE(parsed.ok()) << parsed.error().toString();
     const std::string formatted = formatProject(parsed.value());
     const json doc = json::parse(formatted);
-    EXPECT_EQ(doc["panels"][0]["outline"][1]["line"]["from"][0].dump(), "100.123457");
-    EXPECT_EQ(doc["panels"][0]["outline"][1]["line"]["from"][1].dump(), "0.1");
+    EXPECT_EQ(doc["panels"][0]["outline"][1]["at"][0].dump(), "100.123457");
+    EXPECT_EQ(doc["panels"][0]["outline"][1]["at"][1].dump(), "0.1");
     expectStableText(formatted);
 }
 
