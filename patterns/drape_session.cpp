@@ -104,9 +104,12 @@ Result<void> DrapeSession::prepare() {
         return r;
     }
     m_simulation.reset(); // a new drape: time starts at 0
+    m_pause = false;
+    m_cancel = false;
     m_timeOffset = 0;
     m_stepSecondsBefore = 0;
     m_sewnAt = -1;
+    m_sewingStart = 0;
     if (auto r = build(Start{}); !r.ok()) {
         return r;
     }
@@ -165,6 +168,8 @@ Result<void> DrapeSession::build(const Start& start) {
         m_sewnAt = m_sewnAt >= 0 ? m_sewnAt : m_timeOffset;
     } else {
         m_sewnAt = -1;
+        // The new simulation sews for what remains of the sewing that began then.
+        m_sewingStart = m_timeOffset - start.sewingElapsed;
     }
     m_phase = DrapePhase::Placing;
     return {};
@@ -211,9 +216,9 @@ DrapeStatus DrapeSession::finalStatus() const {
 
 void DrapeSession::afterStep() {
     sim::Simulation& s = *m_simulation;
-    const sim::RunStats& stats = s.stats();
     const sim::SceneSpec& scene = s.scene();
-    if (m_sewnAt < 0 && stats.sewingEndTime >= 0) {
+    if (m_sewnAt < 0 && s.sewingEndTime() >= 0) {
+        const sim::RunStats& stats = s.stats();
         m_sewnAt = m_timeOffset + stats.sewingEndTime;
         if (stats.largestForcedWeld > 0) {
             std::string seams;
@@ -246,7 +251,7 @@ void DrapeSession::afterStep() {
     m_kineticEnergyPerVertex = ke;
     // Rest counts after sewing: at its set end, or earlier once every seam is sewn.
     const double t = s.time();
-    const double sewn = stats.sewingEndTime;
+    const double sewn = s.sewingEndTime();
     const double sewingEnd = sewn >= 0 ? sewn : std::max(0.0, scene.seamWeldAllTime);
     const DrapeSettings& settings = m_project.drape;
     if (t >= sewingEnd - 1e-12 && ke < settings.restKineticEnergy) {
@@ -382,7 +387,7 @@ Result<void> DrapeSession::continueDrape(const std::string& why) {
             m_simulation->positions().middleRows(offsets[p], offsets[p + 1] - offsets[p]));
     }
     start.sewn = m_sewnAt >= 0;
-    start.sewingElapsed = start.sewn ? 0.0 : m_simulation->time();
+    start.sewingElapsed = start.sewn ? 0.0 : time() - m_sewingStart;
     if (auto r = build(start); !r.ok()) {
         return r;
     }
@@ -392,13 +397,25 @@ Result<void> DrapeSession::continueDrape(const std::string& why) {
 
 Result<void> DrapeSession::setDrapeSettings(const DrapeSettings& settings) {
     const bool remesh = settings.particleDistance != m_project.drape.particleDistance;
+    const DrapeSettings previous = m_project.drape;
     m_project.drape = settings;
     if (!remesh) {
-        return continueDrape("drape settings changed");
+        if (auto r = continueDrape("drape settings changed"); !r.ok()) {
+            m_project.drape = previous;
+            return r;
+        }
+        return {};
     }
     m_meshValid = false;
     if (!m_simulation) {
         return {};
+    }
+    GarmentMesh mesh = m_mesh;
+    if (auto r = ensureMesh(); !r.ok()) {
+        m_project.drape = previous;
+        m_mesh = std::move(mesh);
+        m_meshValid = true;
+        return r; // the drape goes on as it was
     }
     if (auto r = prepare(); !r.ok()) {
         return r;
@@ -410,8 +427,13 @@ Result<void> DrapeSession::setDrapeSettings(const DrapeSettings& settings) {
 Result<void> DrapeSession::setMaterial(const std::string& name, const sim::Material& material) {
     for (GarmentMaterial& m : m_project.garment.materials) {
         if (m.name == name) {
+            const sim::Material previous = m.material;
             m.material = material;
-            return continueDrape("material \"" + name + "\" changed");
+            auto r = continueDrape("material \"" + name + "\" changed");
+            if (!r.ok()) {
+                m.material = previous; // the drape goes on as it was
+            }
+            return r;
         }
     }
     return sessionError("no material \"" + name + "\"");
@@ -423,21 +445,32 @@ Result<void> DrapeSession::setPanel(std::size_t index, Panel panel) {
     }
     const GarmentMesh before = m_mesh;
     const std::vector<int> offsets = m_assembled.panelOffsets;
+    const Panel previous = m_project.garment.panels[index];
     m_project.garment.panels[index] = std::move(panel);
     m_meshValid = false;
     if (!m_simulation) {
         return {};
     }
-    if (auto r = ensureMesh(); !r.ok()) {
+    // On failure the drape stays as it was, with the panel it was made of.
+    const auto rollback = [&](Result<void> r) {
+        m_project.garment.panels[index] = previous;
+        m_mesh = before;
+        m_meshValid = true;
         return r;
+    };
+    if (auto r = ensureMesh(); !r.ok()) {
+        return rollback(r);
     }
     // Panels whose mesh is the same keep their draped positions; the others are placed again.
     Start start;
     int kept = 0;
     for (std::size_t p = 0; p < m_mesh.panels.size(); ++p) {
+        const auto equal = [](const auto& a, const auto& b) {
+            return a.rows() == b.rows() && a.cols() == b.cols() && a == b;
+        };
         const bool same = p < before.panels.size() && p + 1 < offsets.size() &&
-                          before.panels[p].rest == m_mesh.panels[p].rest &&
-                          before.panels[p].triangles == m_mesh.panels[p].triangles;
+                          equal(before.panels[p].rest, m_mesh.panels[p].rest) &&
+                          equal(before.panels[p].triangles, m_mesh.panels[p].triangles);
         start.positions.push_back(
             same ? sim::MatX3(m_simulation->positions().middleRows(offsets[p],
                                                                    offsets[p + 1] - offsets[p]))
@@ -445,7 +478,7 @@ Result<void> DrapeSession::setPanel(std::size_t index, Panel panel) {
         kept += same ? 1 : 0;
     }
     if (auto r = build(start); !r.ok()) {
-        return r;
+        return rollback(r);
     }
     raise(DrapeEvent::Kind::Restarted,
           "panel \"" + m_project.garment.panels[index].name + "\" edited: " +
@@ -458,6 +491,7 @@ Result<void> DrapeSession::placePanel(std::size_t index, const Placement& placem
     if (index >= m_project.garment.panels.size()) {
         return sessionError("no panel " + std::to_string(index));
     }
+    const Placement previous = m_project.garment.panels[index].placement;
     m_project.garment.panels[index].placement = placement;
     if (!m_simulation) {
         return {};
@@ -470,6 +504,7 @@ Result<void> DrapeSession::placePanel(std::size_t index, const Placement& placem
                                                    offsets[p], offsets[p + 1] - offsets[p])));
     }
     if (auto r = build(start); !r.ok()) {
+        m_project.garment.panels[index].placement = previous;
         return r;
     }
     raise(DrapeEvent::Kind::Restarted, "panel \"" + m_project.garment.panels[index].name +

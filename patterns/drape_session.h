@@ -139,6 +139,9 @@ class DrapeSession {
     sim::SnapshotBuffer& snapshots() { return m_snapshots; }
 
     // ---- Edits that keep the drape (as commercial tools do) ----
+    // Each builds a new simulation from the current positions: velocities, grabs, pins and
+    // obstacle poses made through simulation() do not carry over (a window grabs again).
+    // A failed edit leaves the project and the drape as they were.
 
     /// New drape settings. A new particle distance re-meshes and starts again; anything else
     /// continues from the current drape.
@@ -202,6 +205,7 @@ class DrapeSession {
     double m_restSince = -1;     ///< drape time since which the energy has stayed low [s]
     double m_restTime = -1;
     double m_sewnAt = -1;
+    double m_sewingStart = 0;    ///< drape time at which the current sewing began [s]
     double m_gravityAt = -1;     ///< simulation time gravity starts (from its scene) [s]
     bool m_gravityRaised = false;
     bool m_timeLimit = false;

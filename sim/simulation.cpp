@@ -264,8 +264,9 @@ void Simulation::Impl::accelerations(double time, const MatX3& xs, const MatX3& 
         }
     }
     for (const Drive& drive : scene.drives) {
-        if (drive.followTimeConstant <= 0 || !driveActive(drive, t)) {
-            continue;
+        if (drive.followTimeConstant <= 0 || !driveActive(drive, t) ||
+            pinned[static_cast<std::size_t>(drive.vertex)]) {
+            continue; // a pin holds the vertex, whatever drives it
         }
         const PathSample p = samplePath(drive, time);
         const double tau = drive.followTimeConstant;
@@ -535,7 +536,8 @@ bool Simulation::Impl::implicitStep(double h) {
     // Tracker-following drives: their velocity change is imposed, from the backward-Euler
     // form of the critically damped law (stable for any h/τ).
     for (const Drive& d : scene.drives) {
-        if (d.followTimeConstant > 0 && driveActive(d, t)) {
+        if (d.followTimeConstant > 0 && driveActive(d, t) &&
+            !pinned[static_cast<std::size_t>(d.vertex)]) {
             const double tau = d.followTimeConstant;
             const PathSample p = samplePath(d, t + h);
             const Vec3 xi = x.row(d.vertex).transpose();
@@ -713,7 +715,9 @@ void Simulation::Impl::weldAfterStep() {
             baseEnergyInput += std::max(0.0, elasticAfter - elasticBefore);
         }
     }
-    if (!scene.seams.empty()) {
+    // Every change of the figures welds or defers a pair: copy them only then.
+    if (weldFigures.weldedPairs != stats.weldedSeamPairs ||
+        weldFigures.deferred != stats.deferredWelds) {
         stats.weldedSeamPairs = weldFigures.weldedPairs;
         stats.largestForcedWeld = weldFigures.largestForced;
         stats.deferredWelds = weldFigures.deferred;
@@ -844,11 +848,17 @@ RunStatus Simulation::Impl::stepToFrame(double until, bool& frameDone) {
         const double nextFrame = std::min(until, static_cast<double>(frameIndex + 1) * frame);
         frameTarget = t + (nextFrame - t);
     }
+    if (until < frameTarget) {
+        frameTarget = t + (until - t); // a nearer end than the frame's, asked for now
+    }
     const double eps = 1e-12 * std::max(1.0, frameTarget);
     if (t < frameTarget - eps && !step(frameTarget - t)) {
         stats.error = error;
         stats.finite = x.allFinite() && v.allFinite();
         return RunStatus::Failed;
+    }
+    if (!posedObstacles.empty()) {
+        settlePosedObstacles();
     }
     if (t >= frameTarget - eps) {
         t = std::max(t, frameTarget);
@@ -901,6 +911,7 @@ bool Simulation::atFrame() const { return !(m_impl->frameTarget >= 0); }
 long Simulation::frameIndex() const { return m_impl->frameIndex; }
 
 double Simulation::time() const { return m_impl->t; }
+double Simulation::sewingEndTime() const { return m_impl->stats.sewingEndTime; }
 const MatX3& Simulation::positions() const { return m_impl->x; }
 const MatX3& Simulation::velocities() const { return m_impl->v; }
 const VecX& Simulation::masses() const { return m_impl->mass; }

@@ -115,9 +115,10 @@ class Simulation {
     bool pinned(int vertex) const;
     /// Moves obstacle k to the rigid pose world = R(rotation)·local + translation (rotation
     /// vector [rad], translation [m]), reached `duration` [s] of simulated time from now
-    /// (≤ 0: at the end of the next step) along a straight path that the continuous collision
-    /// detection sweeps, so the cloth is pushed, not passed through. Replaces the obstacle's
-    /// keys or frames. False for an unknown obstacle.
+    /// (≤ 0: one nominal step, dtNext, from now) along a straight path that the continuous
+    /// collision detection sweeps, so the cloth is pushed, not passed through; steps end on
+    /// its arrival, after which it is static again. Replaces the obstacle's keys or frames.
+    /// False for an unknown obstacle.
     bool setObstaclePose(int k, const Vec3& translation, const Vec3& rotation,
                          double duration = 0);
     /// The same with every vertex's world position given (|V_k|×3) [m] (a body in another pose).
@@ -134,6 +135,8 @@ class Simulation {
     void publishTo(SnapshotBuffer* buffer);
 
     double time() const;
+    /// RunStats::sewingEndTime without refreshing the other figures (cheap, for every step).
+    double sewingEndTime() const;
     const MatX3& positions() const;  ///< (|V|×3) over all cloths [m]
     const MatX3& velocities() const; ///< (|V|×3) [m/s]
     const VecX& masses() const;      ///< (|V|) [kg]

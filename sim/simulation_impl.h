@@ -116,7 +116,10 @@ struct Simulation::Impl {
 
     // Touched between steps (simulation_interaction.cpp).
     std::vector<detail::Grab> grabs;
-    int nextGrabId = 1;
+    /// Obstacles moved by setObstacleFrame/Pose that have not arrived yet.
+    std::vector<int> posedObstacles;
+    /// Makes the posed obstacles that have arrived static again.
+    void settlePosedObstacles();
     MatX3i clothTriangles; ///< (|F|×3) global triangles of all cloths, built on first use
     SnapshotBuffer* snapshots = nullptr; ///< where snapshots are published, if anywhere
     /// Per obstacle: the version of its positions (Snapshot::obstacleVersions) and its

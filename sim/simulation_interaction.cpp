@@ -18,7 +18,26 @@ namespace {
 /// Versions of obstacle positions, unique across simulations (a snapshot buffer outlives the
 /// simulations that publish into it).
 std::atomic<std::uint64_t> g_obstacleVersions{0};
+std::atomic<int> g_grabIds{0};
 } // namespace
+
+void Simulation::Impl::settlePosedObstacles() {
+    for (auto it = posedObstacles.begin(); it != posedObstacles.end();) {
+        ObstacleSpec& o = scene.obstacles[static_cast<std::size_t>(*it)];
+        if (t < o.frameTimes.back() - 1e-12) {
+            ++it;
+            continue;
+        }
+        // Arrived: static again where it is (one frame), so its hierarchy and hull are fitted
+        // once more and snapshots stop re-sending it.
+        o.frames.erase(o.frames.begin(), o.frames.end() - 1);
+        o.frameTimes.erase(o.frameTimes.begin(), o.frameTimes.end() - 1);
+        collision->obstacleMotionChanged(static_cast<std::size_t>(*it));
+        obstacleVersion.resize(std::max(obstacleVersion.size(), scene.obstacles.size()), 0);
+        obstacleVersion[static_cast<std::size_t>(*it)] = ++g_obstacleVersions;
+        it = posedObstacles.erase(it);
+    }
+}
 
 const MatX3i& Simulation::Impl::globalTriangles() {
     if (clothTriangles.rows() == 0) {
@@ -121,7 +140,7 @@ int Simulation::grab(const ClothPoint& point, const Vec3& target, double timeCon
     if (!any) {
         return 0;
     }
-    g.id = s.nextGrabId++;
+    g.id = ++g_grabIds; // unique across simulations: a stale handle never finds another grab
     s.grabs.push_back(g);
     s.updateHeld();
     return g.id;
@@ -188,7 +207,7 @@ bool Simulation::unpin(int vertex) {
         return false;
     }
     s.pinned[static_cast<std::size_t>(vertex)] = 0;
-    s.scene.pins.erase(std::find(s.scene.pins.begin(), s.scene.pins.end(), vertex));
+    std::erase(s.scene.pins, vertex); // a scene may list a vertex twice
     s.updateHeld();
     return true;
 }
@@ -214,6 +233,7 @@ bool Simulation::setObstacleFrame(int k, const MatX3& world, double duration) {
     o.frames = {s.collision->obstaclePositions(k), world};
     o.keys.clear();
     s.collision->obstacleMotionChanged(static_cast<std::size_t>(k));
+    s.posedObstacles.push_back(k);
     return true;
 }
 

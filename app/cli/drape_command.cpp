@@ -196,14 +196,21 @@ int runDrape(const DrapeOptions& options) {
         std::fprintf(stderr, "drape: not at rest after the time limit (%.2f s simulated)\n",
                      f.time);
     }
-    for (const patterns::DrapeEvent& e : session.takeEvents()) {
-        if (e.kind == patterns::DrapeEvent::Kind::ForcedWelds &&
-            simulation.stats().largestForcedWeld > 0.005) {
-            std::fprintf(stderr,
-                         "warning: %s (a longer sewing_time_s, panels placed closer, or more "
-                         "ease where the garment is tight)\n",
-                         e.message.c_str());
+    std::string seams; // the seams welded more than 5 mm apart when sewing ended
+    for (const patterns::ForcedWeld& w : f.forcedWelds) {
+        if (w.widest > 0.005) {
+            char part[160];
+            std::snprintf(part, sizeof part, "%s%s %.1f mm (%d pairs)", seams.empty() ? "" : ", ",
+                          w.seam.c_str(), 1000 * w.widest, w.pairs);
+            seams += part;
         }
+    }
+    if (!seams.empty()) {
+        std::fprintf(stderr,
+                     "warning: sewing did not close every seam in %.2f s; welded at its end, "
+                     "widest pair per seam: %s (a longer sewing_time_s, panels placed closer, "
+                     "or more ease where the garment is tight)\n",
+                     session.project().drape.sewingTime, seams.c_str());
     }
     std::fprintf(stderr,
                  "drape: %s at t = %.2f s in %.1f s wall; seam gap max %.2e m, area ratio "

@@ -14,7 +14,12 @@ namespace {
 
 std::atomic<bool> g_interrupted{false};
 
-extern "C" void onInterrupt(int /*signal*/) { g_interrupted.store(true); }
+/// The first Ctrl-C stops the run after the current step; a second one ends the program at
+/// once (the default action), for a preparation or a write that takes too long.
+extern "C" void onInterrupt(int /*signal*/) {
+    g_interrupted.store(true);
+    std::signal(SIGINT, SIG_DFL);
+}
 
 } // namespace
 

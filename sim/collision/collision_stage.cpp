@@ -13,6 +13,7 @@
 #include "sim/collision/seam_routing.h"
 
 #include <algorithm>
+#include <limits>
 
 namespace atelier::sim {
 
@@ -65,9 +66,12 @@ void CollisionStage::detectObstacle(std::size_t k, double h, const MatX3& xs, co
 
 void CollisionStage::obstacleMotionChanged(std::size_t k) {
     ObstacleData& o = m_obstacles[k];
-    o.moves = true;
+    o.moves = obstacleMoves(*o.spec);
     o.fittedMargin = -1.0;
     o.hullFitted = false;
+    // Distances kept for a static obstacle belong to where it was.
+    std::fill(o.distanceValue.begin(), o.distanceValue.end(),
+              std::numeric_limits<double>::quiet_NaN());
 }
 
 void CollisionStage::update(double t0, double t1, const MatX3& xs, MatX3& xe, MatX3& ve,

@@ -106,7 +106,7 @@ class CollisionStage {
     const std::vector<Contact>& contacts() const { return m_contacts; }
     const CollisionFigures& figures() const { return m_figures; }
     /// The motion of obstacle k (its keys or frames in the scene) was changed between steps:
-    /// from now on it is treated as moving (hierarchy, hull and distances taken anew).
+    /// whether it moves is taken anew, and its hierarchy, hull and distances are refitted.
     void obstacleMotionChanged(std::size_t k);
     /// Whether obstacle k moves (its positions may change at every step).
     bool obstacleMoving(std::size_t k) const { return m_obstacles[k].moves; }

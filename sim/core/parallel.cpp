@@ -5,6 +5,7 @@
 #include <condition_variable>
 #include <exception>
 #include <mutex>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -18,7 +19,8 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-/// Default spin before sleeping [µs]: see spinMicroseconds() and docs/benchmarks.md ("Threads").
+/// Default spin before sleeping [µs]: see spinMicroseconds() and
+/// docs/decisions/017-engine-thread-pool.md.
 constexpr int DEFAULT_SPIN_US = 50;
 /// Threads a loop can use (the helper count is packed in 8 bits).
 constexpr int MAX_THREADS = 256;
@@ -95,18 +97,34 @@ class Pool {
     void setSpin(int us) { m_spinUs.store(us < 0 ? DEFAULT_SPIN_US : us); }
 
     void run(std::int64_t tasks, void (*task)(void*, std::int64_t), void* context) {
-        std::unique_lock region(m_region, std::try_to_lock);
-        const int helpers = static_cast<int>(
-            std::min<std::int64_t>(threads() - 1, tasks - 1));
-        if (t_inLoop || !region.owns_lock() || helpers < 1) {
+        const auto serial = [&] {
             for (std::int64_t k = 0; k < tasks; ++k) {
                 task(context, k);
             }
+        };
+        int helpers = static_cast<int>(std::min<std::int64_t>(threads() - 1, tasks - 1));
+        if (t_inLoop || helpers < 1) {
+            serial(); // checked before the lock: this thread may hold it already
             return;
         }
-        while (static_cast<int>(m_workers.size()) < helpers) {
-            const int index = static_cast<int>(m_workers.size()) + 1;
-            m_workers.emplace_back([this, index] { workerLoop(index); });
+        std::unique_lock region(m_region, std::try_to_lock);
+        if (!region.owns_lock()) {
+            serial(); // another thread's loop has the pool
+            return;
+        }
+        try {
+            while (static_cast<int>(m_workers.size()) < helpers) {
+                const int index = static_cast<int>(m_workers.size()) + 1;
+                m_workers.emplace_back([this, index] { workerLoop(index); });
+            }
+        } catch (const std::system_error&) {
+            // No more threads to be had: run with those there are.
+            helpers = static_cast<int>(m_workers.size());
+            if (helpers < 1) {
+                region.unlock();
+                serial();
+                return;
+            }
         }
         m_task = task;
         m_context = context;

@@ -5,7 +5,7 @@
 /// futex, so an engine that shares its cores with a window, a compositor or another job never
 /// keeps them busy while it has nothing to do (OpenMP's default waiting spins for about a
 /// millisecond per loop, which on a loaded 2-core machine made the 10 mm tshirt drape 7× slower:
-/// docs/decisions/006-thread-pool-that-sleeps.md). Loops write per index or per chunk, so results
+/// docs/decisions/017-engine-thread-pool.md). Loops write per index or per chunk, so results
 /// are the same bits for any number of threads. With ATELIER_THREADS=OFF everything runs
 /// serially.
 

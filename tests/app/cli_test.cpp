@@ -102,30 +102,37 @@ TEST(Cli, MissingSceneAndBadArguments) {
 
 /// Ctrl-C (SIGINT, sent by `timeout` after `seconds`) stops a run between steps: exit 130, the
 /// state so far written with its report.
-void expectInterruptedRunWritesItsState(const test::TempDir& dir, const std::string& args,
-                                        double seconds) {
+nlohmann::json expectInterruptedRunWritesItsState(const test::TempDir& dir,
+                                                 const std::string& args, double seconds) {
     const auto out = dir / "out.obj";
     const auto report = dir / "report.json";
     const CliRun run = runCli(
         dir, args + " --out \"" + out.string() + "\" --report \"" + report.string() + "\"",
         "timeout --preserve-status -s INT " + std::to_string(seconds) + " ");
     EXPECT_EQ(run.exitCode, 130) << run.stderrText;
-    ASSERT_TRUE(std::filesystem::exists(report)) << run.stderrText;
+    EXPECT_TRUE(std::filesystem::exists(report)) << run.stderrText;
+    if (!std::filesystem::exists(report)) {
+        return {};
+    }
     EXPECT_TRUE(std::filesystem::exists(out)) << run.stderrText;
     const auto r = nlohmann::json::parse(test::readText(report));
     EXPECT_EQ(r["status"], "cancelled");
     EXPECT_EQ(r["exit_code"], 130);
+    return r;
 }
 
 TEST(Cli, CtrlCStopsASimulationBetweenFramesFarApart) {
-    // One output frame every 2 s of simulated time and 1000 s to go: the run stops at the
-    // next step, not at the next frame.
+    // One output frame every 10000 s of simulated time and no end in sight: the run stops at
+    // the next step, not at the next frame (which it would not reach for minutes).
     test::TempDir dir;
     std::string scene = TINY_SCENE;
-    scene.replace(scene.find("\"duration\": 0.05"), 16, "\"duration\": 1000");
-    scene.replace(scene.find("\"frame_rate\": 100"), 17, "\"frame_rate\": 0.5");
+    scene.replace(scene.find("\"duration\": 0.05"), 16, "\"duration\": 1000000");
+    scene.replace(scene.find("\"frame_rate\": 100"), 17, "\"frame_rate\": 0.0001");
     const auto path = dir.write("long.json", scene);
-    expectInterruptedRunWritesItsState(dir, "simulate \"" + path.string() + "\"", 1.0);
+    const auto r = expectInterruptedRunWritesItsState(dir, "simulate \"" + path.string() + "\"", 1.0);
+    ASSERT_TRUE(r["sim_time_s"].is_number()) << r;
+    EXPECT_GT(r["sim_time_s"].get<double>(), 0.0);
+    EXPECT_LT(r["sim_time_s"].get<double>(), 10000.0) << "stopped before the first frame";
 }
 
 TEST(Cli, CtrlCStopsADrapeAndWritesTheDrapeSoFar) {

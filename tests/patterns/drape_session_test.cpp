@@ -100,7 +100,9 @@ TEST(DrapeSession, PhasesAndEventsOfASewnBand) {
     EXPECT_EQ(f.session.phase(), DrapePhase::Empty);
     ASSERT_TRUE(f.session.prepare().ok());
     EXPECT_EQ(f.session.phase(), DrapePhase::Placing);
-    EXPECT_EQ(f.session.figures().seamPairs, f.session.figures().seamPairs);
+    EXPECT_EQ(f.session.figures().seamPairs,
+              static_cast<long>(f.session.simulation()->scene().seams.size()));
+    EXPECT_GT(f.session.figures().seamPairs, 0);
     EXPECT_EQ(f.session.step(), DrapeStatus::Running);
     EXPECT_EQ(f.session.phase(), DrapePhase::Sewing);
     const DrapeStatus end = f.session.runUntil();
@@ -205,6 +207,44 @@ TEST(DrapeSession, NewMaterialContinuesFromTheCurrentDrape) {
     EXPECT_EQ(f.session.simulation()->scene().cloths[0].material.density, 0.3);
     ASSERT_EQ(f.session.advance(0.05), DrapeStatus::Running);
     EXPECT_EQ(f.session.figures().seamGapMax, 0.0) << "sewn seams stay sewn";
+}
+
+TEST(DrapeSession, EditsDuringSewingKeepItsClock) {
+    // A slider dragged while the seams close: many edits, and sewing still ends (by itself or
+    // at its set time, 0.3 s after the start), with gravity on after it.
+    Fixture f;
+    ASSERT_TRUE(f.session.prepare().ok());
+    sim::Material m = f.session.project().garment.materials[0].material;
+    for (int k = 0; k < 8; ++k) {
+        ASSERT_EQ(f.session.advance(0.05), DrapeStatus::Running);
+        m.density = 0.15 + 0.01 * k;
+        ASSERT_TRUE(f.session.setMaterial("cotton", m).ok());
+    }
+    EXPECT_GE(f.session.time(), 0.4 - 1e-9);
+    EXPECT_GE(f.session.figures().sewnAt, 0.0) << "sewing ended";
+    EXPECT_LE(f.session.figures().sewnAt, 0.3 + 0.02);
+    EXPECT_EQ(f.session.phase(), DrapePhase::Placing);
+    EXPECT_EQ(f.session.step(), DrapeStatus::Running);
+    EXPECT_EQ(f.session.phase(), DrapePhase::Settling);
+}
+
+TEST(DrapeSession, NewSettingsContinueANewParticleDistanceStartsAgain) {
+    Fixture f;
+    ASSERT_TRUE(f.session.prepare().ok());
+    ASSERT_EQ(f.session.advance(0.2), DrapeStatus::Running);
+    DrapeSettings settings = f.session.project().drape;
+    settings.bodyStaticFriction = 0.7;
+    ASSERT_TRUE(f.session.setDrapeSettings(settings).ok());
+    EXPECT_NEAR(f.session.time(), 0.2, 0.02) << "went on";
+    const long triangles = f.session.figures().triangles;
+    settings.particleDistance = 0.03;
+    ASSERT_TRUE(f.session.setDrapeSettings(settings).ok());
+    EXPECT_EQ(f.session.time(), 0.0) << "placed again";
+    EXPECT_LT(f.session.figures().triangles, triangles);
+    settings.particleDistance = -1; // a mesh that cannot be made: nothing changes
+    EXPECT_FALSE(f.session.setDrapeSettings(settings).ok());
+    EXPECT_EQ(f.session.project().drape.particleDistance, 0.03);
+    EXPECT_EQ(f.session.advance(0.02), DrapeStatus::Running);
 }
 
 TEST(DrapeSession, EditedPanelIsTheOnlyOneMeshedAndPlacedAgain) {

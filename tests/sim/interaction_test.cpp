@@ -42,8 +42,13 @@ bool sameBits(const MatX3& a, const MatX3& b) {
 
 TEST(Interaction, StepByStepWithPausesIsTheUninterruptedRun) {
     const sim::SceneSpec scene = sheetOverBox();
+    // The reference advances frame by frame (advance(), which does not go through the
+    // step-by-step path).
     sim::Simulation whole(scene);
-    ASSERT_EQ(whole.run(0.4), sim::RunStatus::Finished) << whole.error();
+    for (int frame = 1; frame <= 12; ++frame) {
+        ASSERT_EQ(whole.advance(frame / 30.0 - whole.time()), sim::RunStatus::Finished)
+            << whole.error();
+    }
 
     sim::Simulation stepped(scene);
     sim::SnapshotBuffer snapshots; // publishing must not change a bit either
@@ -59,7 +64,35 @@ TEST(Interaction, StepByStepWithPausesIsTheUninterruptedRun) {
     EXPECT_EQ(stepped.stats().steps, whole.stats().steps);
     EXPECT_TRUE(sameBits(stepped.positions(), whole.positions()));
     EXPECT_TRUE(sameBits(stepped.velocities(), whole.velocities()));
-    EXPECT_EQ(stepped.frameIndex(), whole.frameIndex());
+    EXPECT_EQ(stepped.frameIndex(), 12);
+    sim::Simulation run(scene);
+    ASSERT_EQ(run.run(0.4), sim::RunStatus::Finished);
+    EXPECT_TRUE(sameBits(run.positions(), whole.positions()));
+}
+
+TEST(Interaction, StepNeverGoesPastUntil) {
+    sim::Simulation s(sheetOverBox());
+    ASSERT_EQ(s.step(1.0), sim::RunStatus::Finished); // a frame to 1/30 s is under way
+    const double until = s.time() + 0.002;          // nearer than the frame's end
+    ASSERT_EQ(s.step(until), sim::RunStatus::Finished);
+    EXPECT_LE(s.time(), until + 1e-15);
+    EXPECT_EQ(s.step(until), sim::RunStatus::Finished) << "at until: nothing to do";
+    EXPECT_LE(s.time(), until + 1e-15);
+    ASSERT_EQ(s.run(0.05), sim::RunStatus::Finished);
+    EXPECT_NEAR(s.time(), 0.05, 1e-12);
+}
+
+TEST(Interaction, PinningAGrabbedVertexHoldsIt) {
+    sim::Simulation s(sheetOverBox());
+    ASSERT_EQ(s.run(0.3), sim::RunStatus::Finished);
+    const int vertex = s.clothTriangles()(0, 0);
+    const Vec3 at = s.positions().row(vertex).transpose();
+    const int grab = s.grab({0, Vec3(1, 0, 0)}, at + Vec3(0, 0.1, 0));
+    ASSERT_GT(grab, 0);
+    ASSERT_TRUE(s.pin(vertex));
+    ASSERT_EQ(s.run(0.5), sim::RunStatus::Finished);
+    EXPECT_EQ(Vec3(s.positions().row(vertex).transpose()), at) << "the pin wins over the grab";
+    EXPECT_GT(s.positions()(s.clothTriangles()(0, 1), 1), at.y() + 0.02) << "the grab lifts the rest";
 }
 
 TEST(Interaction, GrabbedCornerFollowsAndComesBackToRestWithoutIntersections) {

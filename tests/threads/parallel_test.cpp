@@ -1,11 +1,13 @@
-// The engine's thread pool: every index once, the same bits for any thread count, loops inside
-// loops and loops from several threads at once, exceptions carried to the caller.
+// The engine's thread pool (threads tier: also run under ThreadSanitizer): every index once,
+// the same bits for any thread count, loops inside loops and loops from several threads at
+// once, helpers taking part, exceptions carried to the caller.
 
 #include "sim/core/parallel.h"
 
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <thread>
@@ -26,7 +28,7 @@ struct PoolSettings {
 
 TEST(Parallel, EveryIndexExactlyOnceForAnyThreadCount) {
     const PoolSettings keep;
-    for (int threads : {1, 2, 3, 7}) {
+    for (int threads : {1, 2, 3, 7, 2, 5}) { // growing and shrinking
         setThreadCount(threads);
         for (std::int64_t n : {std::int64_t{0}, std::int64_t{1}, PARALLEL_GRAIN - 1, PARALLEL_GRAIN,
                                std::int64_t{100'003}}) {
@@ -87,6 +89,21 @@ TEST(Parallel, LoopsInsideLoopsAndFromSeveralThreads) {
     EXPECT_EQ(total.load(), 3 * 3 * n);
 }
 
+TEST(Parallel, HelpersTakePart) {
+    const PoolSettings keep;
+    setThreadCount(2);
+    std::atomic<bool> otherThread{false};
+    const auto caller = std::this_thread::get_id();
+    for (int round = 0; round < 200 && !otherThread; ++round) {
+        parallelFor(PARALLEL_GRAIN * 8, [&](std::int64_t) {
+            if (std::this_thread::get_id() != caller) {
+                otherThread = true;
+            }
+        });
+    }
+    EXPECT_TRUE(otherThread.load()) << "the loops ran on the caller alone";
+}
+
 TEST(Parallel, WorksWithoutSpinningAndAfterSleeping) {
     const PoolSettings keep;
     setThreadCount(2);
@@ -111,13 +128,15 @@ TEST(Parallel, WorksWithoutSpinningAndAfterSleeping) {
 TEST(Parallel, AnExceptionReachesTheCaller) {
     const PoolSettings keep;
     setThreadCount(2);
-    EXPECT_THROW(parallelForEach(8, true,
-                                 [](std::int64_t i) {
-                                     if (i == 0) {
-                                         throw std::runtime_error("task 0");
-                                     }
-                                 }),
-                 std::runtime_error);
+    // Every task throws, so a helper's exception reaches the caller as well as its own.
+    for (int round = 0; round < 20; ++round) {
+        EXPECT_THROW(parallelForEach(64, true,
+                                     [](std::int64_t i) {
+                                         std::this_thread::sleep_for(std::chrono::microseconds(i % 3));
+                                         throw std::runtime_error("task");
+                                     }),
+                     std::runtime_error);
+    }
     // The pool still works afterwards.
     std::atomic<int> count{0};
     parallelFor(PARALLEL_GRAIN, [&](std::int64_t) { ++count; });
