@@ -90,7 +90,7 @@ nlohmann::ordered_json mm(double metres);
 nlohmann::ordered_json deg(double radians);
 nlohmann::ordered_json pointMm(const patterns::Vec2& p);
 
-nlohmann::ordered_json bodyJson(const patterns::BodySource& body);
+nlohmann::ordered_json bodyJson(const patterns::BodySource& source);
 nlohmann::ordered_json materialJson(const patterns::GarmentMaterial& material);
 nlohmann::ordered_json placementJson(const patterns::Placement& placement);
 nlohmann::ordered_json simulationJson(const patterns::DrapeSettings& drape);

@@ -188,6 +188,7 @@ std::vector<ForcedWeld> forcedWelds(const Garment& garment, const AssembledGarme
         ++w.pairs;
     }
     std::vector<ForcedWeld> out;
+    out.reserve(bySeam.size());
     for (auto& [seam, w] : bySeam) {
         out.push_back(std::move(w));
     }

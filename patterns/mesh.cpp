@@ -585,7 +585,8 @@ void subdivideSegment(const Segment& seg, const PanelPoints& points, std::size_t
 /// A point just inside the hole whose boundary polygon is `poly`, beside one of its edges.
 void addHoleSeed(const std::vector<Vec2>& poly, TriangulationInput& in) {
     for (std::size_t e = 0; e < poly.size(); ++e) {
-        const Vec2 a = poly[e], b = poly[(e + 1) % poly.size()];
+        const Vec2& a = poly[e];
+        const Vec2& b = poly[(e + 1) % poly.size()];
         const Vec2 normal = Vec2(-(b - a).y(), (b - a).x()) * 0.05;
         const Vec2 m = 0.5 * (a + b);
         if (insidePolygon(poly, m + normal)) {

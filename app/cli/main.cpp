@@ -4,6 +4,9 @@
 
 #include <CLI/CLI.hpp>
 
+#include <exception>
+#include <iostream>
+
 int main(int argc, char** argv) {
     CLI::App app{"Atelier: cloth and garment simulation, headless"};
     app.name("atelier-cli");
@@ -22,6 +25,10 @@ int main(int argc, char** argv) {
         // Usage errors exit 2 (bad input); --help and --version exit 0.
         const int code = app.exit(e);
         return code == 0 || e.get_name() == "RuntimeError" ? code : atelier::app::EXIT_BAD_INPUT;
+    } catch (const std::exception& e) {
+        // Nothing below should throw; if something does, say what instead of aborting.
+        std::cerr << "error: " << e.what() << "\n";
+        return atelier::app::EXIT_RUN_FAILED;
     }
     return atelier::app::EXIT_OK;
 }

@@ -18,9 +18,9 @@ namespace atelier::sim {
 
 /// One obstacle of the scene in the collision stage.
 struct CollisionObstacle {
-    /// Topology and hierarchy of `spec` at its pose at t = 0; per-vertex state for
+    /// Topology and hierarchy of `obstacle` at its pose at t = 0; per-vertex state for
     /// `clothVertexCount` cloth vertices.
-    CollisionObstacle(const ObstacleSpec& spec, int clothVertexCount);
+    CollisionObstacle(const ObstacleSpec& obstacle, int clothVertexCount);
 
     const ObstacleSpec* spec = nullptr;
     SurfaceBvh bvh;

@@ -203,6 +203,7 @@ void makeCapsuleMesh(double radius, double length, int segments, MatX3& vertices
     pts.emplace_back(0.0, -0.5 * length - radius, 0.0);
     const int nRows = static_cast<int>(rows.size());
     const int bottom = static_cast<int>(pts.size()) - 1;
+    tris.reserve(2 * static_cast<std::size_t>(segments) * rows.size());
     auto at = [&](int row, int i) { return 1 + row * segments + (i % segments); };
     for (int i = 0; i < segments; ++i) {
         tris.push_back({0, at(0, i), at(0, i + 1)});

@@ -40,6 +40,7 @@ class ObstacleDetector {
   private:
     /// What the feature tests of one candidate pair (cloth triangle a, obstacle triangle b)
     /// share.
+    // NOLINTNEXTLINE(bugprone-reserved-identifier): the copy of its arrays names `__i0`
     struct Frame {
         int a = -1, b = -1;
         int ob[3];

@@ -158,7 +158,7 @@ void SelfDetector::edgeEdges(DetectionChunk& out, int ta, int tb) const {
             if (!separation) {
                 continue;
             }
-            const Vec3 normal = *separation;
+            const Vec3& normal = *separation;
             Contact c;
             c.kind = Contact::Kind::SelfEdgeEdge;
             c.vertex[0] = e0;

@@ -29,7 +29,7 @@ SegmentPoints closestPointsOfSegments(const Vec3& p0, const Vec3& p1, const Vec3
         const double sNum = w.cross(d2).dot(n);
         const double tNum = w.cross(d1).dot(n);
         if (sNum >= 0 && sNum <= nn && tNum >= 0 && tNum <= nn) {
-            const SegmentPoints inner = make(sNum / nn, tNum / nn);
+            SegmentPoints inner = make(sNum / nn, tNum / nn); // not const: returned by move
             // Clearly non-parallel: the critical point is the minimum.
             if (nn > 1e-8 * d1.squaredNorm() * d2.squaredNorm()) {
                 return inner;

@@ -106,7 +106,7 @@ TrianglePoint closestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b
     if (!(nn > 1e-30 * longest2 * longest2)) {
         return closestPointOnEdges(p, a, b, c);
     }
-    const TrianglePoint face = closestPointEricson(p, a, b, c, n, nn);
+    TrianglePoint face = closestPointEricson(p, a, b, c, n, nn); // not const: returned by move
     if (nn < 1e-6 * longest2 * longest2) {
         const TrianglePoint edges = closestPointOnEdges(p, a, b, c);
         return edges.distance < face.distance ? edges : face;
