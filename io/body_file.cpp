@@ -19,8 +19,7 @@ std::optional<Error> checkAll(const patterns::BodyMeasurements& m, const std::st
     if (issues.empty()) {
         return std::nullopt;
     }
-    return Error{file, detail::childPointer(pointer, issues.front().first),
-                 issues.front().second};
+    return Error{file, detail::childPointer(pointer, issues.front().first), issues.front().second};
 }
 
 } // namespace
@@ -56,8 +55,7 @@ Result<patterns::BodyMeasurements> bodyMeasurements(const patterns::BodySource& 
     return m;
 }
 
-Result<patterns::Mannequin> makeBody(const patterns::BodySource& source,
-                                     const std::string& file) {
+Result<patterns::Mannequin> makeBody(const patterns::BodySource& source, const std::string& file) {
     auto m = bodyMeasurements(source, file);
     if (!m.ok()) {
         return m.error();

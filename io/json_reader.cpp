@@ -126,7 +126,9 @@ const json& ObjectReader::require(std::string_view key) {
     return *v;
 }
 
-bool ObjectReader::has(std::string_view key) const { return m_value.contains(key); }
+bool ObjectReader::has(std::string_view key) const {
+    return m_value.contains(key);
+}
 
 void ObjectReader::allow(std::initializer_list<std::string_view> keys) {
     for (const std::string_view k : keys) {
@@ -165,10 +167,10 @@ long long integerAt(const json& value, const std::string& pointer) {
 
 sim::Vec3 vec3At(const json& value, const std::string& pointer) {
     if (!value.is_array() || value.size() != 3) {
-        throw JsonError{pointer, "expected an array of 3 numbers [x, y, z], found " +
-                                     (value.is_array() ? "an array of " +
-                                                             std::to_string(value.size())
-                                                       : typeName(value))};
+        throw JsonError{pointer,
+                        "expected an array of 3 numbers [x, y, z], found " +
+                            (value.is_array() ? "an array of " + std::to_string(value.size())
+                                              : typeName(value))};
     }
     sim::Vec3 out;
     for (std::size_t i = 0; i < 3; ++i) {
@@ -192,7 +194,9 @@ std::optional<double> ObjectReader::optionalNumber(std::string_view key) {
     return numberAt(*v, pointerOf(key));
 }
 
-double ObjectReader::number(std::string_view key) { return numberAt(require(key), pointerOf(key)); }
+double ObjectReader::number(std::string_view key) {
+    return numberAt(require(key), pointerOf(key));
+}
 
 double ObjectReader::number(std::string_view key, double fallback) {
     return optionalNumber(key).value_or(fallback);
@@ -269,7 +273,9 @@ std::string ObjectReader::string(std::string_view key, const std::string& fallba
     return optionalString(key).value_or(fallback);
 }
 
-sim::Vec3 ObjectReader::vec3(std::string_view key) { return vec3At(require(key), pointerOf(key)); }
+sim::Vec3 ObjectReader::vec3(std::string_view key) {
+    return vec3At(require(key), pointerOf(key));
+}
 
 sim::Vec3 ObjectReader::vec3(std::string_view key, const sim::Vec3& fallback) {
     const json* v = find(key);

@@ -18,7 +18,7 @@ namespace atelier::io::detail {
 
 /// Thrown inside a parser and turned into an `Error` at the API boundary.
 struct JsonError {
-    std::string where;   ///< JSON pointer
+    std::string where; ///< JSON pointer
     std::string message;
 };
 

@@ -252,7 +252,8 @@ class ObjParser {
             }
             for (int f = 0; f < nf; ++f) {
                 for (int k = 0; k < 3; ++k) {
-                    const Corner& c = m_faces[static_cast<std::size_t>(f)][static_cast<std::size_t>(k)];
+                    const Corner& c =
+                        m_faces[static_cast<std::size_t>(f)][static_cast<std::size_t>(k)];
                     mesh.triangles(f, k) = ids.at({c.v, c.vt});
                 }
             }
@@ -308,14 +309,16 @@ Result<std::string> formatObj(const sim::MatX3& positions, const sim::MatX3i& tr
     const Eigen::Index nf = triangles.rows();
     const bool withUvs = options.uvs.rows() > 0;
     if (withUvs && options.uvs.rows() != nv) {
-        return Error{"", "", "uvs have " + std::to_string(options.uvs.rows()) +
-                                 " rows, positions " + std::to_string(nv)};
+        return Error{"", "",
+                     "uvs have " + std::to_string(options.uvs.rows()) + " rows, positions " +
+                         std::to_string(nv)};
     }
     for (Eigen::Index f = 0; f < nf; ++f) {
         for (int k = 0; k < 3; ++k) {
             if (triangles(f, k) < 0 || triangles(f, k) >= nv) {
-                return Error{"", "", "triangle " + std::to_string(f) + ": vertex index " +
-                                         std::to_string(triangles(f, k)) + " out of range"};
+                return Error{"", "",
+                             "triangle " + std::to_string(f) + ": vertex index " +
+                                 std::to_string(triangles(f, k)) + " out of range"};
             }
         }
     }

@@ -1,10 +1,10 @@
 #include "io/project_file.h"
 
-#include "patterns/mesh.h"
-
 #include "io/atomic_file.h"
 #include "io/json_reader.h"
 #include "io/project_json.h"
+
+#include "patterns/mesh.h"
 
 #include <limits>
 
@@ -219,8 +219,8 @@ patterns::Project readProject(const json& root, const ordered_json& ordered) {
         materials.push_back(detail::readMaterial(v, p, materials));
     });
     double easeTolerance = patterns::Garment{}.easeTolerance;
-    easeTolerance = detail::lengthMm(r, "ease_tolerance_mm", easeTolerance,
-                                     detail::Range::NonNegative);
+    easeTolerance =
+        detail::lengthMm(r, "ease_tolerance_mm", easeTolerance, detail::Range::NonNegative);
     if (project.version == 1) {
         project.garment.name = project.name;
         project.garment.materials = std::move(materials);
@@ -296,8 +296,7 @@ Result<patterns::Project> loadProject(const std::filesystem::path& path) {
         const std::filesystem::path resolved = path.parent_path() / mesh;
         std::error_code ec;
         if (!std::filesystem::is_regular_file(resolved, ec)) {
-            return Error{path.string(), "/body/mesh",
-                         "body mesh not found: " + resolved.string()};
+            return Error{path.string(), "/body/mesh", "body mesh not found: " + resolved.string()};
         }
     }
     return project;

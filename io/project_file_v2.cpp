@@ -42,8 +42,8 @@ class DocumentReader {
         forEachIn(root, "seams", [&](const json& v, const std::string& p) {
             m_doc.seams.push_back(readSeam(v, p));
         });
-        m_doc.nextId = m_nextId ? *m_nextId
-                                : (m_claimed.empty() ? 1 : m_claimed.rbegin()->first + 1);
+        m_doc.nextId =
+            m_nextId ? *m_nextId : (m_claimed.empty() ? 1 : m_claimed.rbegin()->first + 1);
     }
 
   private:
@@ -51,15 +51,14 @@ class DocumentReader {
     static std::uint32_t idValue(ObjectReader& r, std::string_view key) {
         const long long v = r.integer(key);
         if (v < 1 || v > MAX_ID) {
-            r.fail(key, "must be an id, an integer in [1, " + std::to_string(MAX_ID) +
-                            "] (found " + std::to_string(v) + ")");
+            r.fail(key, "must be an id, an integer in [1, " + std::to_string(MAX_ID) + "] (found " +
+                            std::to_string(v) + ")");
         }
         return static_cast<std::uint32_t>(v);
     }
 
     /// A new id, held by nothing read before and below `next_id`.
-    template <class IdType>
-    IdType claim(ObjectReader& r, std::string_view key) {
+    template <class IdType> IdType claim(ObjectReader& r, std::string_view key) {
         const std::uint32_t v = idValue(r, key);
         if (m_nextId && v >= *m_nextId) {
             r.fail(key, "id " + std::to_string(v) + " is not below next_id (" +
@@ -67,8 +66,8 @@ class DocumentReader {
         }
         const auto [it, inserted] = m_claimed.emplace(v, r.pointerOf(key));
         if (!inserted) {
-            r.fail(key, "duplicate id " + std::to_string(v) + " (already used at " +
-                            it->second + ")");
+            r.fail(key,
+                   "duplicate id " + std::to_string(v) + " (already used at " + it->second + ")");
         }
         return IdType{v};
     }
@@ -170,8 +169,7 @@ class DocumentReader {
             doc::InternalLine line;
             line.id = claim<patterns::LineId>(l, "id");
             line.foldAngle = angleDeg(l, "fold_deg", line.foldAngle);
-            readChain(l.require("points"), l.pointerOf("points"), false, line.points,
-                      line.edges);
+            readChain(l.require("points"), l.pointerOf("points"), false, line.points, line.edges);
             l.finish();
             panel.internalLines.push_back(std::move(line));
         });
@@ -252,8 +250,7 @@ class DocumentReader {
 // ---------------------------------------------------------------------------------------------
 // Writing
 
-ordered_json chainJson(const std::vector<doc::Point>& points,
-                       const std::vector<doc::Edge>& edges) {
+ordered_json chainJson(const std::vector<doc::Point>& points, const std::vector<doc::Edge>& edges) {
     ordered_json out = ordered_json::array();
     for (std::size_t i = 0; i < points.size(); ++i) {
         ordered_json e = ordered_json::object();

@@ -57,8 +57,12 @@ bool sameParameters(const sim::Material& a, const sim::Material& b) {
 }
 
 // Unit conversions, chosen so that whole values come out exact (10 mm → 0.01, 90° → π/2).
-double metresFromMm(double mm) { return mm / 1000.0; }
-double radiansFromDeg(double deg) { return deg / 180.0 * PI; }
+double metresFromMm(double mm) {
+    return mm / 1000.0;
+}
+double radiansFromDeg(double deg) {
+    return deg / 180.0 * PI;
+}
 
 /// A millimetre or degree value rounded to 1e-6: reading it back (÷ 1000, × π/180)
 /// and writing again gives the same value, so the text is stable.
@@ -70,8 +74,7 @@ ordered_json rounded(double v) {
     return number(std::round(v * STEPS_PER_UNIT) / STEPS_PER_UNIT);
 }
 
-void readMeasurements(ObjectReader& r, const ordered_json& ordered,
-                      patterns::BodySource& body) {
+void readMeasurements(ObjectReader& r, const ordered_json& ordered, patterns::BodySource& body) {
     const json* measurements = r.find("measurements");
     if (measurements == nullptr) {
         return;
@@ -94,7 +97,9 @@ void readMeasurements(ObjectReader& r, const ordered_json& ordered,
 
 } // namespace
 
-std::string inQuotes(std::string_view s) { return json(std::string(s)).dump(); }
+std::string inQuotes(std::string_view s) {
+    return json(std::string(s)).dump();
+}
 
 // ---------------------------------------------------------------------------------------------
 // Reading
@@ -193,8 +198,8 @@ patterns::BodySource readBody(const json& value, const ordered_json& ordered,
     }
     body.base = r.string("base", body.base);
     if (body.base != "female" && body.base != "male") {
-        r.fail("base", "unknown body base " + inQuotes(body.base) +
-                           " (expected \"female\" or \"male\")");
+        r.fail("base",
+               "unknown body base " + inQuotes(body.base) + " (expected \"female\" or \"male\")");
     }
     readMeasurements(r, ordered, body);
     r.finish();
@@ -219,8 +224,8 @@ patterns::GarmentMaterial readMaterial(const json& value, const std::string& poi
             for (const auto& [presetName, unused] : presets) {
                 names += (names.empty() ? "" : ", ") + inQuotes(presetName);
             }
-            r.fail("fabric", "unknown fabric preset " + inQuotes(*fabric) + " (presets: " +
-                                 names + ")");
+            r.fail("fabric",
+                   "unknown fabric preset " + inQuotes(*fabric) + " (presets: " + names + ")");
         }
         material.material = it->second;
     } else {
@@ -256,10 +261,10 @@ PanelAttributes readPanelAttributes(ObjectReader& r,
         materialNames += (materialNames.empty() ? "" : ", ") + inQuotes(m.name);
     }
     if (!knownMaterial) {
-        r.fail("material", "unknown material " + inQuotes(a.material) +
-                               (materialNames.empty()
-                                    ? std::string(" (the project has no materials)")
-                                    : " (materials: " + materialNames + ")"));
+        r.fail("material",
+               "unknown material " + inQuotes(a.material) +
+                   (materialNames.empty() ? std::string(" (the project has no materials)")
+                                          : " (materials: " + materialNames + ")"));
     }
     const std::string side = r.string("side", "front");
     if (side == "front") {
@@ -342,9 +347,15 @@ ordered_json number(double v) {
     return v;
 }
 
-ordered_json mm(double metres) { return rounded(metres * 1000.0); }
-ordered_json deg(double radians) { return rounded(radians / PI * 180.0); }
-ordered_json pointMm(const Vec2& p) { return ordered_json::array({mm(p.x()), mm(p.y())}); }
+ordered_json mm(double metres) {
+    return rounded(metres * 1000.0);
+}
+ordered_json deg(double radians) {
+    return rounded(radians / PI * 180.0);
+}
+ordered_json pointMm(const Vec2& p) {
+    return ordered_json::array({mm(p.x()), mm(p.y())});
+}
 
 ordered_json bodyJson(const patterns::BodySource& source) {
     ordered_json body = ordered_json::object();
@@ -366,7 +377,8 @@ ordered_json materialJson(const patterns::GarmentMaterial& material) {
     out["name"] = material.name;
     const sim::Material& m = material.material;
     const MaterialPresets& presets = builtinMaterialPresets();
-    if (const auto it = presets.find(m.name); it != presets.end() && sameParameters(m, it->second)) {
+    if (const auto it = presets.find(m.name);
+        it != presets.end() && sameParameters(m, it->second)) {
         out["fabric"] = m.name;
         return out;
     }

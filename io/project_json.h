@@ -25,8 +25,7 @@ namespace atelier::io::detail {
 enum class Range { Any, NonNegative, Positive };
 
 /// Calls `read(element, pointer)` for each element of the array `key` of `r` (absent: none).
-template <class Read>
-void forEachIn(ObjectReader& r, std::string_view key, Read read) {
+template <class Read> void forEachIn(ObjectReader& r, std::string_view key, Read read) {
     if (const nlohmann::json* array = r.find(key)) {
         const std::string ptr = r.pointerOf(key);
         for (std::size_t i = 0; i < arrayAt(*array, ptr).size(); ++i) {

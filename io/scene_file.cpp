@@ -29,14 +29,16 @@ using nlohmann::json;
 /// What constraints need to know about one cloth to resolve (cloth, vertex) references.
 struct ClothInfo {
     std::string name;
-    int offset = 0;      ///< first global vertex index
+    int offset = 0; ///< first global vertex index
     int vertexCount = 0;
     bool rectangle = false;
     int cellsX = 0;
     int cellsY = 0;
 };
 
-std::string inQuotes(std::string_view s) { return json(std::string(s)).dump(); }
+std::string inQuotes(std::string_view s) {
+    return json(std::string(s)).dump();
+}
 
 template <class Enum, std::size_t N>
 std::string nameList(const std::array<Enum, N>& values, std::string_view (*toName)(Enum)) {
@@ -297,8 +299,8 @@ class SceneParser {
                         m.fail("cells", "cell counts must be at least 1");
                     }
                     if ((nx + 1) * (ny + 1) > MAX_GRID_VERTICES) {
-                        m.fail("cells", "more than " + std::to_string(MAX_GRID_VERTICES) +
-                                            " vertices");
+                        m.fail("cells",
+                               "more than " + std::to_string(MAX_GRID_VERTICES) + " vertices");
                     }
                     rect.cellsX = static_cast<int>(nx);
                     rect.cellsY = static_cast<int>(ny);
@@ -379,7 +381,8 @@ class SceneParser {
             ObjectReader in(*initial, r.pointerOf("initial"));
             const std::string type = in.string("type");
             if (type != "random") {
-                in.fail("type", "unknown initial state " + inQuotes(type) + " (expected \"random\")");
+                in.fail("type",
+                        "unknown initial state " + inQuotes(type) + " (expected \"random\")");
             }
             const double amplitude = in.positive("amplitude");
             const long long seed = in.integer("seed", 1);
@@ -452,8 +455,10 @@ class SceneParser {
             cloth.restAngles = sim::VecX::Zero(cloth.mesh.hinges.rows());
             for (std::size_t k = 0; k < list.size(); ++k) {
                 ObjectReader fr(list[k], detail::childPointer(foldsPtr, k));
-                const json& ends = detail::arrayAt(fr.require("vertices"), fr.pointerOf("vertices"));
-                if (ends.size() != 2 || !ends[0].is_number_integer() || !ends[1].is_number_integer()) {
+                const json& ends =
+                    detail::arrayAt(fr.require("vertices"), fr.pointerOf("vertices"));
+                if (ends.size() != 2 || !ends[0].is_number_integer() ||
+                    !ends[1].is_number_integer()) {
                     fr.fail("vertices", "must be two vertex indices of an interior edge");
                 }
                 const int a = ends[0].get<int>();
@@ -496,8 +501,8 @@ class SceneParser {
             for (const ClothInfo& c : m_cloths) {
                 names += (names.empty() ? "" : ", ") + inQuotes(c.name);
             }
-            r.fail(key, "no cloth named " + inQuotes(ref.get<std::string>()) + " (cloths: " +
-                            names + ")");
+            r.fail(key, "no cloth named " + inQuotes(ref.get<std::string>()) +
+                            " (cloths: " + names + ")");
         }
         const long long index = detail::integerAt(ref, r.pointerOf(key));
         if (index < 0 || index >= static_cast<long long>(m_cloths.size())) {
@@ -562,8 +567,8 @@ class SceneParser {
             r.fail("give exactly one of \"vertex\", \"vertices\", \"corner\" and \"edge\"");
         }
         if (r.has("vertex")) {
-            m_scene.pins.push_back(cloth.offset +
-                                   localVertex(r, cloth, r.require("vertex"), r.pointerOf("vertex")));
+            m_scene.pins.push_back(
+                cloth.offset + localVertex(r, cloth, r.require("vertex"), r.pointerOf("vertex")));
         } else if (r.has("vertices")) {
             const std::string vp = r.pointerOf("vertices");
             const json& list = detail::arrayAt(r.require("vertices"), vp);
@@ -639,8 +644,8 @@ class SceneParser {
         for (std::size_t i = 0; i < keys.size(); ++i) {
             const std::string p = detail::childPointer(kp, i);
             if (!keys[i].is_array() || keys[i].size() != 4) {
-                throw JsonError{p, "expected a key [t, x, y, z], found " +
-                                       detail::typeName(keys[i])};
+                throw JsonError{p,
+                                "expected a key [t, x, y, z], found " + detail::typeName(keys[i])};
             }
             const double t = detail::numberAt(keys[i][0], p + "/0");
             const sim::Vec3 x(detail::numberAt(keys[i][1], p + "/1"),
@@ -653,8 +658,7 @@ class SceneParser {
             drive.positions.push_back(x);
         }
         drive.releaseTime = r.number("release_time", drive.releaseTime);
-        drive.followTimeConstant =
-            r.nonNegative("follow_time_constant", drive.followTimeConstant);
+        drive.followTimeConstant = r.nonNegative("follow_time_constant", drive.followTimeConstant);
         r.finish();
         for (const int v : vertices) {
             sim::Drive d = drive;

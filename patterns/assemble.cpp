@@ -75,8 +75,8 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
             for (const ArrangementSlot& s : body.slots) {
                 names += (names.empty() ? "" : ", ") + s.name;
             }
-            return who + ": the body has no slot \"" + panel.placement.slot + "\" (it has: " +
-                   names + ")";
+            return who + ": the body has no slot \"" + panel.placement.slot +
+                   "\" (it has: " + names + ")";
         }
         const auto material =
             std::find_if(garment.materials.begin(), garment.materials.end(),
@@ -89,8 +89,8 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
         if (auto err = sim::buildClothMesh(pm.rest, pm.triangles, cloth.mesh)) {
             return who + ": " + *err;
         }
-        cloth.position = wrapOnSlot(placementCoordinates(panel, pm), *slot,
-                                    panel.placement.clearance);
+        cloth.position =
+            wrapOnSlot(placementCoordinates(panel, pm), *slot, panel.placement.clearance);
         cloth.material = material->material;
         cloth.model = settings.model;
         cloth.restAngles = hingeRestAngles(cloth.mesh, pm);
@@ -110,11 +110,10 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
         if (a != b) {
             // A pair stands for the outline around its two vertices (a corner vertex, the end
             // of two seams, counts for both).
-            const double length =
-                0.5 * (outline[static_cast<std::size_t>(pair[0].panel)]
-                              [static_cast<std::size_t>(pair[0].vertex)] +
-                       outline[static_cast<std::size_t>(pair[1].panel)]
-                              [static_cast<std::size_t>(pair[1].vertex)]);
+            const double length = 0.5 * (outline[static_cast<std::size_t>(pair[0].panel)]
+                                                [static_cast<std::size_t>(pair[0].vertex)] +
+                                         outline[static_cast<std::size_t>(pair[1].panel)]
+                                                [static_cast<std::size_t>(pair[1].vertex)]);
             scene.seams.push_back({a, b, length});
             out.pairSeam.push_back(k < mesh.seamOfPair.size() ? mesh.seamOfPair[k] : -1);
         }

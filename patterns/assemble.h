@@ -33,9 +33,9 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
 
 /// A seam (or dart) that sewing did not close: its widest pair welded by force.
 struct ForcedWeld {
-    std::string seam;   ///< the seam's name, or "dart of PANEL"
-    double widest = 0;  ///< [m]
-    int pairs = 0;      ///< pairs of it welded by force
+    std::string seam;  ///< the seam's name, or "dart of PANEL"
+    double widest = 0; ///< [m]
+    int pairs = 0;     ///< pairs of it welded by force
 };
 
 /// Per garment seam, from the engine's per-pair gaps (sim::RunStats::forcedWeldGaps): the

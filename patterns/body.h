@@ -58,7 +58,7 @@ struct ArrangementSlot {
                                      : interpolate(profileCentre, along);
     }
 
-private:
+  private:
     template <class T> T interpolate(const std::vector<T>& values, double along) const {
         const double u = (along - alongMin) / profileStep;
         if (u <= 0) {

@@ -21,7 +21,9 @@ std::uint64_t key(int a, int b) {
            static_cast<std::uint32_t>(b);
 }
 
-std::uint64_t undirected(int a, int b) { return key(std::min(a, b), std::max(a, b)); }
+std::uint64_t undirected(int a, int b) {
+    return key(std::min(a, b), std::max(a, b));
+}
 
 int findRoot(std::vector<int>& parent, int v) {
     while (parent[static_cast<std::size_t>(v)] != v) {

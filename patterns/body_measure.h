@@ -11,15 +11,15 @@ namespace atelier::patterns {
 
 /// Edge and vertex topology of a triangle mesh.
 struct MeshTopology {
-    long vertices = 0;              ///< vertices used by triangles
+    long vertices = 0; ///< vertices used by triangles
     long edges = 0;
-    long boundaryEdges = 0;         ///< used by one triangle
-    long nonManifoldEdges = 0;      ///< used by more than two
-    long misorientedEdges = 0;      ///< used twice in the same direction
-    long nonManifoldVertices = 0;   ///< whose triangles do not form one fan
-    long degenerateTriangles = 0;   ///< repeating a vertex or of zero area
-    int components = 0;             ///< connected by edges
-    long eulerCharacteristic = 0;   ///< V − E + F (2 for a closed genus-0 surface)
+    long boundaryEdges = 0;       ///< used by one triangle
+    long nonManifoldEdges = 0;    ///< used by more than two
+    long misorientedEdges = 0;    ///< used twice in the same direction
+    long nonManifoldVertices = 0; ///< whose triangles do not form one fan
+    long degenerateTriangles = 0; ///< repeating a vertex or of zero area
+    int components = 0;           ///< connected by edges
+    long eulerCharacteristic = 0; ///< V − E + F (2 for a closed genus-0 surface)
 
     /// Closed, oriented 2-manifold with no degenerate triangles.
     bool watertight() const {

@@ -9,17 +9,14 @@ namespace atelier::patterns {
 namespace {
 
 // 8-point Gauss–Legendre nodes and weights on [−1, 1].
-constexpr std::array<double, 8> GL_X = {-0.9602898564975363, -0.7966664774136267,
-                                        -0.5255324099163290, -0.1834346424956498,
-                                        0.1834346424956498,  0.5255324099163290,
-                                        0.7966664774136267,  0.9602898564975363};
-constexpr std::array<double, 8> GL_W = {0.1012285362903763, 0.2223810344533745,
-                                        0.3137066458778873, 0.3626837833783620,
-                                        0.3626837833783620, 0.3137066458778873,
+constexpr std::array<double, 8> GL_X = {
+    -0.9602898564975363, -0.7966664774136267, -0.5255324099163290, -0.1834346424956498,
+    0.1834346424956498,  0.5255324099163290,  0.7966664774136267,  0.9602898564975363};
+constexpr std::array<double, 8> GL_W = {0.1012285362903763, 0.2223810344533745, 0.3137066458778873,
+                                        0.3626837833783620, 0.3626837833783620, 0.3137066458778873,
                                         0.2223810344533745, 0.1012285362903763};
 
-template <class F>
-double integrate(double a, double b, int pieces, F f) {
+template <class F> double integrate(double a, double b, int pieces, F f) {
     double sum = 0;
     const double step = (b - a) / pieces;
     for (int p = 0; p < pieces; ++p) {
@@ -179,8 +176,8 @@ double chordDeviation(const Segment& s, double t0, double t1) {
     double worst = 0;
     for (int k = 1; k <= 9; ++k) {
         const Vec2 p = pointAt(s, t0 + (t1 - t0) * k / 10.0);
-        const double d = len > 0 ? std::abs(ab.x() * (p - a).y() - ab.y() * (p - a).x()) / len
-                                 : (p - a).norm();
+        const double d =
+            len > 0 ? std::abs(ab.x() * (p - a).y() - ab.y() * (p - a).x()) / len : (p - a).norm();
         worst = std::max(worst, d);
     }
     return worst;

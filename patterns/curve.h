@@ -18,8 +18,7 @@ double arcLength(const Segment& s, double t0 = 0.0, double t1 = 1.0);
 double parameterAtLength(const Segment& s, double t0, double t1, double length);
 /// Arc geometry: centre, radius and start angle of an arc segment; false for a straight one
 /// (bulge 0 or a zero chord).
-bool arcGeometry(const Segment& s, Vec2& centre, double& radius, double& startAngle,
-                 double& sweep);
+bool arcGeometry(const Segment& s, Vec2& centre, double& radius, double& startAngle, double& sweep);
 /// Signed area enclosed by a closed loop (Green's theorem over each segment), positive when
 /// counter-clockwise [m²].
 double loopArea(const Loop& loop);

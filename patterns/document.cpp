@@ -8,15 +8,15 @@ namespace atelier::patterns {
 
 namespace {
 
-template <class T, class IdType>
-T* findById(std::vector<T>& items, IdType id) {
-    const auto it = std::find_if(items.begin(), items.end(), [&](const T& x) { return x.id == id; });
+template <class T, class IdType> T* findById(std::vector<T>& items, IdType id) {
+    const auto it =
+        std::find_if(items.begin(), items.end(), [&](const T& x) { return x.id == id; });
     return it == items.end() ? nullptr : &*it;
 }
 
-template <class T, class IdType>
-const T* findById(const std::vector<T>& items, IdType id) {
-    const auto it = std::find_if(items.begin(), items.end(), [&](const T& x) { return x.id == id; });
+template <class T, class IdType> const T* findById(const std::vector<T>& items, IdType id) {
+    const auto it =
+        std::find_if(items.begin(), items.end(), [&](const T& x) { return x.id == id; });
     return it == items.end() ? nullptr : &*it;
 }
 
@@ -58,7 +58,8 @@ Loop loopOf(const doc::Contour& c) {
 }
 
 /// Splits a drawn internal line into chains whose segments join end to start.
-std::vector<doc::InternalLine> linesFromDrawing(GarmentDocument& d, const patterns::InternalLine& l) {
+std::vector<doc::InternalLine> linesFromDrawing(GarmentDocument& d,
+                                                const patterns::InternalLine& l) {
     std::vector<doc::InternalLine> out;
     for (std::size_t k = 0; k < l.path.size(); ++k) {
         const Segment& s = l.path[k];
@@ -98,7 +99,9 @@ void appendText(std::string& out, const std::string& s) {
     out += '"';
 }
 
-void appendId(std::string& out, std::uint32_t id) { out += " #" + std::to_string(id); }
+void appendId(std::string& out, std::uint32_t id) {
+    out += " #" + std::to_string(id);
+}
 
 void dumpChain(std::string& out, const std::string& indent, const std::vector<doc::Point>& points,
                const std::vector<doc::Edge>& edges) {
@@ -165,10 +168,18 @@ void dumpPanel(std::string& out, const doc::Panel& p) {
 
 } // namespace
 
-doc::Panel* GarmentDocument::panel(PanelId id) { return findById(panels, id); }
-const doc::Panel* GarmentDocument::panel(PanelId id) const { return findById(panels, id); }
-doc::Seam* GarmentDocument::seam(SeamId id) { return findById(seams, id); }
-const doc::Seam* GarmentDocument::seam(SeamId id) const { return findById(seams, id); }
+doc::Panel* GarmentDocument::panel(PanelId id) {
+    return findById(panels, id);
+}
+const doc::Panel* GarmentDocument::panel(PanelId id) const {
+    return findById(panels, id);
+}
+doc::Seam* GarmentDocument::seam(SeamId id) {
+    return findById(seams, id);
+}
+const doc::Seam* GarmentDocument::seam(SeamId id) const {
+    return findById(seams, id);
+}
 
 const doc::Panel* GarmentDocument::panelNamed(const std::string& panelName) const {
     const auto it = std::find_if(panels.begin(), panels.end(),
@@ -178,7 +189,8 @@ const doc::Panel* GarmentDocument::panelNamed(const std::string& panelName) cons
 
 int outlineEdgeIndex(const doc::Panel& panel, EdgeId edge) {
     const auto& edges = panel.outline.edges;
-    const auto it = std::find_if(edges.begin(), edges.end(), [&](const doc::Edge& e) { return e.id == edge; });
+    const auto it =
+        std::find_if(edges.begin(), edges.end(), [&](const doc::Edge& e) { return e.id == edge; });
     return it == edges.end() ? -1 : static_cast<int>(it - edges.begin());
 }
 
@@ -313,7 +325,8 @@ Garment toGarment(const GarmentDocument& d) {
             patterns::InternalLine line;
             line.foldAngle = l.foldAngle;
             for (std::size_t i = 0; i < l.edges.size(); ++i) {
-                line.path.push_back(segmentOf(l.edges[i].curve, l.points[i].position, l.points[i + 1].position));
+                line.path.push_back(
+                    segmentOf(l.edges[i].curve, l.points[i].position, l.points[i + 1].position));
             }
             out.internalLines.push_back(std::move(line));
         }
@@ -386,7 +399,8 @@ Result<void> checkDocument(const GarmentDocument& d) {
             claim(h.id.value, w);
             claimChain(h.contour.points, h.contour.edges, w);
             if (h.contour.points.size() < 3 || h.contour.points.size() != h.contour.edges.size()) {
-                fail(w, "hole #" + std::to_string(h.id.value) + " needs as many edges as points, at least 3");
+                fail(w, "hole #" + std::to_string(h.id.value) +
+                            " needs as many edges as points, at least 3");
             }
         }
         for (const doc::InternalLine& l : p.internalLines) {
@@ -401,7 +415,8 @@ Result<void> checkDocument(const GarmentDocument& d) {
             const int leg = outlineEdgeIndex(p, dart.leg1);
             if (leg < 0 || leg + 1 >= static_cast<int>(p.outline.edges.size()) ||
                 p.outline.edges[static_cast<std::size_t>(leg) + 1].id != dart.leg2) {
-                fail(w, "dart #" + std::to_string(dart.id.value) + ": legs are not consecutive outline edges");
+                fail(w, "dart #" + std::to_string(dart.id.value) +
+                            ": legs are not consecutive outline edges");
             }
         }
         for (const doc::Notch& n : p.notches) {
@@ -446,11 +461,10 @@ std::string dumpDocument(const GarmentDocument& d) {
         out += "material";
         appendText(out, m.name);
         appendText(out, m.material.name);
-        for (const double v : {m.material.density, m.material.stretchWeft, m.material.stretchWarp,
-                               m.material.shear, m.material.poisson, m.material.bending,
-                               m.material.damping, m.material.staticFriction,
-                               m.material.kineticFriction, m.material.plasticYieldAngle,
-                               m.material.plasticRate}) {
+        for (const double v :
+             {m.material.density, m.material.stretchWeft, m.material.stretchWarp, m.material.shear,
+              m.material.poisson, m.material.bending, m.material.damping, m.material.staticFriction,
+              m.material.kineticFriction, m.material.plasticYieldAngle, m.material.plasticRate}) {
             appendNumber(out, v);
         }
         out += '\n';

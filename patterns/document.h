@@ -21,8 +21,7 @@ namespace atelier::patterns {
 
 /// A stable identifier of one kind of object. Ids come from one counter per document and are
 /// never held by two objects; 0 is "none".
-template <class Tag>
-struct Id {
+template <class Tag> struct Id {
     std::uint32_t value = 0;
     explicit operator bool() const { return value != 0; }
     auto operator<=>(const Id&) const = default;
@@ -139,10 +138,7 @@ struct GarmentDocument {
     std::uint32_t nextId = 1;
 
     /// A fresh id of any kind.
-    template <class IdType>
-    IdType newId() {
-        return IdType{nextId++};
-    }
+    template <class IdType> IdType newId() { return IdType{nextId++}; }
 
     doc::Panel* panel(PanelId id);
     const doc::Panel* panel(PanelId id) const;

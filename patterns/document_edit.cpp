@@ -15,7 +15,9 @@ Error editError(const std::string& where, std::string message) {
     return Error{"", where, std::move(message)};
 }
 
-std::string panelWhere(PanelId id) { return "panel #" + std::to_string(id.value); }
+std::string panelWhere(PanelId id) {
+    return "panel #" + std::to_string(id.value);
+}
 
 template <class T>
 std::optional<std::size_t> indexOfId(const std::vector<T>& items, decltype(T::id) id) {
@@ -27,15 +29,13 @@ std::optional<std::size_t> indexOfId(const std::vector<T>& items, decltype(T::id
     return std::nullopt;
 }
 
-template <class T>
-auto changeId(const Change<T>& c) {
+template <class T> auto changeId(const Change<T>& c) {
     return c.after ? c.after->id : c.before->id;
 }
 
 /// Brings `items` from each change's before-state to its after-state: removes, replaces, then
 /// inserts at the after-index in increasing order (edits never reorder what they keep).
-template <class T>
-void applyChanges(std::vector<T>& items, const std::vector<Change<T>>& changes) {
+template <class T> void applyChanges(std::vector<T>& items, const std::vector<Change<T>>& changes) {
     for (const Change<T>& c : changes) {
         if (!c.after) {
             if (const auto i = indexOfId(items, changeId(c))) {
@@ -62,15 +62,13 @@ void applyChanges(std::vector<T>& items, const std::vector<Change<T>>& changes) 
     }
 }
 
-template <class T>
-Change<T> invertChange(const Change<T>& c) {
+template <class T> Change<T> invertChange(const Change<T>& c) {
     return {c.after, c.before, c.afterIndex, c.beforeIndex};
 }
 
 /// The changes of the objects `touched` (ids, before-states taken now) and of every object
 /// added meanwhile, once `mutate` has run.
-template <class T>
-class Snapshot {
+template <class T> class Snapshot {
   public:
     Snapshot(const std::vector<T>& items, const std::vector<decltype(T::id)>& touched) {
         for (const T& x : items) {
@@ -188,7 +186,9 @@ doc::Edge* anyEdge(doc::Panel& p, EdgeId id) {
     return nullptr;
 }
 
-Vec2 lerp(const Vec2& a, const Vec2& b, double t) { return (1 - t) * a + t * b; }
+Vec2 lerp(const Vec2& a, const Vec2& b, double t) {
+    return (1 - t) * a + t * b;
+}
 
 /// The two halves of a segment split at t (their curves; the new point is pointAt(s, t)).
 std::pair<doc::Curve, doc::Curve> splitCurve(const Segment& s, double t) {
@@ -223,7 +223,9 @@ std::pair<doc::Curve, doc::Curve> splitCurve(const Segment& s, double t) {
 /// A range on an edge split at t, as ranges on the first half (`first`) and the second
 /// (`second`), in the range's own direction.
 std::vector<doc::SeamRange> splitRange(const doc::SeamRange& r, double t, EdgeId second) {
-    const auto onFirst = [&](double a, double b) { return doc::SeamRange{r.panel, r.edge, a / t, b / t}; };
+    const auto onFirst = [&](double a, double b) {
+        return doc::SeamRange{r.panel, r.edge, a / t, b / t};
+    };
     const auto onSecond = [&](double a, double b) {
         return doc::SeamRange{r.panel, second, (a - t) / (1 - t), (b - t) / (1 - t)};
     };
@@ -253,13 +255,15 @@ Result<std::uint32_t> splitEdgeIn(GarmentDocument& d, PanelId panelId, EdgeId ed
     int k = 0;
     doc::Contour* c = contourOfEdge(*p, edgeId, k);
     if (c == nullptr) {
-        return editError(panelWhere(panelId), "no outline or hole edge #" + std::to_string(edgeId.value));
+        return editError(panelWhere(panelId),
+                         "no outline or hole edge #" + std::to_string(edgeId.value));
     }
     if (!(t > 0 && t < 1)) {
         return editError(panelWhere(panelId), "split parameter must be within (0, 1)");
     }
     if (isDartLeg(*p, edgeId)) {
-        return editError(panelWhere(panelId), "edge #" + std::to_string(edgeId.value) + " is a dart leg");
+        return editError(panelWhere(panelId),
+                         "edge #" + std::to_string(edgeId.value) + " is a dart leg");
     }
     const std::size_t i = static_cast<std::size_t>(k);
     const Segment s = contourSegment(*c, i);
@@ -292,7 +296,8 @@ Result<std::uint32_t> splitEdgeIn(GarmentDocument& d, PanelId panelId, EdgeId ed
     return point.id.value;
 }
 
-Result<std::uint32_t> checkNewName(const GarmentDocument& d, const std::string& name, PanelId self) {
+Result<std::uint32_t> checkNewName(const GarmentDocument& d, const std::string& name,
+                                   PanelId self) {
     if (name.empty()) {
         return editError(panelWhere(self), "a panel name must not be empty");
     }
@@ -369,7 +374,9 @@ void redo(GarmentDocument& d, const Edit& edit) {
     d.nextId = edit.nextIdAfter;
 }
 
-void undo(GarmentDocument& d, const Edit& edit) { redo(d, inverse(edit)); }
+void undo(GarmentDocument& d, const Edit& edit) {
+    redo(d, inverse(edit));
+}
 
 Result<Edit> movePoint(GarmentDocument& d, PanelId panel, PointId point, Vec2 position) {
     return record(d, "move point #" + std::to_string(point.value), {panel}, {},
@@ -377,7 +384,8 @@ Result<Edit> movePoint(GarmentDocument& d, PanelId panel, PointId point, Vec2 po
                       doc::Panel* p = doc.panel(panel);
                       Vec2* at = p != nullptr ? pointPosition(*p, point) : nullptr;
                       if (at == nullptr) {
-                          return editError(panelWhere(panel), "no point #" + std::to_string(point.value));
+                          return editError(panelWhere(panel),
+                                           "no point #" + std::to_string(point.value));
                       }
                       if (!position.allFinite()) {
                           return editError(panelWhere(panel), "position must be finite");
@@ -430,8 +438,9 @@ Result<Edit> deletePoint(GarmentDocument& d, PanelId panel, PointId point) {
                       }
                       for (const doc::Notch& nt : p->notches) {
                           if (nt.edge == out) {
-                              return editError(panelWhere(panel), "notch #" + std::to_string(nt.id.value) +
-                                                                      " is on edge #" + std::to_string(out.value));
+                              return editError(panelWhere(panel),
+                                               "notch #" + std::to_string(nt.id.value) +
+                                                   " is on edge #" + std::to_string(out.value));
                           }
                       }
                       c->points.erase(c->points.begin() + k);
@@ -446,7 +455,8 @@ Result<Edit> setCurve(GarmentDocument& d, PanelId panel, EdgeId edge, const doc:
                       doc::Panel* p = doc.panel(panel);
                       doc::Edge* e = p != nullptr ? anyEdge(*p, edge) : nullptr;
                       if (e == nullptr) {
-                          return editError(panelWhere(panel), "no edge #" + std::to_string(edge.value));
+                          return editError(panelWhere(panel),
+                                           "no edge #" + std::to_string(edge.value));
                       }
                       if (!curve.control1.allFinite() || !curve.control2.allFinite() ||
                           !std::isfinite(curve.bulge)) {
@@ -489,29 +499,29 @@ Result<Edit> removePanel(GarmentDocument& d, PanelId panel) {
 
 Result<Edit> addSeam(GarmentDocument& d, std::string name, std::vector<doc::SeamRange> a,
                      std::vector<doc::SeamRange> b) {
-    return record(d, "add seam \"" + name + "\"", {}, {},
-                  [&](GarmentDocument& doc) -> Result<std::uint32_t> {
-                      if (a.empty() || b.empty()) {
-                          return editError("seam \"" + name + "\"", "each side needs a range");
-                      }
-                      for (const auto* side : {&a, &b}) {
-                          for (const doc::SeamRange& r : *side) {
-                              const doc::Panel* p = doc.panel(r.panel);
-                              if (p == nullptr || outlineEdgeIndex(*p, r.edge) < 0) {
-                                  return editError("seam \"" + name + "\"",
-                                                   "no outline edge #" + std::to_string(r.edge.value) +
-                                                       " on panel #" + std::to_string(r.panel.value));
-                              }
-                              if (!(r.t0 >= 0 && r.t0 <= 1 && r.t1 >= 0 && r.t1 <= 1) ||
-                                  std::abs(r.t1 - r.t0) < 1e-6) {
-                                  return editError("seam \"" + name + "\"",
-                                                   "range parameters must be distinct, within [0, 1]");
-                              }
-                          }
-                      }
-                      doc.seams.push_back({doc.newId<SeamId>(), name, a, b});
-                      return doc.seams.back().id.value;
-                  });
+    return record(
+        d, "add seam \"" + name + "\"", {}, {}, [&](GarmentDocument& doc) -> Result<std::uint32_t> {
+            if (a.empty() || b.empty()) {
+                return editError("seam \"" + name + "\"", "each side needs a range");
+            }
+            for (const auto* side : {&a, &b}) {
+                for (const doc::SeamRange& r : *side) {
+                    const doc::Panel* p = doc.panel(r.panel);
+                    if (p == nullptr || outlineEdgeIndex(*p, r.edge) < 0) {
+                        return editError("seam \"" + name + "\"",
+                                         "no outline edge #" + std::to_string(r.edge.value) +
+                                             " on panel #" + std::to_string(r.panel.value));
+                    }
+                    if (!(r.t0 >= 0 && r.t0 <= 1 && r.t1 >= 0 && r.t1 <= 1) ||
+                        std::abs(r.t1 - r.t0) < 1e-6) {
+                        return editError("seam \"" + name + "\"",
+                                         "range parameters must be distinct, within [0, 1]");
+                    }
+                }
+            }
+            doc.seams.push_back({doc.newId<SeamId>(), name, a, b});
+            return doc.seams.back().id.value;
+        });
 }
 
 Result<Edit> removeSeam(GarmentDocument& d, SeamId seam) {

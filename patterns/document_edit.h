@@ -19,8 +19,7 @@
 namespace atelier::patterns {
 
 /// One object before and after an edit (nullopt: absent) with its position in its list.
-template <class T>
-struct Change {
+template <class T> struct Change {
     std::optional<T> before;
     std::optional<T> after;
     std::size_t beforeIndex = 0;

@@ -12,32 +12,48 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-Error sessionError(std::string message) { return Error{"", "", std::move(message)}; }
+Error sessionError(std::string message) {
+    return Error{"", "", std::move(message)};
+}
 
 } // namespace
 
 std::string_view phaseName(DrapePhase phase) {
     switch (phase) {
-    case DrapePhase::Empty: return "empty";
-    case DrapePhase::Placing: return "placing";
-    case DrapePhase::Sewing: return "sewing";
-    case DrapePhase::Settling: return "settling";
-    case DrapePhase::AtRest: return "at rest";
-    case DrapePhase::Failed: return "failed";
+    case DrapePhase::Empty:
+        return "empty";
+    case DrapePhase::Placing:
+        return "placing";
+    case DrapePhase::Sewing:
+        return "sewing";
+    case DrapePhase::Settling:
+        return "settling";
+    case DrapePhase::AtRest:
+        return "at rest";
+    case DrapePhase::Failed:
+        return "failed";
     }
     return "?";
 }
 
 std::string_view eventName(DrapeEvent::Kind kind) {
     switch (kind) {
-    case DrapeEvent::Kind::Placed: return "placed";
-    case DrapeEvent::Kind::SeamsSewn: return "seams sewn";
-    case DrapeEvent::Kind::ForcedWelds: return "forced welds";
-    case DrapeEvent::Kind::GravityOn: return "gravity on";
-    case DrapeEvent::Kind::AtRest: return "at rest";
-    case DrapeEvent::Kind::TimeLimit: return "time limit";
-    case DrapeEvent::Kind::Failed: return "failed";
-    case DrapeEvent::Kind::Restarted: return "restarted";
+    case DrapeEvent::Kind::Placed:
+        return "placed";
+    case DrapeEvent::Kind::SeamsSewn:
+        return "seams sewn";
+    case DrapeEvent::Kind::ForcedWelds:
+        return "forced welds";
+    case DrapeEvent::Kind::GravityOn:
+        return "gravity on";
+    case DrapeEvent::Kind::AtRest:
+        return "at rest";
+    case DrapeEvent::Kind::TimeLimit:
+        return "time limit";
+    case DrapeEvent::Kind::Failed:
+        return "failed";
+    case DrapeEvent::Kind::Restarted:
+        return "restarted";
     }
     return "?";
 }
@@ -208,9 +224,12 @@ void DrapeSession::setPublishing(bool on) {
 
 DrapeStatus DrapeSession::finalStatus() const {
     switch (m_phase.load()) {
-    case DrapePhase::AtRest: return DrapeStatus::AtRest;
-    case DrapePhase::Failed: return DrapeStatus::Failed;
-    default: return m_timeLimit ? DrapeStatus::TimeLimit : DrapeStatus::Running;
+    case DrapePhase::AtRest:
+        return DrapeStatus::AtRest;
+    case DrapePhase::Failed:
+        return DrapeStatus::Failed;
+    default:
+        return m_timeLimit ? DrapeStatus::TimeLimit : DrapeStatus::Running;
     }
 }
 
@@ -226,8 +245,7 @@ void DrapeSession::afterStep() {
                  forcedWelds(m_project.garment, m_assembled, stats.forcedWeldGaps)) {
                 char part[160];
                 std::snprintf(part, sizeof part, "%s%s %.1f mm (%d pairs)",
-                              seams.empty() ? "" : ", ", w.seam.c_str(), 1000 * w.widest,
-                              w.pairs);
+                              seams.empty() ? "" : ", ", w.seam.c_str(), 1000 * w.widest, w.pairs);
                 seams += part;
             }
             raise(DrapeEvent::Kind::ForcedWelds,
@@ -241,7 +259,8 @@ void DrapeSession::afterStep() {
         raise(DrapeEvent::Kind::GravityOn, "gravity acts");
     }
     if (m_phase != DrapePhase::AtRest) {
-        m_phase = (m_sewnAt < 0 && !scene.seams.empty()) ? DrapePhase::Sewing : DrapePhase::Settling;
+        m_phase =
+            (m_sewnAt < 0 && !scene.seams.empty()) ? DrapePhase::Sewing : DrapePhase::Settling;
     }
     if (!s.atFrame()) {
         return;
@@ -471,18 +490,17 @@ Result<void> DrapeSession::setPanel(std::size_t index, Panel panel) {
         const bool same = p < before.panels.size() && p + 1 < offsets.size() &&
                           equal(before.panels[p].rest, m_mesh.panels[p].rest) &&
                           equal(before.panels[p].triangles, m_mesh.panels[p].triangles);
-        start.positions.push_back(
-            same ? sim::MatX3(m_simulation->positions().middleRows(offsets[p],
-                                                                   offsets[p + 1] - offsets[p]))
-                 : sim::MatX3());
+        start.positions.push_back(same ? sim::MatX3(m_simulation->positions().middleRows(
+                                             offsets[p], offsets[p + 1] - offsets[p]))
+                                       : sim::MatX3());
         kept += same ? 1 : 0;
     }
     if (auto r = build(start); !r.ok()) {
         return rollback(r);
     }
     raise(DrapeEvent::Kind::Restarted,
-          "panel \"" + m_project.garment.panels[index].name + "\" edited: " +
-              std::to_string(m_mesh.panelsTriangulated) + " panel(s) re-meshed, " +
+          "panel \"" + m_project.garment.panels[index].name +
+              "\" edited: " + std::to_string(m_mesh.panelsTriangulated) + " panel(s) re-meshed, " +
               std::to_string(kept) + " kept where they were");
     return {};
 }
@@ -507,8 +525,8 @@ Result<void> DrapeSession::placePanel(std::size_t index, const Placement& placem
         m_project.garment.panels[index].placement = previous;
         return r;
     }
-    raise(DrapeEvent::Kind::Restarted, "panel \"" + m_project.garment.panels[index].name +
-                                           "\" placed again; sewing it anew");
+    raise(DrapeEvent::Kind::Restarted,
+          "panel \"" + m_project.garment.panels[index].name + "\" placed again; sewing it anew");
     return {};
 }
 

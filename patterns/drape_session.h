@@ -62,21 +62,21 @@ struct DrapeFigures {
     DrapePhase phase = DrapePhase::Empty;
     bool rested = false;
     bool timeLimitReached = false;
-    double time = 0;             ///< drape time [s] (simulated, across restarts)
-    double restTime = -1;        ///< drape time at which rest was reached, or −1 [s]
-    double sewnAt = -1;          ///< drape time at which sewing ended, or −1 [s]
-    double stepSeconds = 0;      ///< wall time spent stepping [s]
-    double kineticEnergyPerVertex = 0; ///< mean, now [J]
-    double seamGapMax = 0;       ///< largest distance between sewn pairs now [m]
-    double areaRatio = 0;        ///< cloth area over rest area now [-]
-    double startPenetration = 0; ///< deepest cloth vertex inside the body as placed [m]
+    double time = 0;                     ///< drape time [s] (simulated, across restarts)
+    double restTime = -1;                ///< drape time at which rest was reached, or −1 [s]
+    double sewnAt = -1;                  ///< drape time at which sewing ended, or −1 [s]
+    double stepSeconds = 0;              ///< wall time spent stepping [s]
+    double kineticEnergyPerVertex = 0;   ///< mean, now [J]
+    double seamGapMax = 0;               ///< largest distance between sewn pairs now [m]
+    double areaRatio = 0;                ///< cloth area over rest area now [-]
+    double startPenetration = 0;         ///< deepest cloth vertex inside the body as placed [m]
     std::vector<ForcedWeld> forcedWelds; ///< seams welded by force, widest first
     long triangles = 0;
     long seamPairs = 0;
-    double meshSeconds = 0;      ///< wall time of the last meshing [s]
-    double minAngleDeg = 0;      ///< smallest triangle angle of the meshes [deg]
-    int panelsMeshed = 0;        ///< panels triangulated by the last prepare (the rest reused)
-    std::string error;           ///< why the drape failed, if it did
+    double meshSeconds = 0; ///< wall time of the last meshing [s]
+    double minAngleDeg = 0; ///< smallest triangle angle of the meshes [deg]
+    int panelsMeshed = 0;   ///< panels triangulated by the last prepare (the rest reused)
+    std::string error;      ///< why the drape failed, if it did
 };
 
 /// Supplies the body a project drapes on (the io layer loads mesh bodies and builds the
@@ -200,13 +200,13 @@ class DrapeSession {
     std::function<void(long, double, double)> m_onFrame;
 
     // Time and rest across restarts: a restarted simulation counts from 0.
-    double m_timeOffset = 0;     ///< drape time at which the current simulation started [s]
+    double m_timeOffset = 0;        ///< drape time at which the current simulation started [s]
     double m_stepSecondsBefore = 0; ///< wall time of earlier simulations' steps [s]
-    double m_restSince = -1;     ///< drape time since which the energy has stayed low [s]
+    double m_restSince = -1;        ///< drape time since which the energy has stayed low [s]
     double m_restTime = -1;
     double m_sewnAt = -1;
-    double m_sewingStart = 0;    ///< drape time at which the current sewing began [s]
-    double m_gravityAt = -1;     ///< simulation time gravity starts (from its scene) [s]
+    double m_sewingStart = 0; ///< drape time at which the current sewing began [s]
+    double m_gravityAt = -1;  ///< simulation time gravity starts (from its scene) [s]
     bool m_gravityRaised = false;
     bool m_timeLimit = false;
     std::string m_error;

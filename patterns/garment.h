@@ -64,23 +64,23 @@ enum class PanelSide { Front, Back };
 
 /// Where a panel starts: on one of the body's arrangement slots.
 struct Placement {
-    std::string slot;             ///< slot name on the body (e.g. "torso_front")
-    Vec2 offset = Vec2::Zero();   ///< panel origin on the slot surface: (around, along) [m]
-    double rotation = 0;          ///< rotation of the panel in its plane [rad]
-    double clearance = 0.02;      ///< gap kept to the body surface [m]
+    std::string slot;           ///< slot name on the body (e.g. "torso_front")
+    Vec2 offset = Vec2::Zero(); ///< panel origin on the slot surface: (around, along) [m]
+    double rotation = 0;        ///< rotation of the panel in its plane [rad]
+    double clearance = 0.02;    ///< gap kept to the body surface [m]
 };
 
 struct Panel {
     std::string name;
-    Loop outline;                 ///< counter-clockwise
-    std::vector<Loop> holes;      ///< clockwise or counter-clockwise, inside the outline
+    Loop outline;            ///< counter-clockwise
+    std::vector<Loop> holes; ///< clockwise or counter-clockwise, inside the outline
     std::vector<InternalLine> internalLines;
     std::vector<Dart> darts;
     std::vector<Notch> notches;
     /// Direction of the warp (grain line) in the pattern plane [rad from +x]; the material
     /// frame is weft = warp rotated by −90°.
     double grainAngle = 1.5707963267948966;
-    std::string material;         ///< name of a fabric in the garment's materials
+    std::string material; ///< name of a fabric in the garment's materials
     PanelSide side = PanelSide::Front;
     Placement placement;
 };

@@ -23,7 +23,12 @@ constexpr double PI = 3.14159265358979323846;
 /// corner 7 along the axes. Neighbouring cubes split their shared face along the same diagonal,
 /// so the tetrahedra form one consistent simplicial complex.
 constexpr std::array<std::array<int, 4>, 6> KUHN = {{
-    {0, 1, 3, 7}, {0, 2, 3, 7}, {0, 2, 6, 7}, {0, 4, 6, 7}, {0, 4, 5, 7}, {0, 1, 5, 7},
+    {0, 1, 3, 7},
+    {0, 2, 3, 7},
+    {0, 2, 6, 7},
+    {0, 4, 6, 7},
+    {0, 4, 5, 7},
+    {0, 1, 5, 7},
 }};
 
 struct Grid {
@@ -39,8 +44,8 @@ struct Grid {
         const std::int64_t i = id % nx;
         const std::int64_t j = (id / nx) % ny;
         const std::int64_t k = id / (static_cast<std::int64_t>(nx) * ny);
-        return origin + h * Vec3(static_cast<double>(i), static_cast<double>(j),
-                                 static_cast<double>(k));
+        return origin +
+               h * Vec3(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k));
     }
 };
 

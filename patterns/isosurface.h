@@ -14,8 +14,8 @@ using ImplicitFunction = std::function<double(const sim::Vec3&)>;
 struct IsosurfaceOptions {
     sim::Vec3 boxMin = sim::Vec3::Constant(-1); ///< the surface must lie strictly inside [m]
     sim::Vec3 boxMax = sim::Vec3::Constant(1);
-    double cell = 0.02;         ///< grid spacing [m]
-    int relaxIterations = 6;    ///< tangential smoothing + edge flips + projection rounds
+    double cell = 0.02;      ///< grid spacing [m]
+    int relaxIterations = 6; ///< tangential smoothing + edge flips + projection rounds
 };
 
 struct Isosurface {

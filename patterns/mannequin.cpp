@@ -3,14 +3,14 @@
 #include "patterns/body_measure.h"
 #include "patterns/isosurface.h"
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <chrono>
-#include <limits>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <optional>
-
-#include <Eigen/Eigenvalues>
 #include <string>
 
 namespace atelier::patterns {
@@ -140,9 +140,8 @@ struct Limb {
 
 /// The implicit body: everything derived from the measurements and the fitted scales.
 class Shape {
-public:
-    Shape(bool female, const BodyMeasurements& m, const Fit& scale)
-        : m_female(female) {
+  public:
+    Shape(bool female, const BodyMeasurements& m, const Fit& scale) : m_female(female) {
         const double H = m.height;
         const double s = H / 1.68;
         MannequinLandmarks& L = m_landmarks;
@@ -185,8 +184,8 @@ public:
             waist,
             under,
             bust,
-            {0.745 * H, std::max(0.98 * bust.a, halfShoulder - 1.4 * rShoulder), 0.95 * bust.b,
-             0.0, 2.5},
+            {0.745 * H, std::max(0.98 * bust.a, halfShoulder - 1.4 * rShoulder), 0.95 * bust.b, 0.0,
+             2.5},
             {L.shoulderY - 0.9 * rShoulder, halfShoulder - 0.9 * rShoulder, 0.075 * s, -0.004 * s,
              2.6},
             {L.shoulderY, halfShoulder - 1.6 * rShoulder, 0.06 * s, -0.006 * s, 2.4},
@@ -253,7 +252,8 @@ public:
             // Wrist along d from the joint, at the arm length from the shoulder point.
             const Vec3 ja = joint - shoulderPoint;
             const double bq = ja.dot(d);
-            const double t = -bq + std::sqrt(bq * bq - ja.squaredNorm() + m.armLength * m.armLength);
+            const double t =
+                -bq + std::sqrt(bq * bq - ja.squaredNorm() + m.armLength * m.armLength);
             const Vec3 wrist = joint + t * d;
             const Vec3 elbow = joint + 0.53 * t * d;
             const Vec3 forearm = elbow + 0.25 * (wrist - elbow);
@@ -296,10 +296,10 @@ public:
             limb->boxMin = Vec3::Constant(1e9);
             limb->boxMax = Vec3::Constant(-1e9);
             for (std::size_t j = 0; j < limb->joints.size(); ++j) {
-                limb->boxMin = limb->boxMin.cwiseMin(limb->joints[j] -
-                                                     Vec3::Constant(limb->radii[j]));
-                limb->boxMax = limb->boxMax.cwiseMax(limb->joints[j] +
-                                                     Vec3::Constant(limb->radii[j]));
+                limb->boxMin =
+                    limb->boxMin.cwiseMin(limb->joints[j] - Vec3::Constant(limb->radii[j]));
+                limb->boxMax =
+                    limb->boxMax.cwiseMax(limb->joints[j] + Vec3::Constant(limb->radii[j]));
             }
             const double rh = limb->handRadii.maxCoeff();
             limb->boxMin = limb->boxMin.cwiseMin(limb->handCentre - Vec3::Constant(rh));
@@ -355,7 +355,7 @@ public:
         return f;
     }
 
-private:
+  private:
     double blendLimb(double f, const Limb& limb, const Vec3& p, double k) const {
         // Beyond the limb's box by more than the blend, it cannot change f.
         const Vec3 out = (limb.boxMin - p).cwiseMax(p - limb.boxMax).cwiseMax(0.0);
@@ -368,13 +368,14 @@ private:
     double limb(const Limb& limb, const Vec3& p) const {
         double d = 1e9;
         for (std::size_t j = 0; j + 1 < limb.joints.size(); ++j) {
-            d = smin(d, roundCone(p, limb.joints[j], limb.joints[j + 1], limb.radii[j],
-                                  limb.radii[j + 1]),
-                     0.02);
+            d = smin(
+                d,
+                roundCone(p, limb.joints[j], limb.joints[j + 1], limb.radii[j], limb.radii[j + 1]),
+                0.02);
         }
-        return smin(d, ellipsoid(p, limb.handCentre, limb.handU, limb.handV, limb.handW,
-                                 limb.handRadii),
-                    0.02);
+        return smin(
+            d, ellipsoid(p, limb.handCentre, limb.handU, limb.handV, limb.handW, limb.handRadii),
+            0.02);
     }
 
     Section sectionAt(double y) const {
@@ -426,14 +427,14 @@ private:
 
     double core(const Vec3& p) const {
         double f = torso(p);
-        f = smin(f, ellipsoid(p, m_headCentre, Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ(),
-                              m_headRadii),
-                 0.03);
+        f = smin(
+            f, ellipsoid(p, m_headCentre, Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ(), m_headRadii),
+            0.03);
         if (m_female) {
             for (const Vec3& c : m_breastCentre) {
-                f = smin(f, ellipsoid(p, c, Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ(),
-                                      m_breastRadii),
-                         0.035);
+                f = smin(
+                    f, ellipsoid(p, c, Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ(), m_breastRadii),
+                    0.035);
             }
         }
         return f;
@@ -452,13 +453,20 @@ private:
 
 double targetGirth(const BodyMeasurements& m, int g) {
     switch (g) {
-    case Bust: return m.bust;
-    case UnderBust: return m.underBust;
-    case Waist: return m.waist;
-    case Hip: return m.hip;
-    case Neck: return m.neck;
-    case UpperArm: return m.upperArm;
-    default: return m.thigh;
+    case Bust:
+        return m.bust;
+    case UnderBust:
+        return m.underBust;
+    case Waist:
+        return m.waist;
+    case Hip:
+        return m.hip;
+    case Neck:
+        return m.neck;
+    case UpperArm:
+        return m.upperArm;
+    default:
+        return m.thigh;
     }
 }
 
@@ -483,7 +491,6 @@ double lowestCrossing(const sim::MatX3& v, const sim::MatX3i& f, double x, doubl
     }
     return best;
 }
-
 
 /// Where the slots go: axes and ranges from landmarks; radii enclose the parts' vertices.
 struct SlotFrame {
@@ -537,7 +544,8 @@ std::vector<Vec3> sectionCentres(const sim::MatX3& x, const std::vector<int>& pa
     for (std::size_t k = bins, next = bins; k-- > 0;) {
         next = filled(k) ? k : next;
         const long from = source[k];
-        if (next < bins && (from < 0 || static_cast<long>(next - k) < static_cast<long>(k) - from)) {
+        if (next < bins &&
+            (from < 0 || static_cast<long>(next - k) < static_cast<long>(k) - from)) {
             source[k] = static_cast<long>(next);
         }
     }
@@ -595,8 +603,7 @@ std::vector<ArrangementSlot> computeSlots(const sim::MatX3& x, const std::vector
         const int bins = static_cast<int>(std::ceil((slot.alongMax - slot.alongMin) / 0.01)) + 1;
         slot.profileStep = 0.01;
         if (centred) {
-            slot.profileCentre =
-                sectionCentres(x, part, slot, static_cast<std::size_t>(bins), in);
+            slot.profileCentre = sectionCentres(x, part, slot, static_cast<std::size_t>(bins), in);
         }
         std::vector<double> prof(static_cast<std::size_t>(bins), 0.0);
         double r = 0;
@@ -644,7 +651,7 @@ std::vector<ArrangementSlot> computeSlots(const sim::MatX3& x, const std::vector
     }};
     for (const auto& [name, facing] : facings) {
         enclose(slotOf(std::string("torso_") + name, f.torsoOrigin, Vec3::UnitY(), facing, 0,
-                 f.crotchY - waistY, f.shoulderY - waistY + 0.01),
+                       f.crotchY - waistY, f.shoulderY - waistY + 0.01),
                 parts({0}), false, {1, 2}, f.shoulderHalfWidth + 0.005);
         // A torso panel hugging the bust would wrap its sides into the arms: the torso slots
         // stay cylinders of the whole torso's radius.
@@ -652,20 +659,20 @@ std::vector<ArrangementSlot> computeSlots(const sim::MatX3& x, const std::vector
     }
     for (const auto& [name, facing] : facings) {
         enclose(slotOf(std::string("waist_") + name, f.torsoOrigin, Vec3::UnitY(), facing, 0,
-                 f.crotchY - 0.02 - waistY, 0.06),
+                       f.crotchY - 0.02 - waistY, 0.06),
                 parts({0, 3, 4}), false);
     }
     paired = false;
     enclose(slotOf("neck", Vec3(f.torsoOrigin.x(), f.neckY, f.torsoOrigin.z()), Vec3::UnitY(),
-             Vec3::UnitZ(), 0, -0.03, 0.03),
+                   Vec3::UnitZ(), 0, -0.03, 0.03),
             parts({0}), false);
     for (std::size_t i = 0; i < 2; ++i) {
         const std::string lr = i == 0 ? "left" : "right";
         const int side = static_cast<int>(i);
         // Arm: +axis toward the shoulder, facing the top of the arm.
         paired = false;
-        enclose(slotOf("arm_" + lr, f.shoulderJoint[i], f.armAxis[i], f.armTop[i], 0, -f.armLength[i],
-                 0.0),
+        enclose(slotOf("arm_" + lr, f.shoulderJoint[i], f.armAxis[i], f.armTop[i], 0,
+                       -f.armLength[i], 0.0),
                 parts({1 + side}), false);
         paired = true;
         // Leg: from the ankle up to the waist band's top (as the waist slots), following the
@@ -677,11 +684,10 @@ std::vector<ArrangementSlot> computeSlots(const sim::MatX3& x, const std::vector
         const double sx = i == 0 ? 1.0 : -1.0;
         const int leg = 3 + side;
         const VertexSelection legSide = [&, sx, leg](Eigen::Index v, int pv) {
-            return pv == leg ||
-                   (pv == 0 && sx * (x(v, 0) - f.torsoOrigin.x()) > 0);
+            return pv == leg || (pv == 0 && sx * (x(v, 0) - f.torsoOrigin.x()) > 0);
         };
         enclose(slotOf("leg_" + lr + "_front", legOrigin, Vec3::UnitY(), Vec3::UnitZ(), 0,
-                 -f.crotchY + 0.09, waistY + 0.06 - f.crotchY),
+                       -f.crotchY + 0.09, waistY + 0.06 - f.crotchY),
                 legSide, true);
         ArrangementSlot back = slots.back();
         back.name = "leg_" + lr + "_back";
@@ -701,8 +707,8 @@ std::optional<std::string> estimateSlots(Body& body) {
     const double y0 = x.col(1).minCoeff();
     const double H = x.col(1).maxCoeff() - y0;
     if (!(H > 0.5 && H < 3.0)) {
-        return "a body mesh must be 0.5–3 m tall, Y up, in metres (found " +
-               std::to_string(H) + " m)";
+        return "a body mesh must be 0.5–3 m tall, Y up, in metres (found " + std::to_string(H) +
+               " m)";
     }
     // Standing-figure proportions (as the mannequin's): the torso column is the waist band's
     // centre; arms are beyond 0.15 H from it above the crotch; legs below the crotch.
@@ -815,10 +821,10 @@ std::vector<std::pair<std::string, std::string>> checkMeasurements(const BodyMea
     std::vector<std::pair<std::string, std::string>> issues;
     auto range = [&](std::string_view field, double v, double lo, double hi) {
         if (!(v >= lo && v <= hi)) {
-            issues.emplace_back(std::string(field),
-                                "must be in [" + std::to_string(lo).substr(0, 5) + ", " +
-                                    std::to_string(hi).substr(0, 5) + "] m (found " +
-                                    std::to_string(v) + ")");
+            issues.emplace_back(std::string(field), "must be in [" +
+                                                        std::to_string(lo).substr(0, 5) + ", " +
+                                                        std::to_string(hi).substr(0, 5) +
+                                                        "] m (found " + std::to_string(v) + ")");
         }
     };
     range("height", m.height, 1.4, 2.1);
@@ -911,8 +917,7 @@ Mannequin makeMannequin(std::string_view base, const BodyMeasurements& m,
                 frame.shoulderJoint[i] = L.shoulderJoint[i];
                 frame.armAxis[i] = (L.shoulderJoint[i] - L.wrist[i]).normalized();
                 frame.armLength[i] = (L.wrist[i] - L.shoulderJoint[i]).norm();
-                frame.armTop[i] =
-                    Vec3(sx * std::cos(L.armAngle), std::sin(L.armAngle), 0);
+                frame.armTop[i] = Vec3(sx * std::cos(L.armAngle), std::sin(L.armAngle), 0);
                 frame.hipJoint[i] = L.hipJoint[i];
             }
             out.body.slots = computeSlots(surface.vertices, part, frame);
@@ -928,8 +933,7 @@ Mannequin makeMannequin(std::string_view base, const BodyMeasurements& m,
         }
         scale[Crotch] += std::clamp(m.inseam - measured.inseam, -0.03, 0.03);
     }
-    out.seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return out;
 }
 

@@ -39,34 +39,34 @@ bool baseMeasurements(std::string_view base, BodyMeasurements& out);
 std::vector<std::pair<std::string, std::string>> checkMeasurements(const BodyMeasurements& m);
 
 struct MannequinOptions {
-    double cell = 0.027;   ///< grid spacing of the surface extraction [m] (≈ 20k triangles)
-    int fitIterations = 8;  ///< girth-fitting rounds (each regenerates the surface)
+    double cell = 0.027;         ///< grid spacing of the surface extraction [m] (≈ 20k triangles)
+    int fitIterations = 8;       ///< girth-fitting rounds (each regenerates the surface)
     double fitTolerance = 0.001; ///< stop when every girth is this close [m]
 };
 
 /// Landmarks of a generated body [m]: where the measurements are taken and the joints are.
 struct MannequinLandmarks {
-    double crotchY = 0, hipY = 0, waistY = 0, underBustY = 0, bustY = 0, shoulderY = 0,
-           neckY = 0, thighY = 0;
-    std::array<sim::Vec3, 2> shoulderPoint;  ///< acromion, left (+x) then right
+    double crotchY = 0, hipY = 0, waistY = 0, underBustY = 0, bustY = 0, shoulderY = 0, neckY = 0,
+           thighY = 0;
+    std::array<sim::Vec3, 2> shoulderPoint; ///< acromion, left (+x) then right
     std::array<sim::Vec3, 2> shoulderJoint;
     std::array<sim::Vec3, 2> elbow;
     std::array<sim::Vec3, 2> wrist;
     std::array<sim::Vec3, 2> hipJoint;
-    std::array<sim::Vec3, 2> upperArmPoint;  ///< where the upper-arm girth is taken
-    std::array<sim::Vec3, 2> thighPoint;     ///< where the thigh girth is taken
-    double torsoZ = 0;                       ///< centre of the torso sections in z
-    double armAngle = 0;                     ///< A-pose: the arms' angle from the vertical
+    std::array<sim::Vec3, 2> upperArmPoint; ///< where the upper-arm girth is taken
+    std::array<sim::Vec3, 2> thighPoint;    ///< where the thigh girth is taken
+    double torsoZ = 0;                      ///< centre of the torso sections in z
+    double armAngle = 0;                    ///< A-pose: the arms' angle from the vertical
 };
 
 struct Mannequin {
-    Body body;                 ///< mesh (outward, Y up, feet at y = 0, facing +z) and slots
-    sim::MatX3 normals;        ///< smooth vertex normals (gradients of the implicit surface)
+    Body body;          ///< mesh (outward, Y up, feet at y = 0, facing +z) and slots
+    sim::MatX3 normals; ///< smooth vertex normals (gradients of the implicit surface)
     MannequinLandmarks landmarks;
     BodyMeasurements requested;
     /// The same measurements taken on the generated mesh (tape girths, floor-to-crotch, ...).
     BodyMeasurements measured;
-    double seconds = 0;        ///< wall time to generate [s]
+    double seconds = 0; ///< wall time to generate [s]
 };
 
 /// Generates the mannequin of `base` with `m`. The surface is the zero set of a smooth union

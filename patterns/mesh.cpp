@@ -21,7 +21,9 @@ std::string pointer(int panel, const std::string& rest) {
     return "/panels/" + std::to_string(panel) + rest;
 }
 
-bool finite(const Vec2& v) { return std::isfinite(v.x()) && std::isfinite(v.y()); }
+bool finite(const Vec2& v) {
+    return std::isfinite(v.x()) && std::isfinite(v.y());
+}
 
 bool segmentFinite(const Segment& s) {
     return finite(s.start) && finite(s.end) && finite(s.control1) && finite(s.control2) &&
@@ -46,7 +48,9 @@ Flat flatten(const Loop& loop, int pieces) {
     return f;
 }
 
-double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+double cross2(const Vec2& a, const Vec2& b) {
+    return a.x() * b.y() - a.y() * b.x();
+}
 
 /// Proper or touching intersection of segments pq and rs (not counting shared endpoints).
 bool segmentsCross(const Vec2& p, const Vec2& q, const Vec2& r, const Vec2& s) {
@@ -76,7 +80,8 @@ std::pair<int, int> selfCrossing(const Flat& f) {
             if (i == 0 && j == n - 1) {
                 continue; // adjacent through the loop's closure
             }
-            if (segmentsCross(f.points[i], f.points[(i + 1) % n], f.points[j], f.points[(j + 1) % n])) {
+            if (segmentsCross(f.points[i], f.points[(i + 1) % n], f.points[j],
+                              f.points[(j + 1) % n])) {
                 return {f.segmentOf[i], f.segmentOf[j]};
             }
         }
@@ -134,13 +139,14 @@ struct SideRange {
 };
 
 double rangeLength(const Garment& g, const SideRange& r) {
-    return arcLength(g.panels[static_cast<std::size_t>(r.panel)].outline[static_cast<std::size_t>(r.segment)],
-                     r.t0, r.t1);
+    return arcLength(
+        g.panels[static_cast<std::size_t>(r.panel)].outline[static_cast<std::size_t>(r.segment)],
+        r.t0, r.t1);
 }
 
 /// Per panel, per loop, per segment: fixed parameters and the parameter ranges seams cover.
 struct PanelPoints {
-    std::vector<std::vector<std::set<double>>> fixed;                          // [loop][segment]
+    std::vector<std::vector<std::set<double>>> fixed;                         // [loop][segment]
     std::vector<std::vector<std::vector<std::pair<double, double>>>> covered; // [loop][segment]
 };
 
@@ -271,12 +277,14 @@ std::vector<GarmentIssue> validateGarment(const Garment& garment) {
                 const std::string w = ws + "/" + std::to_string(e);
                 const int pi = garment.panelIndex(edge.panel);
                 if (pi < 0) {
-                    issues.push_back({w + "/panel", "seam names missing panel \"" + edge.panel + "\""});
+                    issues.push_back(
+                        {w + "/panel", "seam names missing panel \"" + edge.panel + "\""});
                     continue;
                 }
                 const Panel& panel = garment.panels[static_cast<std::size_t>(pi)];
                 if (edge.segment < 0 || edge.segment >= static_cast<int>(panel.outline.size())) {
-                    issues.push_back({w + "/segment", "panel \"" + edge.panel + "\" has no segment " +
+                    issues.push_back({w + "/segment", "panel \"" + edge.panel +
+                                                          "\" has no segment " +
                                                           std::to_string(edge.segment)});
                     continue;
                 }

@@ -46,11 +46,11 @@ struct GarmentMesh {
     std::vector<PanelMesh> panels; ///< in the garment's panel order
     /// Vertex pairs sewn together (seams, then darts), one to one along each seam.
     std::vector<std::array<VertexRef, 2>> seamPairs;
-    std::vector<int> seamOfPair; ///< (|pairs|) seam index; darts: −1 − panel index
+    std::vector<int> seamOfPair;       ///< (|pairs|) seam index; darts: −1 − panel index
     std::vector<std::string> warnings; ///< ease beyond tolerance, naming the seam and lengths
-    double minAngleDeg = 0;  ///< smallest triangle angle over all panels [deg]
+    double minAngleDeg = 0;            ///< smallest triangle angle over all panels [deg]
     long triangleCount = 0;
-    double seconds = 0;      ///< wall time of the meshing [s]
+    double seconds = 0;         ///< wall time of the meshing [s]
     int panelsTriangulated = 0; ///< panels triangulated (the others came from the cache)
 };
 

@@ -39,9 +39,8 @@ sim::MatX3 wrapOnSlot(const sim::MatX2& coordinates, const ArrangementSlot& slot
     const int rows = static_cast<int>(std::ceil((vMax - vMin) / STEP)) + 1;
     std::vector<double> halfWidth(static_cast<std::size_t>(rows), 0.0);
     for (Eigen::Index i = 0; i < n; ++i) {
-        const auto k = static_cast<std::size_t>(
-            std::clamp(static_cast<int>(std::lround((coordinates(i, 1) - vMin) / STEP)), 0,
-                       rows - 1));
+        const auto k = static_cast<std::size_t>(std::clamp(
+            static_cast<int>(std::lround((coordinates(i, 1) - vMin) / STEP)), 0, rows - 1));
         halfWidth[k] = std::max(halfWidth[k], std::abs(coordinates(i, 0)));
     }
     std::vector<double> need(static_cast<std::size_t>(rows));
@@ -88,8 +87,8 @@ sim::MatX3 wrapOnSlot(const sim::MatX2& coordinates, const ArrangementSlot& slot
     }
     const Vec3 right = slot.right();
     for (Eigen::Index i = 0; i < n; ++i) {
-        const double u = std::clamp((coordinates(i, 1) - vMin) / STEP, 0.0,
-                                    static_cast<double>(rows - 1));
+        const double u =
+            std::clamp((coordinates(i, 1) - vMin) / STEP, 0.0, static_cast<double>(rows - 1));
         const auto k = std::min(static_cast<int>(u), rows - 2 < 0 ? 0 : rows - 2);
         const double f = rows > 1 ? u - k : 0.0;
         const auto kk = static_cast<std::size_t>(k);

@@ -19,7 +19,6 @@ sim::MatX2 placementCoordinates(const Panel& panel, const PanelMesh& mesh);
 /// a(v) makes the meridian's arc length equal to v, anchored at the panel's top row. Around,
 /// arc lengths are kept exactly: the panel starts curved around the body part, clear of it,
 /// with its front facing out.
-sim::MatX3 wrapOnSlot(const sim::MatX2& coordinates, const ArrangementSlot& slot,
-                      double clearance);
+sim::MatX3 wrapOnSlot(const sim::MatX2& coordinates, const ArrangementSlot& slot, double clearance);
 
 } // namespace atelier::patterns

@@ -31,14 +31,14 @@ struct DrapeSettings {
     double particleDistance = 0.01; ///< target mesh edge length [m]
     sim::StretchModel model = sim::StretchModel::Fem;
     sim::IntegratorKind integrator = sim::IntegratorKind::ImplicitEuler;
-    double dt = 1.0 / 300;          ///< step (fixed, or first of rk45) [s]
+    double dt = 1.0 / 300; ///< step (fixed, or first of rk45) [s]
     /// Implicit Euler: relative tolerance of the conjugate-gradient solve. Draping needs the
     /// shape at rest, not the path to it: on the 10 mm skirt, 1e-3 closed the seams nearly as
     /// fast as 1e-6 (gap 0.176 against 0.156 m after 0.3 s) with ~200 instead of 500 iterations.
     double cgTolerance = 1e-3;
-    double clothThickness = 0.002;  ///< collision thickness of the cloth [m]
-    bool selfCollision = true;      ///< garment against itself (layers, front vs back)
-    double bodyThickness = 0.002;   ///< collision thickness of the body surface [m]
+    double clothThickness = 0.002; ///< collision thickness of the cloth [m]
+    bool selfCollision = true;     ///< garment against itself (layers, front vs back)
+    double bodyThickness = 0.002;  ///< collision thickness of the body surface [m]
     double bodyStaticFriction = 0.5;
     double bodyKineticFriction = 0.4;
     /// Seams close like (1 + t/τ)e^{−t/τ} when nothing resists [s]. The elastic's stiffness is
@@ -92,6 +92,8 @@ struct Project {
 };
 
 /// `project.garment = toGarment(project.document)`.
-inline void syncGarment(Project& project) { project.garment = toGarment(project.document); }
+inline void syncGarment(Project& project) {
+    project.garment = toGarment(project.document);
+}
 
 } // namespace atelier::patterns

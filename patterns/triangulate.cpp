@@ -57,8 +57,8 @@ std::optional<std::string> triangulate(const TriangulationInput& input, Triangul
     mesher.set_seeds(seeds.begin(), seeds.end(), false);
     mesher.refine_mesh();
     if (input.lloydIterations > 0) {
-        CGAL::lloyd_optimize_mesh_2(cdt, CGAL::parameters::max_iteration_number =
-                                             input.lloydIterations);
+        CGAL::lloyd_optimize_mesh_2(cdt,
+                                    CGAL::parameters::max_iteration_number = input.lloydIterations);
         // Smoothing may leave a few triangles under the angle bound: refine those again.
         Mesher again(cdt, Criteria(shape, input.maxEdge));
         again.set_seeds(seeds.begin(), seeds.end(), false);

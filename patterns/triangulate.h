@@ -18,11 +18,11 @@ struct TriangulationInput {
     std::vector<std::array<int, 2>> constraints;
     /// A point inside each hole: the regions holding them are left empty.
     std::vector<sim::Vec2> holeSeeds;
-    double maxEdge = 0.01;     ///< target longest edge of the inner triangles [m]
-    double minAngleDeg = 25;   ///< smallest angle asked of the refinement [deg]
+    double maxEdge = 0.01;   ///< target longest edge of the inner triangles [m]
+    double minAngleDeg = 25; ///< smallest angle asked of the refinement [deg]
     /// CGAL's Lloyd smoothing visits vertices in memory-address order, so its result moved
     /// with the heap layout (the same project meshed differently run to run): off by default.
-    int lloydIterations = 0;  ///< smoothing of the inner vertices after refinement
+    int lloydIterations = 0; ///< smoothing of the inner vertices after refinement
 };
 
 struct TriangulationOutput {

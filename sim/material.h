@@ -8,13 +8,15 @@ namespace atelier::sim {
 /// Mechanical parameters of one fabric. The material frame is the pattern's: weft = x, warp = y.
 struct Material {
     std::string name = "custom";
-    double density = 0.15;      ///< areal density [kg/m²]
-    double stretchWeft = 2000;  ///< 2D Young's modulus along weft (x) [N/m]
-    double stretchWarp = 2000;  ///< 2D Young's modulus along warp (y) [N/m]
-    double shear = 500;         ///< in-plane shear modulus [N/m]
-    double poisson = 0.3;       ///< Poisson ratio ν_weft,warp (contraction along warp per weft strain) [-]
-    double bending = 1e-5;      ///< bending stiffness [N·m]
-    double damping = 2e-4;      ///< strain-rate damping: time constant of stiffness-proportional viscosity [s]
+    double density = 0.15;     ///< areal density [kg/m²]
+    double stretchWeft = 2000; ///< 2D Young's modulus along weft (x) [N/m]
+    double stretchWarp = 2000; ///< 2D Young's modulus along warp (y) [N/m]
+    double shear = 500;        ///< in-plane shear modulus [N/m]
+    double poisson =
+        0.3; ///< Poisson ratio ν_weft,warp (contraction along warp per weft strain) [-]
+    double bending = 1e-5; ///< bending stiffness [N·m]
+    double damping =
+        2e-4; ///< strain-rate damping: time constant of stiffness-proportional viscosity [s]
     double staticFriction = 0.4;  ///< Coulomb static friction coefficient [-]
     double kineticFriction = 0.3; ///< Coulomb kinetic friction coefficient [-]
     /// Bending plasticity: fold-angle deviation beyond which the rest angle yields [rad];

@@ -22,9 +22,9 @@ enum class IntegratorKind { Euler, Midpoint, Rk4, Rk45, ImplicitEuler };
 /// One piece of cloth. Vertex indices in constraints are global: cloths are concatenated in order.
 struct ClothSpec {
     std::string name = "cloth";
-    ClothMesh mesh;          ///< topology and rest shape (built with buildClothMesh)
-    MatX3 position;          ///< (|V|×3) initial positions [m]
-    MatX3 velocity;          ///< (|V|×3) initial velocities [m/s]; empty = at rest
+    ClothMesh mesh; ///< topology and rest shape (built with buildClothMesh)
+    MatX3 position; ///< (|V|×3) initial positions [m]
+    MatX3 velocity; ///< (|V|×3) initial velocities [m/s]; empty = at rest
     Material material;
     StretchModel model = StretchModel::Fem;
     bool crossSprings = false; ///< springs model only: add springs across each hinge
@@ -42,8 +42,8 @@ struct ClothSpec {
 
 /// A rigid pose of an obstacle at a time: world = R(rotation)·local + translation.
 struct ObstacleKey {
-    double time = 0;                   ///< [s]
-    Vec3 translation = Vec3::Zero();   ///< [m]
+    double time = 0;                 ///< [s]
+    Vec3 translation = Vec3::Zero(); ///< [m]
     /// Rotation vector (axis × angle) [rad]. Keys are interpolated linearly in the rotation
     /// vector, so a spin about one axis may hold many turns between two keys.
     Vec3 rotation = Vec3::Zero();
@@ -70,7 +70,8 @@ struct ObstacleSpec {
     double kineticFriction = 0.3; ///< Coulomb kinetic coefficient [-]
 };
 
-/// Contacts inside the implicit solve (CollisionOptions::solveContacts, sim/collision/contact_forces.h).
+/// Contacts inside the implicit solve (CollisionOptions::solveContacts,
+/// sim/collision/contact_forces.h).
 struct ContactSolveOptions {
     /// Normal stiffness of a contact as a multiple of m/h², m the contact's effective mass and
     /// h the step [-]. A vertex carrying the weight of N others sinks by N·g·h²/κ into the layer.

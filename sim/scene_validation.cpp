@@ -48,7 +48,8 @@ std::optional<std::string> validateCloths(const SceneSpec& s) {
         const double nu21 = m.poisson * m.stretchWarp / m.stretchWeft;
         if (!(m.poisson >= 0) || !(m.poisson * nu21 < 1.0) ||
             (c.model == StretchModel::Volino && m.poisson >= 0.5)) {
-            return who + ": Poisson ratio out of range (need 0 <= nu and nu12*nu21 < 1; volino: nu < 0.5)";
+            return who + ": Poisson ratio out of range (need 0 <= nu and nu12*nu21 < 1; volino: nu "
+                         "< 0.5)";
         }
         if (c.restAngles.size() != 0 && c.restAngles.size() != c.mesh.hinges.rows()) {
             return who + ": rest_angles has " + std::to_string(c.restAngles.size()) +
@@ -62,7 +63,8 @@ std::optional<std::string> validateCloths(const SceneSpec& s) {
 std::optional<std::string> validateConstraints(const SceneSpec& s, int total) {
     for (int p : s.pins) {
         if (p < 0 || p >= total) {
-            return "pin vertex " + std::to_string(p) + " out of range [0, " + std::to_string(total) + ")";
+            return "pin vertex " + std::to_string(p) + " out of range [0, " +
+                   std::to_string(total) + ")";
         }
     }
     for (std::size_t d = 0; d < s.drives.size(); ++d) {
@@ -91,7 +93,8 @@ std::optional<std::string> validateConstraints(const SceneSpec& s, int total) {
     for (std::size_t k = 0; k < s.seams.size(); ++k) {
         const SeamPair& p = s.seams[k];
         if (p.a < 0 || p.a >= total || p.b < 0 || p.b >= total || p.a == p.b) {
-            return "seam " + std::to_string(k) + ": vertices must be two different vertices in range";
+            return "seam " + std::to_string(k) +
+                   ": vertices must be two different vertices in range";
         }
     }
     if (!(s.gravityStartTime >= 0) || !std::isfinite(s.gravityStartTime)) {
@@ -152,7 +155,8 @@ std::optional<std::string> validateObstacles(const SceneSpec& s) {
             }
         }
         for (const ObstacleKey& key : ob.keys) {
-            if (!key.translation.allFinite() || !key.rotation.allFinite() || !std::isfinite(key.time)) {
+            if (!key.translation.allFinite() || !key.rotation.allFinite() ||
+                !std::isfinite(key.time)) {
                 return who + ": keys must be finite";
             }
         }
@@ -181,12 +185,14 @@ std::optional<std::string> validateSettings(const SceneSpec& s) {
     }
     if (!(s.collision.iterations >= 1) || !(s.collision.proximityFactor >= 0) ||
         !(s.collision.extractionSpeed > 0)) {
-        return std::string("collision: need iterations >= 1, proximity factor >= 0, extraction speed > 0");
+        return std::string(
+            "collision: need iterations >= 1, proximity factor >= 0, extraction speed > 0");
     }
     const IntegratorOptions& o = s.integrator;
     if (!(o.dt > 0) || !(o.minDt > 0) || !(o.maxDt >= o.minDt) || !(o.tolerance > 0) ||
         !(o.growth > 1.0)) {
-        return std::string("integrator: need dt > 0, tolerance > 0, 0 < min_dt <= max_dt, growth > 1");
+        return std::string(
+            "integrator: need dt > 0, tolerance > 0, 0 < min_dt <= max_dt, growth > 1");
     }
     if (!(s.duration >= 0) || !std::isfinite(s.duration) || !(s.frameRate > 0)) {
         return std::string("duration must be >= 0 and frame rate > 0");

@@ -23,11 +23,16 @@ namespace atelier::sim {
 
 std::string_view integratorName(IntegratorKind kind) {
     switch (kind) {
-    case IntegratorKind::Euler: return "euler";
-    case IntegratorKind::Midpoint: return "midpoint";
-    case IntegratorKind::Rk4: return "rk4";
-    case IntegratorKind::Rk45: return "rk45";
-    case IntegratorKind::ImplicitEuler: return "implicit-euler";
+    case IntegratorKind::Euler:
+        return "euler";
+    case IntegratorKind::Midpoint:
+        return "midpoint";
+    case IntegratorKind::Rk4:
+        return "rk4";
+    case IntegratorKind::Rk45:
+        return "rk45";
+    case IntegratorKind::ImplicitEuler:
+        return "implicit-euler";
     }
     return "?";
 }
@@ -44,9 +49,12 @@ std::optional<IntegratorKind> integratorFromName(std::string_view name) {
 
 std::string_view stretchModelName(StretchModel model) {
     switch (model) {
-    case StretchModel::Springs: return "springs";
-    case StretchModel::Volino: return "volino";
-    case StretchModel::Fem: return "fem";
+    case StretchModel::Springs:
+        return "springs";
+    case StretchModel::Volino:
+        return "volino";
+    case StretchModel::Fem:
+        return "fem";
     }
     return "?";
 }
@@ -107,7 +115,8 @@ void Simulation::Impl::build() {
         }
         switch (c.model) {
         case StretchModel::Springs:
-            models.push_back(std::make_unique<SpringStretch>(c.mesh, off, c.material, c.crossSprings));
+            models.push_back(
+                std::make_unique<SpringStretch>(c.mesh, off, c.material, c.crossSprings));
             break;
         case StretchModel::Volino:
             models.push_back(std::make_unique<VolinoStretch>(c.mesh, off, c.material, m));
@@ -126,8 +135,7 @@ void Simulation::Impl::build() {
     }
     if (!scene.seams.empty() && scene.seamMode == SeamMode::Elastic) {
         auto seams = std::make_unique<SeamElastics>(scene.seams, mass, scene.seamTimeConstant,
-                                                    scene.seamReach,
-                                                    scene.seamStiffnessPerLength);
+                                                    scene.seamReach, scene.seamStiffnessPerLength);
         seamElastics = seams.get();
         models.push_back(std::move(seams));
     }
@@ -199,11 +207,20 @@ void Simulation::Impl::build() {
     }
 
     switch (scene.integrator.kind) {
-    case IntegratorKind::Euler: rk = std::make_unique<ExplicitRkStepper>(ButcherTableau::euler()); break;
-    case IntegratorKind::Midpoint: rk = std::make_unique<ExplicitRkStepper>(ButcherTableau::midpoint()); break;
-    case IntegratorKind::Rk4: rk = std::make_unique<ExplicitRkStepper>(ButcherTableau::rk4()); break;
-    case IntegratorKind::Rk45: rk = std::make_unique<ExplicitRkStepper>(ButcherTableau::cashKarp()); break;
-    case IntegratorKind::ImplicitEuler: break;
+    case IntegratorKind::Euler:
+        rk = std::make_unique<ExplicitRkStepper>(ButcherTableau::euler());
+        break;
+    case IntegratorKind::Midpoint:
+        rk = std::make_unique<ExplicitRkStepper>(ButcherTableau::midpoint());
+        break;
+    case IntegratorKind::Rk4:
+        rk = std::make_unique<ExplicitRkStepper>(ButcherTableau::rk4());
+        break;
+    case IntegratorKind::Rk45:
+        rk = std::make_unique<ExplicitRkStepper>(ButcherTableau::cashKarp());
+        break;
+    case IntegratorKind::ImplicitEuler:
+        break;
     }
     dtNominal = scene.integrator.dt;
     dtNext = scene.integrator.dt;
@@ -297,8 +314,7 @@ void Simulation::Impl::accelerations(double time, const MatX3& xs, const MatX3& 
     }
 }
 
-double Simulation::Impl::constraintPower(const MatX3& f, const MatX3& a,
-                                         const MatX3& vel) const {
+double Simulation::Impl::constraintPower(const MatX3& f, const MatX3& a, const MatX3& vel) const {
     // Power delivered by the drives: on a held vertex with imposed acceleration a the
     // constraint applies R = m a − f − m g, moving at velocity v.
     double p = 0;
@@ -430,8 +446,7 @@ void Simulation::Impl::endSewingIfSewn() {
     stats.sewingEndTime = t;
 }
 
-double Simulation::Impl::imposeSeamAccelerations(const MatX3& xs, const MatX3& vs,
-                                                MatX3& a) const {
+double Simulation::Impl::imposeSeamAccelerations(const MatX3& xs, const MatX3& vs, MatX3& a) const {
     const double tau = scene.seamTimeConstant;
     double power = 0;
     for (std::size_t k = 0; k < scene.seams.size(); ++k) {
@@ -505,7 +520,8 @@ bool Simulation::Impl::implicitStep(double h) {
     if (contactsInSolve) {
         StageTimer timer(*timerCollision);
         collision->predictObstacleVelocities(t, h);
-        contactForces.prepare(collision->contacts(), x, v, invMass, dtNominal, scene.collision.solve);
+        contactForces.prepare(collision->contacts(), x, v, invMass, dtNominal,
+                              scene.collision.solve);
         contactForces.addForces(rhs);
     }
     jacobian.setZero();
@@ -542,8 +558,9 @@ bool Simulation::Impl::implicitStep(double h) {
             const PathSample p = samplePath(d, t + h);
             const Vec3 xi = x.row(d.vertex).transpose();
             const Vec3 vi = v.row(d.vertex).transpose();
-            const Vec3 vNext = (vi + h * (-(xi - p.position) / (tau * tau) + 2.0 * p.velocity / tau)) /
-                               (1.0 + h * h / (tau * tau) + 2.0 * h / tau);
+            const Vec3 vNext =
+                (vi + h * (-(xi - p.position) / (tau * tau) + 2.0 * p.velocity / tau)) /
+                (1.0 + h * h / (tau * tau) + 2.0 * h / tau);
             dv.row(d.vertex) = (vNext - vi).transpose();
         }
     }
@@ -563,7 +580,8 @@ bool Simulation::Impl::implicitStep(double h) {
         const double after = 0.5 * (mass.array() * vNew.rowwise().squaredNorm().array()).sum();
         seamPower = std::max(0.0, after - before) / h;
     }
-    welds.merge(nullptr, vNew, mass, invMass); // welded pairs keep one velocity (positions follow below)
+    welds.merge(nullptr, vNew, mass,
+                invMass); // welded pairs keep one velocity (positions follow below)
     if (collision) {
         // Contacts on the end-of-step velocities (the implicit form of B), with friction.
         StageTimer timer(*timerCollision);
@@ -616,8 +634,8 @@ bool Simulation::Impl::attemptStep(double h, double& errorRatio, double& work) {
     vSave = v;
     applyCorrectionsA(h);
     errorRatio = 0;
-    bool ok = opt.kind == IntegratorKind::ImplicitEuler ? implicitStep(h)
-                                                         : explicitStep(h, errorRatio);
+    bool ok =
+        opt.kind == IntegratorKind::ImplicitEuler ? implicitStep(h) : explicitStep(h, errorRatio);
     work = 0;
     bool energyRejected = false;
     double keRejected = 0;
@@ -633,9 +651,9 @@ bool Simulation::Impl::attemptStep(double h, double& errorRatio, double& work) {
         // Contacts with moving obstacles do work too (B, or the implicit velocity pass).
         const double contactWork =
             std::max(0.0, collisionPower * h) + std::max(0.0, seamPower * h) + contactPotential;
-        ok = ke <= opt.divergenceEnergyFactor *
-                           (energyBound(xNew) + std::max(0.0, work) + contactWork) +
-                       1e-6 * mass.sum(); // below ~1 mm/s of motion: never a divergence
+        ok = ke <=
+             opt.divergenceEnergyFactor * (energyBound(xNew) + std::max(0.0, work) + contactWork) +
+                 1e-6 * mass.sum(); // below ~1 mm/s of motion: never a divergence
         energyRejected = !ok;
         keRejected = ke;
     }
@@ -653,8 +671,8 @@ bool Simulation::Impl::attemptStep(double h, double& errorRatio, double& work) {
         stats.contacts = collision->figures().contacts;
     }
     if (accept) {
-        work += std::max(0.0, seamPower * h) +
-                std::max(0.0, contactPotential - lastContactPotential);
+        work +=
+            std::max(0.0, seamPower * h) + std::max(0.0, contactPotential - lastContactPotential);
         seamPower = 0;
         lastContactPotential = contactPotential;
         return true;
@@ -764,8 +782,9 @@ bool Simulation::Impl::step(double maxH) {
         if (h < opt.minDt) {
             std::ostringstream s;
             s << "time step fell below the floor (" << h << " s < " << opt.minDt
-              << " s) at t = " << t << " s: the state cannot be integrated stably (last rejection: "
-              << lastRejection << ")";
+              << " s) at t = " << t
+              << " s: the state cannot be integrated stably (last rejection: " << lastRejection
+              << ")";
             error = s.str();
             failed = true;
             return false;
@@ -780,8 +799,8 @@ bool Simulation::Impl::step(double maxH) {
             x = xSave;
             v = vSave;
             // A non-finite or diverging state: a quarter; too large an error: by the estimate.
-            h *= std::isfinite(errorRatio) ? std::max(0.1, 0.9 * std::pow(errorRatio, -0.25))
-                                           : 0.25;
+            h *=
+                std::isfinite(errorRatio) ? std::max(0.1, 0.9 * std::pow(errorRatio, -0.25)) : 0.25;
             dtNext = h;
             continue;
         }
@@ -802,7 +821,9 @@ bool Simulation::Impl::step(double maxH) {
 
 // ---------------------------------------------------------------------------------------------
 
-std::optional<std::string> Simulation::validate(const SceneSpec& s) { return validateScene(s); }
+std::optional<std::string> Simulation::validate(const SceneSpec& s) {
+    return validateScene(s);
+}
 
 Simulation::Simulation(SceneSpec scene) : m_impl(std::make_unique<Impl>(std::move(scene))) {
     if (auto e = validate(m_impl->scene)) {
@@ -907,26 +928,51 @@ RunStatus Simulation::run(double until, const std::function<void(int, double)>& 
     return RunStatus::Finished;
 }
 
-bool Simulation::atFrame() const { return !(m_impl->frameTarget >= 0); }
-long Simulation::frameIndex() const { return m_impl->frameIndex; }
+bool Simulation::atFrame() const {
+    return !(m_impl->frameTarget >= 0);
+}
+long Simulation::frameIndex() const {
+    return m_impl->frameIndex;
+}
 
-double Simulation::time() const { return m_impl->t; }
-double Simulation::sewingEndTime() const { return m_impl->stats.sewingEndTime; }
-const MatX3& Simulation::positions() const { return m_impl->x; }
-const MatX3& Simulation::velocities() const { return m_impl->v; }
-const VecX& Simulation::masses() const { return m_impl->mass; }
-const SceneSpec& Simulation::scene() const { return m_impl->scene; }
-const std::vector<int>& Simulation::clothOffsets() const { return m_impl->offsets; }
-std::vector<std::string> Simulation::activeStages() const { return m_impl->stages; }
-const std::string& Simulation::error() const { return m_impl->error; }
-const CollisionStage* Simulation::collision() const { return m_impl->collision.get(); }
+double Simulation::time() const {
+    return m_impl->t;
+}
+double Simulation::sewingEndTime() const {
+    return m_impl->stats.sewingEndTime;
+}
+const MatX3& Simulation::positions() const {
+    return m_impl->x;
+}
+const MatX3& Simulation::velocities() const {
+    return m_impl->v;
+}
+const VecX& Simulation::masses() const {
+    return m_impl->mass;
+}
+const SceneSpec& Simulation::scene() const {
+    return m_impl->scene;
+}
+const std::vector<int>& Simulation::clothOffsets() const {
+    return m_impl->offsets;
+}
+std::vector<std::string> Simulation::activeStages() const {
+    return m_impl->stages;
+}
+const std::string& Simulation::error() const {
+    return m_impl->error;
+}
+const CollisionStage* Simulation::collision() const {
+    return m_impl->collision.get();
+}
 
 long Simulation::intersectingTrianglePairs(long* withObstacles) const {
     if (withObstacles != nullptr) {
         *withObstacles = 0;
     }
-    return m_impl->collision ? m_impl->collision->intersectingTrianglePairs(m_impl->x, withObstacles)
-                             : 0;
+    return m_impl->collision
+               ? m_impl->collision->intersectingTrianglePairs(m_impl->x, withObstacles)
+               : 0;
 }
 
 double Simulation::penetration() const {

@@ -36,7 +36,7 @@ struct RunStats {
     /// Deepest cloth vertex inside an obstacle beyond its thickness, over all output frames
     /// (and the start) [m]; 0 without obstacles.
     double maxPenetration = 0;
-    long contacts = 0; ///< active contacts after the last step
+    long contacts = 0;        ///< active contacts after the last step
     long weldedSeamPairs = 0; ///< seam pairs welded so far (see SceneSpec::seamWeldDistance)
     /// Largest gap of a pair welded at SceneSpec::seamWeldAllTime, beyond the weld distance [m]
     double largestForcedWeld = 0;
@@ -119,8 +119,7 @@ class Simulation {
     /// collision detection sweeps, so the cloth is pushed, not passed through; steps end on
     /// its arrival, after which it is static again. Replaces the obstacle's keys or frames.
     /// False for an unknown obstacle.
-    bool setObstaclePose(int k, const Vec3& translation, const Vec3& rotation,
-                         double duration = 0);
+    bool setObstaclePose(int k, const Vec3& translation, const Vec3& rotation, double duration = 0);
     /// The same with every vertex's world position given (|V_k|×3) [m] (a body in another pose).
     bool setObstacleFrame(int k, const MatX3& world, double duration = 0);
     /// Global triangles of all cloths, in cloth order (|F|×3): the index space of ClothPoint.

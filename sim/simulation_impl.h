@@ -65,21 +65,21 @@ struct Simulation::Impl {
     int n = 0;
     MatX3 x, v;
     VecX mass, invMass;
-    MatX3 pinPosition;           ///< rows for pinned vertices: their hold position
-    std::vector<char> pinned;    ///< per vertex
-    std::vector<int> driveOf;    ///< per vertex: index of its drive or -1
+    MatX3 pinPosition;                        ///< rows for pinned vertices: their hold position
+    std::vector<char> pinned;                 ///< per vertex
+    std::vector<int> driveOf;                 ///< per vertex: index of its drive or -1
     std::vector<std::array<int, 2>> allEdges; ///< global edges of all cloths (high damping)
     std::vector<std::unique_ptr<ForceModel>> models;
     std::vector<std::string> stages;
     std::vector<double*> modelTimers;
     double t = 0;
-    double dtNext = 0;     ///< next step to try [s]
-    double dtNominal = 0;  ///< fixed-step integrators: the scene's step [s]
-    std::string lastRejection; ///< why the last step was rejected (for error messages)
+    double dtNext = 0;               ///< next step to try [s]
+    double dtNominal = 0;            ///< fixed-step integrators: the scene's step [s]
+    std::string lastRejection;       ///< why the last step was rejected (for error messages)
     double previousErrorRatio = 1.0; ///< rk45: error / tolerance of the last accepted step
     RunStats stats;
     bool failed = false;
-    double lowestY = INF;  ///< lowest vertex height reached, for the gravitational energy bound
+    double lowestY = INF;   ///< lowest vertex height reached, for the gravitational energy bound
     double massHeight0 = 0; ///< Σ m_i h_i at the start, h = height along −g [kg·m]
     double baseEnergyInput = 0; ///< initial kinetic + elastic energy + constraint work [J]
 
@@ -87,12 +87,12 @@ struct Simulation::Impl {
     FilteredCg cg;
     BlockSparseMatrix jacobian;
     MatX3 xNew, vNew, acc, force, forceStart, accEnd, rhs, dv, scratch, xSave, vSave;
-    MatX3 dampingForce; // implicitStep's (∂f/∂v)·v
+    MatX3 dampingForce;     // implicitStep's (∂f/∂v)·v
     std::vector<char> held; ///< implicit Euler: per vertex, whether CG keeps its Δv
     std::unique_ptr<CollisionStage> collision;
     ContactForces contactForces; ///< implicit Euler: the contacts inside the solve
-    double hStep = 0;        ///< the step being taken [s]
-    double collisionPower = 0; ///< power of the contact corrections at the step's start [W]
+    double hStep = 0;            ///< the step being taken [s]
+    double collisionPower = 0;   ///< power of the contact corrections at the step's start [W]
     /// Energy in the solve's contact springs at the step's start, free to become motion [J];
     /// what it gained since the last accepted step counts as put in (the corrections place
     /// vertices at the contact distance, inside the springs' layer).

@@ -94,7 +94,9 @@ void Simulation::Impl::publishSnapshot() {
     snapshots->publish();
 }
 
-const MatX3i& Simulation::clothTriangles() const { return m_impl->globalTriangles(); }
+const MatX3i& Simulation::clothTriangles() const {
+    return m_impl->globalTriangles();
+}
 
 void Simulation::publishTo(SnapshotBuffer* buffer) {
     m_impl->snapshots = buffer;

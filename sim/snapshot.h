@@ -62,8 +62,8 @@ class SnapshotBuffer {
     static constexpr unsigned INDEX = 3;
     static constexpr unsigned FRESH = 4;
     Snapshot m_slots[3];
-    unsigned m_back = 0;  ///< the writer's slot
-    unsigned m_front = 2; ///< the readers' slot (guarded by m_readers)
+    unsigned m_back = 0;               ///< the writer's slot
+    unsigned m_front = 2;              ///< the readers' slot (guarded by m_readers)
     std::atomic<unsigned> m_middle{1}; ///< the slot between them, FRESH when newly published
     std::uint64_t m_published = 0;     ///< the writer's count
     std::mutex m_readers;

@@ -5,9 +5,11 @@
 #include "app/cli/bench_material.h"
 #include "app/cli/bench_work_precision.h"
 #include "app/cli/commands.h"
+
 #include "sim/simulation.h"
 
 #include <CLI/CLI.hpp>
+
 #include <algorithm>
 #include <array>
 #include <memory>
@@ -126,7 +128,8 @@ void addDrape(CLI::App& bench) {
     cmd->add_option("--particle-distance", o->particleDistanceMm,
                     "Mesh particle distance [mm] (default: the project's)")
         ->check(CLI::PositiveNumber);
-    cmd->add_option("--time-limit", o->timeLimit, "Simulated time limit [s] (default: the project's)")
+    cmd->add_option("--time-limit", o->timeLimit,
+                    "Simulated time limit [s] (default: the project's)")
         ->check(CLI::PositiveNumber);
     cmd->add_option("--dt", o->dt, "Step [s] (default: the project's)")->check(CLI::PositiveNumber);
     cmd->add_option("--threads,-j", o->threads, "Engine threads (default: all cores)")

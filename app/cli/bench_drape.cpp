@@ -12,6 +12,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -19,9 +22,6 @@
 #include <iostream>
 #include <thread>
 #include <vector>
-
-#include <sys/wait.h>
-#include <unistd.h>
 
 namespace atelier::app {
 
@@ -92,9 +92,8 @@ int runDrapeBench(const DrapeBenchOptions& o) {
     }
     sim::setSpinMicroseconds(o.spinUs);
     const std::filesystem::path dir = std::filesystem::absolute(o.project).parent_path();
-    patterns::DrapeSession session([&](const patterns::BodySource& source) {
-        return io::loadBody(source, dir, o.project);
-    });
+    patterns::DrapeSession session(
+        [&](const patterns::BodySource& source) { return io::loadBody(source, dir, o.project); });
     session.setProject(std::move(project));
     if (auto prepared = session.prepare(); !prepared.ok()) {
         std::cerr << "error: " << o.project << ": " << prepared.error().toString() << "\n";
@@ -140,9 +139,9 @@ int runDrapeBench(const DrapeBenchOptions& o) {
     }
     std::sort(stepSeconds.begin(), stepSeconds.end());
     const auto quantile = [&](double q) {
-        return stepSeconds.empty()
-                   ? 0.0
-                   : stepSeconds[static_cast<std::size_t>(q * static_cast<double>(stepSeconds.size() - 1))];
+        return stepSeconds.empty() ? 0.0
+                                   : stepSeconds[static_cast<std::size_t>(
+                                         q * static_cast<double>(stepSeconds.size() - 1))];
     };
     const patterns::DrapeFigures f = session.figures();
     nlohmann::ordered_json j;
@@ -155,7 +154,8 @@ int runDrapeBench(const DrapeBenchOptions& o) {
     j["reader_hz"] = o.readerHz;
     j["snapshots_read"] = reads;
     j["longest_read_s"] = longestRead;
-    j["status"] = std::string(patterns::phaseName(f.phase)) + (f.timeLimitReached ? " (time limit)" : "");
+    j["status"] =
+        std::string(patterns::phaseName(f.phase)) + (f.timeLimitReached ? " (time limit)" : "");
     j["sim_time_s"] = f.time;
     j["wall_time_s"] = wall;
     j["sim_seconds_per_wall_second"] = wall > 0 ? f.time / wall : 0.0;

@@ -11,14 +11,14 @@ namespace atelier::app {
 
 struct DrapeBenchOptions {
     std::string project;
-    std::string out;                 ///< JSON output (default: stdout)
-    double particleDistanceMm = -1;  ///< override of the project's [mm]
-    double timeLimit = -1;           ///< override of the project's simulated time limit [s]
-    double dt = -1;                  ///< override of the project's step [s]
-    int threads = 0;                 ///< engine threads (0: all cores)
-    double readerHz = 0;             ///< snapshots read by another thread per second (0: none)
-    int busy = 0;                    ///< processes spinning on a core each during the drape
-    int spinUs = -1;                 ///< the pool's spin before sleeping [µs] (< 0: default)
+    std::string out;                ///< JSON output (default: stdout)
+    double particleDistanceMm = -1; ///< override of the project's [mm]
+    double timeLimit = -1;          ///< override of the project's simulated time limit [s]
+    double dt = -1;                 ///< override of the project's step [s]
+    int threads = 0;                ///< engine threads (0: all cores)
+    double readerHz = 0;            ///< snapshots read by another thread per second (0: none)
+    int busy = 0;                   ///< processes spinning on a core each during the drape
+    int spinUs = -1;                ///< the pool's spin before sleeping [µs] (< 0: default)
 };
 
 /// Runs the benchmark; returns an exit code (commands.h) and writes the JSON figures.

@@ -1,19 +1,22 @@
 #include "app/cli/bench_material.h"
 
 #include "app/cli/commands.h"
+
 #include "io/atomic_file.h"
+
 #include "sim/forces/fem.h"
 #include "sim/forces/springs.h"
 #include "sim/forces/volino.h"
 #include "sim/simulation.h"
 
 #include <Eigen/SparseLU>
+#include <nlohmann/json.hpp>
+
 #include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <limits>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <utility>

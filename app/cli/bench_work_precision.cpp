@@ -1,8 +1,10 @@
 #include "app/cli/bench_work_precision.h"
 
 #include "app/cli/commands.h"
+
 #include "io/atomic_file.h"
 #include "io/scene_file.h"
+
 #include "sim/core/parallel.h"
 #include "sim/simulation.h"
 
@@ -76,12 +78,13 @@ RunOutcome runScene(const sim::SceneSpec& scene, double duration, double maxRunS
     out.row.wallSeconds = stats.wallTime;
     out.row.forceEvaluations = stats.forceEvaluations;
     out.positions = simulation.positions();
-    out.completed = status == sim::RunStatus::Finished && !timedOut && !diverged &&
-                    stats.finite && out.positions.allFinite();
+    out.completed = status == sim::RunStatus::Finished && !timedOut && !diverged && stats.finite &&
+                    out.positions.allFinite();
     out.row.stable = out.completed && (!fixedStep || stats.rejectedSteps == 0);
     out.timedOut = timedOut;
     if (diverged) {
-        out.error = "diverged: a step was rejected at t = " + std::to_string(simulation.time()) + " s";
+        out.error =
+            "diverged: a step was rejected at t = " + std::to_string(simulation.time()) + " s";
     } else if (timedOut) {
         out.error = "stopped after " + std::to_string(maxRunSeconds) + " s of wall time";
     } else if (!out.completed) {

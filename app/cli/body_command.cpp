@@ -27,7 +27,9 @@ struct BodyOptions {
     std::string report;
 };
 
-nlohmann::ordered_json vec(const sim::Vec3& v) { return {v.x(), v.y(), v.z()}; }
+nlohmann::ordered_json vec(const sim::Vec3& v) {
+    return {v.x(), v.y(), v.z()};
+}
 
 int runBody(const BodyOptions& options) {
     patterns::BodySource source;
@@ -47,11 +49,10 @@ int runBody(const BodyOptions& options) {
     }
     const patterns::Mannequin& m = made.value();
     const patterns::MeshTopology topo = patterns::meshTopology(m.body.vertices, m.body.triangles);
-    std::fprintf(stderr,
-                 "body: %s, %ld triangles, %s (Euler characteristic %ld), generated in %.2f s\n",
-                 source.base.c_str(), static_cast<long>(m.body.triangles.rows()),
-                 topo.watertight() ? "watertight" : "NOT watertight", topo.eulerCharacteristic,
-                 m.seconds);
+    std::fprintf(
+        stderr, "body: %s, %ld triangles, %s (Euler characteristic %ld), generated in %.2f s\n",
+        source.base.c_str(), static_cast<long>(m.body.triangles.rows()),
+        topo.watertight() ? "watertight" : "NOT watertight", topo.eulerCharacteristic, m.seconds);
     nlohmann::ordered_json requested = nlohmann::ordered_json::object();
     nlohmann::ordered_json measured = nlohmann::ordered_json::object();
     for (const auto& [name, member] : patterns::measurementFields()) {
@@ -84,12 +85,9 @@ int runBody(const BodyOptions& options) {
         r["measured"] = measured;
         nlohmann::ordered_json slots = nlohmann::ordered_json::array();
         for (const patterns::ArrangementSlot& s : m.body.slots) {
-            nlohmann::ordered_json slot = {{"name", s.name},
-                                           {"origin", vec(s.origin)},
-                                           {"axis", vec(s.axis)},
-                                           {"facing", vec(s.facing)},
-                                           {"radius", s.radius},
-                                           {"along_min", s.alongMin},
+            nlohmann::ordered_json slot = {{"name", s.name},         {"origin", vec(s.origin)},
+                                           {"axis", vec(s.axis)},    {"facing", vec(s.facing)},
+                                           {"radius", s.radius},     {"along_min", s.alongMin},
                                            {"along_max", s.alongMax}};
             if (!s.profile.empty()) {
                 // Per bin from along_min: the radius, and where the section is centred (leg

@@ -34,7 +34,7 @@ struct DrapeOptions {
     std::string out;
     std::string report;
     int threads = 0;
-    double timeLimit = -1;        ///< override of the project's time limit [s]; < 0 = keep
+    double timeLimit = -1;          ///< override of the project's time limit [s]; < 0 = keep
     double particleDistanceMm = -1; ///< override of the project's particle distance [mm]
     std::string framesDir;          ///< write the garment at every frame here (OBJ)
 };
@@ -73,7 +73,8 @@ patterns::BodyProvider projectBodies(const std::string& projectFile) {
 }
 
 /// The figures behind the report's drape fields.
-io::ReportFields drapeReportFields(const DrapeOptions& options, const patterns::DrapeSession& session,
+io::ReportFields drapeReportFields(const DrapeOptions& options,
+                                   const patterns::DrapeSession& session,
                                    const patterns::DrapeFigures& f, RunEnd end, int code,
                                    double wallSeconds, double totalSeconds) {
     const sim::RunStats& stats = session.simulation()->stats();
@@ -174,9 +175,12 @@ int runDrape(const DrapeOptions& options) {
     const auto driveStart = std::chrono::steady_clock::now();
     const RunEnd end = loop.run([&] {
         switch (session.step()) {
-        case patterns::DrapeStatus::Running: return StepState::Continue;
-        case patterns::DrapeStatus::Failed: return StepState::Failed;
-        default: return StepState::Done;
+        case patterns::DrapeStatus::Running:
+            return StepState::Continue;
+        case patterns::DrapeStatus::Failed:
+            return StepState::Failed;
+        default:
+            return StepState::Done;
         }
     });
     const double wallSeconds =
@@ -215,14 +219,13 @@ int runDrape(const DrapeOptions& options) {
     std::fprintf(stderr,
                  "drape: %s at t = %.2f s in %.1f s wall; seam gap max %.2e m, area ratio "
                  "%.4f\n",
-                 f.rested ? "at rest" : "stopped", f.time, wallSeconds, f.seamGapMax,
-                 f.areaRatio);
+                 f.rested ? "at rest" : "stopped", f.time, wallSeconds, f.seamGapMax, f.areaRatio);
 
     if (!options.out.empty()) {
         if (finite) {
             GarmentObj obj = garmentObj(garment, mesh, session.assembled());
-            obj.options.comment = "atelier-cli drape " + options.project + "\nt = " +
-                                  std::to_string(simulation.time()) + " s";
+            obj.options.comment = "atelier-cli drape " + options.project +
+                                  "\nt = " + std::to_string(simulation.time()) + " s";
             auto written = io::writeObj(options.out, x, obj.triangles, obj.options);
             if (written.ok()) {
                 std::filesystem::path bodyPath = options.out;
@@ -231,8 +234,8 @@ int runDrape(const DrapeOptions& options) {
                 bodyOptions.comment = "body of atelier-cli drape " + options.project;
                 bodyOptions.groups.push_back(
                     io::ObjGroup{"body", 0, static_cast<int>(session.body().triangles.rows())});
-                written = io::writeObj(bodyPath, session.body().vertices,
-                                       session.body().triangles, bodyOptions);
+                written = io::writeObj(bodyPath, session.body().vertices, session.body().triangles,
+                                       bodyOptions);
             }
             if (!written.ok()) {
                 code = RunLoop::writeFailed(written.error(), code);

@@ -2,11 +2,12 @@
 
 #include "app/cli/commands.h"
 
+#include <unistd.h>
+
 #include <atomic>
 #include <csignal>
 #include <cstdio>
 #include <iostream>
-#include <unistd.h>
 
 namespace atelier::app {
 
@@ -25,9 +26,12 @@ extern "C" void onInterrupt(int /*signal*/) {
 
 std::string_view runEndName(RunEnd end) {
     switch (end) {
-    case RunEnd::Done: return "done";
-    case RunEnd::Cancelled: return "cancelled";
-    case RunEnd::Failed: return "failed";
+    case RunEnd::Done:
+        return "done";
+    case RunEnd::Cancelled:
+        return "cancelled";
+    case RunEnd::Failed:
+        return "failed";
     }
     return "?";
 }

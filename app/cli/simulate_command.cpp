@@ -55,8 +55,7 @@ CombinedMesh combinedMesh(const sim::Simulation& simulation) {
     for (std::size_t c = 0; c < scene.cloths.size(); ++c) {
         const sim::ClothMesh& mesh = scene.cloths[c].mesh;
         const int offset = offsets[c];
-        out.triangles.middleRows(t, mesh.triangleCount()) =
-            mesh.triangles.array() + offset;
+        out.triangles.middleRows(t, mesh.triangleCount()) = mesh.triangles.array() + offset;
         out.options.uvs.middleRows(offset, mesh.vertexCount()) = mesh.rest;
         out.options.groups.push_back(io::ObjGroup{scene.cloths[c].name, t, mesh.triangleCount()});
         t += mesh.triangleCount();
@@ -156,8 +155,8 @@ int runSimulate(const SimulateOptions& options) {
     }
     const bool collision = simulation->collision() != nullptr;
     const auto writeFrame = [&](const std::filesystem::path& stem) {
-        auto written = io::writeObj(stem.string() + ".obj", simulation->positions(),
-                                    mesh.triangles, mesh.options);
+        auto written = io::writeObj(stem.string() + ".obj", simulation->positions(), mesh.triangles,
+                                    mesh.options);
         if (written.ok() && withObstacles && obstacles.moves) {
             written = writeObstacles(stem.string() + ".obstacles.obj", *simulation, obstacles,
                                      "t = " + std::to_string(simulation->time()) + " s");
@@ -176,9 +175,9 @@ int runSimulate(const SimulateOptions& options) {
             if (simulation->atFrame()) {
                 const sim::RunStats& stats = simulation->stats();
                 char figures[200];
-                const int n = std::snprintf(figures, sizeof figures,
-                                            "steps %ld (rejected %ld)  wall %.1f s", stats.steps,
-                                            stats.rejectedSteps, stats.wallTime);
+                const int n =
+                    std::snprintf(figures, sizeof figures, "steps %ld (rejected %ld)  wall %.1f s",
+                                  stats.steps, stats.rejectedSteps, stats.wallTime);
                 if (collision && n > 0 && static_cast<std::size_t>(n) < sizeof figures) {
                     std::snprintf(figures + n, sizeof figures - static_cast<std::size_t>(n),
                                   "  contacts %ld  max penetration %.2g m", stats.contacts,
@@ -197,15 +196,16 @@ int runSimulate(const SimulateOptions& options) {
                   << " s; writing the state so far\n";
     } else if (end == RunEnd::Failed || !finite) {
         const std::string why = !simulation->error().empty() ? simulation->error() : stats.error;
-        std::cerr << "error: " << options.scene << ": simulation failed at t = "
-                  << simulation->time() << " s" << (why.empty() ? "" : ": " + why) << "\n";
+        std::cerr << "error: " << options.scene
+                  << ": simulation failed at t = " << simulation->time() << " s"
+                  << (why.empty() ? "" : ": " + why) << "\n";
     }
 
     if (!options.out.empty()) {
         if (finite) {
             io::ObjWriteOptions objOptions = mesh.options;
-            objOptions.comment = "atelier-cli simulate " + options.scene + "\nt = " +
-                                 std::to_string(simulation->time()) + " s";
+            objOptions.comment = "atelier-cli simulate " + options.scene +
+                                 "\nt = " + std::to_string(simulation->time()) + " s";
             auto written =
                 io::writeObj(options.out, simulation->positions(), mesh.triangles, objOptions);
             if (written.ok() && withObstacles) {

@@ -4,6 +4,7 @@
 #include "sim/core/parallel.h"
 
 #include <Eigen/Geometry>
+
 #include <algorithm>
 #include <array>
 #include <cmath>

@@ -125,7 +125,8 @@ void ContactForces::addJacobianProduct(double kx, double kv, const MatX3& p, Mat
         const Vec3 product[2] = {block * side[0], block * side[1]};
         for (int a = 0; a < 4; ++a) {
             if (t.vertex[a] >= 0) {
-                out.row(t.vertex[a]) += (t.weight[a] * product[t.weight[a] < 0 ? 1 : 0]).transpose();
+                out.row(t.vertex[a]) +=
+                    (t.weight[a] * product[t.weight[a] < 0 ? 1 : 0]).transpose();
             }
         }
     }

@@ -21,12 +21,12 @@ namespace atelier::sim {
 /// \f$ g = n\cdot r_j \f$:
 /// \f[ f_j = \kappa_j\,\big(d(1+\text{margin}) - \max(g, d)\big)_+\,n
 ///         - c_j\,(I - nn^T)(\dot r_j), \qquad \kappa_j = \kappa\,m_j/h_0^2, \f]
-/// with \f$ h_0 \f$ the nominal step, \f$ c_j = \mu\lambda_j / \max(|\dot r_{j,t}|, \varepsilon) \f$ with λ_j the normal force,
-/// distributed to the vertices by their weights. Its Jacobian blocks (−κ w_k w_l nnᵀ on
-/// positions, −c w_k w_l (I − nnᵀ) on velocities) are negative semi-definite, so the system
-/// stays symmetric positive definite for CG. Blocks coupling the two sides of a cloth–cloth
-/// contact are dropped (they are outside the Jacobian's pattern): what is kept is a sum of
-/// rank-one negative semi-definite blocks per side, so the property holds.
+/// with \f$ h_0 \f$ the nominal step, \f$ c_j = \mu\lambda_j / \max(|\dot r_{j,t}|, \varepsilon)
+/// \f$ with λ_j the normal force, distributed to the vertices by their weights. Its Jacobian blocks
+/// (−κ w_k w_l nnᵀ on positions, −c w_k w_l (I − nnᵀ) on velocities) are negative semi-definite, so
+/// the system stays symmetric positive definite for CG. Blocks coupling the two sides of a
+/// cloth–cloth contact are dropped (they are outside the Jacobian's pattern): what is kept is a sum
+/// of rank-one negative semi-definite blocks per side, so the property holds.
 class ContactForces {
   public:
     /// Linearises the contacts at the step's start (x, v) for a backward-Euler step. The
@@ -61,9 +61,9 @@ class ContactForces {
         int vertex[4] = {-1, -1, -1, -1};
         double weight[4] = {0, 0, 0, 0};
         Vec3 normal = Vec3::UnitY();
-        double stiffness = 0; ///< κ_j [N/m]
-        double damping = 0;   ///< c_j [N·s/m]
-        Vec3 force = Vec3::Zero(); ///< on the relative coordinate r [N]
+        double stiffness = 0;                 ///< κ_j [N/m]
+        double damping = 0;                   ///< c_j [N·s/m]
+        Vec3 force = Vec3::Zero();            ///< on the relative coordinate r [N]
         Vec3 obstacleVelocity = Vec3::Zero(); ///< q̇ [m/s]
     };
     std::vector<Term> m_terms;

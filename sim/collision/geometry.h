@@ -20,5 +20,6 @@
 #include "sim/core/types.h"
 
 #include <Eigen/Geometry>
+
 #include <array>
 #include <optional>

@@ -59,7 +59,8 @@ void makePlaneMesh(double size, int cells, MatX3& vertices, MatX3i& triangles) {
     const int n = cells + 1;
     for (int j = 0; j < n; ++j) {
         for (int i = 0; i < n; ++i) {
-            pts.emplace_back(size * (i / double(cells) - 0.5), 0.0, size * (j / double(cells) - 0.5));
+            pts.emplace_back(size * (i / double(cells) - 0.5), 0.0,
+                             size * (j / double(cells) - 0.5));
         }
     }
     for (int j = 0; j < cells; ++j) {
@@ -76,13 +77,13 @@ void makePlaneMesh(double size, int cells, MatX3& vertices, MatX3i& triangles) {
 
 void makeSphereMesh(double radius, int subdivisions, MatX3& vertices, MatX3i& triangles) {
     const double p = (1.0 + std::sqrt(5.0)) / 2.0;
-    std::vector<Vec3> pts = {{-1, p, 0}, {1, p, 0},   {-1, -p, 0}, {1, -p, 0},
-                             {0, -1, p}, {0, 1, p},   {0, -1, -p}, {0, 1, -p},
-                             {p, 0, -1}, {p, 0, 1},   {-p, 0, -1}, {-p, 0, 1}};
+    std::vector<Vec3> pts = {{-1, p, 0}, {1, p, 0}, {-1, -p, 0}, {1, -p, 0},
+                             {0, -1, p}, {0, 1, p}, {0, -1, -p}, {0, 1, -p},
+                             {p, 0, -1}, {p, 0, 1}, {-p, 0, -1}, {-p, 0, 1}};
     std::vector<std::array<int, 3>> tris = {
-        {0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+        {0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
         {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-        {3, 8, 9},  {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+        {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
     for (Vec3& q : pts) {
         q.normalize();
     }
@@ -94,7 +95,8 @@ void makeSphereMesh(double radius, int subdivisions, MatX3& vertices, MatX3i& tr
             if (it != mid.end()) {
                 return it->second;
             }
-            pts.push_back((pts[static_cast<std::size_t>(a)] + pts[static_cast<std::size_t>(b)]).normalized());
+            pts.push_back(
+                (pts[static_cast<std::size_t>(a)] + pts[static_cast<std::size_t>(b)]).normalized());
             const int id = static_cast<int>(pts.size()) - 1;
             mid.emplace(key, id);
             return id;
@@ -102,7 +104,8 @@ void makeSphereMesh(double radius, int subdivisions, MatX3& vertices, MatX3i& tr
         std::vector<std::array<int, 3>> next;
         next.reserve(tris.size() * 4);
         for (const auto& t : tris) {
-            const int ab = midpoint(t[0], t[1]), bc = midpoint(t[1], t[2]), ca = midpoint(t[2], t[0]);
+            const int ab = midpoint(t[0], t[1]), bc = midpoint(t[1], t[2]),
+                      ca = midpoint(t[2], t[0]);
             next.push_back({t[0], ab, ca});
             next.push_back({t[1], bc, ab});
             next.push_back({t[2], ca, bc});
@@ -155,7 +158,8 @@ void makeBoxMesh(const Vec3& size, int cells, MatX3& vertices, MatX3i& triangles
                     const int b = ids[static_cast<std::size_t>(j * n + i + 1)];
                     const int c = ids[static_cast<std::size_t>((j + 1) * n + i)];
                     const int d = ids[static_cast<std::size_t>((j + 1) * n + i + 1)];
-                    // (u, w, axis) is right-handed, so a→b→d runs counter-clockwise seen from +axis.
+                    // (u, w, axis) is right-handed, so a→b→d runs counter-clockwise seen from
+                    // +axis.
                     if (sign > 0) {
                         tris.push_back({a, b, d});
                         tris.push_back({a, d, c});
@@ -176,8 +180,10 @@ void makeCapsuleMesh(double radius, double length, int segments, MatX3& vertices
     segments = std::max(segments, 6);
     const int rings = std::max(2, segments / 4); // latitude rings per hemisphere
     // Length 0: a latitude–longitude sphere (no cylinder rows, which would repeat the equator).
-    const int body = length > 0 ? std::max(1, static_cast<int>(std::round(length / (2 * M_PI * radius / segments))))
-                                : 0;
+    const int body =
+        length > 0
+            ? std::max(1, static_cast<int>(std::round(length / (2 * M_PI * radius / segments))))
+            : 0;
     std::vector<Vec3> pts;
     std::vector<std::array<int, 3>> tris;
     // Latitude rows from the top pole (excluded) to the bottom pole.
@@ -278,7 +284,8 @@ bool obstacleMoves(const ObstacleSpec& o) {
         return o.frames.size() > 1;
     }
     for (std::size_t k = 1; k < o.keys.size(); ++k) {
-        if (o.keys[k].translation != o.keys[0].translation || o.keys[k].rotation != o.keys[0].rotation) {
+        if (o.keys[k].translation != o.keys[0].translation ||
+            o.keys[k].rotation != o.keys[0].rotation) {
             return true;
         }
     }

@@ -4,13 +4,14 @@
 #include "sim/collision/indexing.h"
 #include "sim/core/parallel.h"
 
+#include <queue>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <functional>
 #include <limits>
-#include <queue>
 #include <utility>
 
 namespace atelier::sim {

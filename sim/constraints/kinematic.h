@@ -20,7 +20,9 @@ struct PathSample {
 PathSample samplePath(const Drive& drive, double t);
 
 /// Whether the drive still holds its vertex at time t.
-inline bool driveActive(const Drive& d, double t) { return t < d.releaseTime; }
+inline bool driveActive(const Drive& d, double t) {
+    return t < d.releaseTime;
+}
 
 /// Next time after t at which a drive's path has a kink or releases (so steps can stop there),
 /// or +inf.
@@ -30,7 +32,7 @@ double nextPathEvent(const Drive& drive, double t);
 /// \f$ e^{-h/\tau} \f$ with a momentum-conserving split by mass. Each pair update lowers the
 /// kinetic energy by \f$ \tfrac12\mu|r|^2(1-e^{-2h/\tau}) \ge 0 \f$ whatever τ and h, so the
 /// correction is purely dissipative. Vertices with zero inverse mass are not changed.
-void applyHighDamping(const std::vector<std::array<int, 2>>& edges, const VecX& invMass,
-                      double h, double timeConstant, MatX3& v);
+void applyHighDamping(const std::vector<std::array<int, 2>>& edges, const VecX& invMass, double h,
+                      double timeConstant, MatX3& v);
 
 } // namespace atelier::sim

@@ -10,12 +10,12 @@ namespace atelier::sim {
 /// Each pair (a, b) is pulled together as a critically damped oscillator of time constant τ
 /// in its relative coordinate r = x_a − x_b:
 /// \f$ \ddot r = -r/\tau^2 - 2\dot r/\tau \f$, shared so momentum is conserved:
-/// \f$ a_a \mathrel{+}= \frac{m_b}{m_a+m_b}\ddot r \f$, \f$ a_b \mathrel{-}= \frac{m_a}{m_a+m_b}\ddot r \f$.
-/// As a force on the pair this is \f$ f_a = \mu\,\ddot r \f$ with the reduced mass μ, which is
-/// how it enters implicit solves. The law is independent of the masses: a gap shrinks like
-/// \f$ (1 + t/\tau)e^{-t/\tau} \f$ when nothing resists. Against the cloth's own forces the
-/// stiffness μ/τ² is weak unless τ is small (garments sew at 4 ms; at 30 ms their seams held
-/// centimetres open under the fabric's tension).
+/// \f$ a_a \mathrel{+}= \frac{m_b}{m_a+m_b}\ddot r \f$, \f$ a_b \mathrel{-}=
+/// \frac{m_a}{m_a+m_b}\ddot r \f$. As a force on the pair this is \f$ f_a = \mu\,\ddot r \f$ with
+/// the reduced mass μ, which is how it enters implicit solves. The law is independent of the
+/// masses: a gap shrinks like \f$ (1 + t/\tau)e^{-t/\tau} \f$ when nothing resists. Against the
+/// cloth's own forces the stiffness μ/τ² is weak unless τ is small (garments sew at 4 ms; at 30 ms
+/// their seams held centimetres open under the fabric's tension).
 ///
 /// Routing: a pair whose straight chord is blocked by an obstacle (a shoulder between the
 /// front and back of a shirt) can be given a via point clear of it; each of its two vertices
@@ -56,8 +56,8 @@ class SeamElastics : public ForceModel {
 
   private:
     std::vector<SeamPair> m_pairs;
-    std::vector<Vec3> m_via;      ///< per pair: via point when routed [m]
-    std::vector<char> m_routed;   ///< per pair
+    std::vector<Vec3> m_via;         ///< per pair: via point when routed [m]
+    std::vector<char> m_routed;      ///< per pair
     std::vector<double> m_stiffness; ///< per pair: k [N/m]; damping is 2τk [N·s/m]
     double m_tau;
     double m_reach; ///< [m], 0 = linear

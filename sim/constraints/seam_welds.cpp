@@ -8,8 +8,8 @@
 namespace atelier::sim {
 
 SeamWelds::SeamWelds(const std::vector<SeamPair>& seams, int vertexCount)
-    : m_seams(&seams), m_vertexCount(vertexCount),
-      m_parent(static_cast<std::size_t>(vertexCount)), m_pairWelded(seams.size(), 0) {
+    : m_seams(&seams), m_vertexCount(vertexCount), m_parent(static_cast<std::size_t>(vertexCount)),
+      m_pairWelded(seams.size(), 0) {
     std::iota(m_parent.begin(), m_parent.end(), 0);
 }
 

@@ -15,7 +15,7 @@ namespace atelier::sim {
 
 /// What welding did, for the run's figures (sim::RunStats).
 struct WeldFigures {
-    long weldedPairs = 0;   ///< pairs welded so far
+    long weldedPairs = 0; ///< pairs welded so far
     /// Largest gap of a pair welded by force, beyond the weld distance [m].
     double largestForced = 0;
     /// Welds put off because the merge would carry cloth through cloth, per pair and step.

@@ -49,8 +49,7 @@ inline void cpuRelax() {
 }
 
 /// Spins until done() or `us` microseconds have passed; returns done().
-template <class Done>
-bool spinUntil(int us, Done&& done) {
+template <class Done> bool spinUntil(int us, Done&& done) {
     if (us <= 0) {
         return done();
     }
@@ -75,7 +74,8 @@ class Pool {
         return pool;
     }
 
-    Pool() : m_threads(std::min(availableCores(), MAX_THREADS)), m_defaultThreads(m_threads.load()) {}
+    Pool()
+        : m_threads(std::min(availableCores(), MAX_THREADS)), m_defaultThreads(m_threads.load()) {}
 
     ~Pool() {
         {
@@ -186,9 +186,7 @@ class Pool {
         t_inLoop = true;
         std::uint64_t seen = 0;
         for (;;) {
-            const auto published = [&] {
-                return m_state.load(std::memory_order_acquire) != seen;
-            };
+            const auto published = [&] { return m_state.load(std::memory_order_acquire) != seen; };
             if (!spinUntil(spin(), published)) {
                 std::unique_lock lock(m_mutex);
                 ++m_sleepers;
@@ -232,7 +230,7 @@ class Pool {
     std::condition_variable m_done; ///< the last helper finished
     /// The published loop: its generation (counting loops) << 8 | its helper count.
     std::atomic<std::uint64_t> m_state{0};
-    int m_sleepers = 0; ///< guarded by m_mutex
+    int m_sleepers = 0;  ///< guarded by m_mutex
     bool m_stop = false; ///< guarded by m_mutex
 };
 
@@ -254,8 +252,12 @@ void setThreadCount(int n) {
 #endif
 }
 
-int spinMicroseconds() { return Pool::instance().spin(); }
-void setSpinMicroseconds(int us) { Pool::instance().setSpin(us); }
+int spinMicroseconds() {
+    return Pool::instance().spin();
+}
+void setSpinMicroseconds(int us) {
+    Pool::instance().setSpin(us);
+}
 
 namespace detail {
 void runTasks(std::int64_t tasks, void (*task)(void*, std::int64_t), void* context) {

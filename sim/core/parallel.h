@@ -39,8 +39,7 @@ void runTasks(std::int64_t tasks, void (*task)(void*, std::int64_t), void* conte
 
 /// Calls body(i) for every i in [0, n): in parallel (one contiguous block per thread) when
 /// n >= PARALLEL_GRAIN, else serially. body(i) must only write what belongs to i.
-template <class Body>
-void parallelFor(std::int64_t n, Body&& body) {
+template <class Body> void parallelFor(std::int64_t n, Body&& body) {
     const int threads = threadCount();
     if (n < PARALLEL_GRAIN || threads <= 1) {
         for (std::int64_t i = 0; i < n; ++i) {
@@ -67,8 +66,7 @@ void parallelFor(std::int64_t n, Body&& body) {
 
 /// Calls body(i) for every i in [0, n), iterations of uneven cost handed out one at a time,
 /// in parallel only when `parallel`.
-template <class Body>
-void parallelForEach(std::int64_t n, bool parallel, Body&& body) {
+template <class Body> void parallelForEach(std::int64_t n, bool parallel, Body&& body) {
     if (!parallel || n <= 1 || threadCount() <= 1) {
         for (std::int64_t i = 0; i < n; ++i) {
             body(i);
@@ -89,8 +87,7 @@ inline std::int64_t chunkCount(std::int64_t n) {
 /// in parallel, in any order. A caller that gives each chunk its own output and concatenates
 /// the outputs in chunk order gets exactly what one serial pass would give, for any number of
 /// threads (so results stay deterministic).
-template <class Body>
-void parallelChunks(std::int64_t n, Body&& body) {
+template <class Body> void parallelChunks(std::int64_t n, Body&& body) {
     const std::int64_t chunks = chunkCount(n);
     parallelForEach(chunks, n >= PARALLEL_GRAIN,
                     [&](std::int64_t c) { body(c, n * c / chunks, n * (c + 1) / chunks); });

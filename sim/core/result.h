@@ -40,8 +40,7 @@ struct Error {
 };
 
 /// Either a value of type T or an Error. Check `ok()` before `value()`.
-template <class T>
-class Result {
+template <class T> class Result {
   public:
     Result(T value) : m_data(std::in_place_index<0>, std::move(value)) {}     // NOLINT: implicit
     Result(Error error) : m_data(std::in_place_index<1>, std::move(error)) {} // NOLINT: implicit
@@ -71,8 +70,7 @@ class Result {
 };
 
 /// Success without a value, or an Error.
-template <>
-class Result<void> {
+template <> class Result<void> {
   public:
     Result() = default;
     Result(Error error) : m_error(std::move(error)), m_ok(false) {} // NOLINT: implicit

@@ -3,6 +3,7 @@
 #include "sim/core/parallel.h"
 
 #include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 

@@ -107,11 +107,12 @@ class DihedralBending : public ForceModel {
     VecX m_gradientCap; ///< (|H|) largest |∇θ| a corner may feel [1/m]
     static constexpr double GRADIENT_CAP = 50.0;
     mutable MatX3 m_buffer; ///< (|H|·4 × 3) per-corner forces; one evaluating thread per model
-    mutable std::vector<Mat3> m_blocks; ///< (|H|·16) Jacobian blocks; one assembling thread per model
-    VecX m_weight;                                                   ///< (|H|) w_h
-    VecX m_restAngle;                                                ///< (|H|) θ̄ [rad]
-    double m_stiffness;                                              ///< k [N·m]
-    double m_damping;                                                ///< τ [s]
+    mutable std::vector<Mat3>
+        m_blocks;       ///< (|H|·16) Jacobian blocks; one assembling thread per model
+    VecX m_weight;      ///< (|H|) w_h
+    VecX m_restAngle;   ///< (|H|) θ̄ [rad]
+    double m_stiffness; ///< k [N·m]
+    double m_damping;   ///< τ [s]
     bool m_plasticity;
     double m_yieldAngle;  ///< [rad]
     double m_plasticRate; ///< [1/s]

@@ -3,6 +3,7 @@
 #include "sim/core/parallel.h"
 
 #include <Eigen/Dense>
+
 #include <algorithm>
 #include <cmath>
 

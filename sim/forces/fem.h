@@ -74,7 +74,8 @@ class FemStretch : public ForceModel {
     Mat3 m_stiffness; ///< C [N/m]
     double m_damping; ///< τ [s]
     ElementGather m_gather;
-    mutable std::vector<Mat3> m_blocks; ///< (|F|·9) Jacobian blocks; one assembling thread per model
+    mutable std::vector<Mat3>
+        m_blocks; ///< (|F|·9) Jacobian blocks; one assembling thread per model
 };
 
 } // namespace atelier::sim

@@ -28,7 +28,9 @@ class SpringStretch : public ForceModel {
   public:
     SpringStretch(const ClothMesh& mesh, int offset, const Material& material, bool crossSprings);
 
-    std::string_view name() const override { return m_cross ? "stretch.springs+cross" : "stretch.springs"; }
+    std::string_view name() const override {
+        return m_cross ? "stretch.springs+cross" : "stretch.springs";
+    }
     void addForces(const MatX3& x, const MatX3& v, MatX3& f) const override;
     bool hasEnergy() const override { return true; }
     double energy(const MatX3& x) const override;

@@ -38,15 +38,18 @@ VolinoStretch::VolinoStretch(const ClothMesh& mesh, int offset, const Material& 
         // Edge I joins vertices I+1 and I+2.
         std::array<Vec2, 3> dir;
         for (int I = 0; I < 3; ++I) {
-            const Vec2 d = p[static_cast<std::size_t>((I + 2) % 3)] - p[static_cast<std::size_t>((I + 1) % 3)];
+            const Vec2 d =
+                p[static_cast<std::size_t>((I + 2) % 3)] - p[static_cast<std::size_t>((I + 1) % 3)];
             el.rest[static_cast<std::size_t>(I)] = d.norm();
             dir[static_cast<std::size_t>(I)] = d / d.norm();
         }
         // Cosine of the angle at vertex k, between the two edges meeting there.
         std::array<double, 3> c{};
         for (int k = 0; k < 3; ++k) {
-            const Vec2 a = p[static_cast<std::size_t>((k + 1) % 3)] - p[static_cast<std::size_t>(k)];
-            const Vec2 b = p[static_cast<std::size_t>((k + 2) % 3)] - p[static_cast<std::size_t>(k)];
+            const Vec2 a =
+                p[static_cast<std::size_t>((k + 1) % 3)] - p[static_cast<std::size_t>(k)];
+            const Vec2 b =
+                p[static_cast<std::size_t>((k + 2) % 3)] - p[static_cast<std::size_t>(k)];
             c[static_cast<std::size_t>(k)] = a.dot(b) / (a.norm() * b.norm());
         }
         Mat3 A = Mat3::Identity();

@@ -52,10 +52,10 @@ class VolinoStretch : public ForceModel {
 
   private:
     struct Element {
-        std::array<int, 3> v;         ///< global vertex indices
-        std::array<double, 3> rest;   ///< L_I, edge I opposite vertex I [m]
-        Mat3 G;                       ///< tension per elongation [N/m]
-        Mat3 Gdefinite;               ///< PSD part of sym(G)
+        std::array<int, 3> v;       ///< global vertex indices
+        std::array<double, 3> rest; ///< L_I, edge I opposite vertex I [m]
+        Mat3 G;                     ///< tension per elongation [N/m]
+        Mat3 Gdefinite;             ///< PSD part of sym(G)
     };
     std::vector<Element> m_elements;
     double m_damping = 0;

@@ -43,8 +43,8 @@ const ButcherTableau& ButcherTableau::cashKarp() {
 }
 
 double ExplicitRkStepper::step(double t, double h, const MatX3& x, const MatX3& v,
-                               const AccelerationFn& acc, MatX3& xOut, MatX3& vOut,
-                               MatX3* firstAcc, double velocityErrorTime) {
+                               const AccelerationFn& acc, MatX3& xOut, MatX3& vOut, MatX3* firstAcc,
+                               double velocityErrorTime) {
     const std::size_t s = m_tab.b.size();
     const Eigen::Index n = x.rows();
     if (m_kx.size() != s || (s > 0 && m_kx[0].rows() != n)) {

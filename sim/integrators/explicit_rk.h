@@ -10,11 +10,11 @@ namespace atelier::sim {
 
 /// Butcher tableau of an explicit method, optionally with an embedded lower-order weight row.
 struct ButcherTableau {
-    std::vector<double> c;                ///< (s) stage times
-    std::vector<std::vector<double>> a;   ///< (s×s) strictly lower triangular
-    std::vector<double> b;                ///< (s) weights of the propagated solution
-    std::vector<double> bEmbedded;        ///< (s) weights of the error-estimating solution, or empty
-    int order = 1;                        ///< order of the propagated solution
+    std::vector<double> c;              ///< (s) stage times
+    std::vector<std::vector<double>> a; ///< (s×s) strictly lower triangular
+    std::vector<double> b;              ///< (s) weights of the propagated solution
+    std::vector<double> bEmbedded;      ///< (s) weights of the error-estimating solution, or empty
+    int order = 1;                      ///< order of the propagated solution
 
     static const ButcherTableau& euler();
     static const ButcherTableau& midpoint();
@@ -35,7 +35,8 @@ class ExplicitRkStepper {
 
     /// Advances (x, v) from t by h into (xOut, vOut). When the tableau has an embedded row,
     /// returns the error estimate max_i max(|Δx_i|, T·|Δv_i|) [m] (difference of the two
-    /// solutions, velocities weighted by the time scale `velocityErrorTime` T [s]); otherwise 0. `firstAcc`, if non-null, receives the acceleration at (t, x, v).
+    /// solutions, velocities weighted by the time scale `velocityErrorTime` T [s]); otherwise 0.
+    /// `firstAcc`, if non-null, receives the acceleration at (t, x, v).
     double step(double t, double h, const MatX3& x, const MatX3& v, const AccelerationFn& acc,
                 MatX3& xOut, MatX3& vOut, MatX3* firstAcc = nullptr,
                 double velocityErrorTime = 0.01);

@@ -10,14 +10,14 @@ namespace atelier::sim {
 
 /// Topology and rest shape of one cloth piece. Vertex indices are local (0..|V|-1).
 struct ClothMesh {
-    MatX3i triangles;      ///< (|F|×3), counter-clockwise in the pattern plane
-    MatX2 rest;            ///< (|V|×2) pattern coordinates [m]; x = weft, y = warp
-    MatX2i edges;          ///< (|E|×2) unique edges, first index < second
-    MatX2i edgeTriangles;  ///< (|E|×2) the triangles on each side of an edge, -1 on a border
+    MatX3i triangles;     ///< (|F|×3), counter-clockwise in the pattern plane
+    MatX2 rest;           ///< (|V|×2) pattern coordinates [m]; x = weft, y = warp
+    MatX2i edges;         ///< (|E|×2) unique edges, first index < second
+    MatX2i edgeTriangles; ///< (|E|×2) the triangles on each side of an edge, -1 on a border
     /// (|H|×4) interior edges as hinges: (edge v0, edge v1, opposite in tri 0, opposite in tri 1).
     /// Triangle 0 is the one in which v0→v1 runs counter-clockwise.
     Eigen::Matrix<int, Eigen::Dynamic, 4, Eigen::RowMajor> hinges;
-    VecX restArea;         ///< (|F|) rest areas [m²]
+    VecX restArea; ///< (|F|) rest areas [m²]
 
     int vertexCount() const { return static_cast<int>(rest.rows()); }
     int triangleCount() const { return static_cast<int>(triangles.rows()); }

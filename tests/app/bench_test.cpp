@@ -2,23 +2,24 @@
 
 #include "io/temp_dir.h"
 
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <gtest/gtest.h>
 #include <map>
-#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
-#include <sys/wait.h>
-#include <unistd.h>
 #include <vector>
 
 namespace atelier::test {
 
 namespace {
-
 
 /// Runs atelier-cli with `args` (stdout and stderr to `log`); returns its exit status.
 int runCli(const std::string& args, const std::filesystem::path& log) {

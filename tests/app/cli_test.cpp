@@ -2,12 +2,12 @@
 
 #include "io/temp_dir.h"
 
+#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <cstdlib>
-#include <sys/wait.h>
 
 namespace atelier {
 namespace {
@@ -35,8 +35,8 @@ struct CliRun {
 /// Runs `prefix "ATELIER_CLI" args` in the shell, stderr to a file.
 CliRun runCli(const test::TempDir& dir, const std::string& args, const std::string& prefix = "") {
     const auto errPath = dir / "stderr.txt";
-    const std::string command = prefix + "\"" + ATELIER_CLI + "\" " + args + " 2> \"" +
-                                errPath.string() + "\"";
+    const std::string command =
+        prefix + "\"" + ATELIER_CLI + "\" " + args + " 2> \"" + errPath.string() + "\"";
     const int status = std::system(command.c_str());
     CliRun run;
     run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -49,10 +49,10 @@ TEST(Cli, SimulateWritesMeshAndReport) {
     const auto scene = dir.write("tiny.json", TINY_SCENE);
     const auto out = dir / "out.obj";
     const auto report = dir / "report.json";
-    const CliRun run = runCli(dir, "simulate \"" + scene.string() + "\" --out \"" + out.string() +
-                                       "\" --report \"" + report.string() +
-                                       "\" --threads 1 --frames-dir \"" +
-                                       (dir / "frames").string() + "\"");
+    const CliRun run =
+        runCli(dir, "simulate \"" + scene.string() + "\" --out \"" + out.string() +
+                        "\" --report \"" + report.string() + "\" --threads 1 --frames-dir \"" +
+                        (dir / "frames").string() + "\"");
     ASSERT_TRUE(std::filesystem::exists(report)) << run.stderrText;
     const auto json = nlohmann::json::parse(test::readText(report));
     for (const char* key :
@@ -102,13 +102,13 @@ TEST(Cli, MissingSceneAndBadArguments) {
 
 /// Ctrl-C (SIGINT, sent by `timeout` after `seconds`) stops a run between steps: exit 130, the
 /// state so far written with its report.
-nlohmann::json expectInterruptedRunWritesItsState(const test::TempDir& dir,
-                                                 const std::string& args, double seconds) {
+nlohmann::json expectInterruptedRunWritesItsState(const test::TempDir& dir, const std::string& args,
+                                                  double seconds) {
     const auto out = dir / "out.obj";
     const auto report = dir / "report.json";
-    const CliRun run = runCli(
-        dir, args + " --out \"" + out.string() + "\" --report \"" + report.string() + "\"",
-        "timeout --preserve-status -s INT " + std::to_string(seconds) + " ");
+    const CliRun run =
+        runCli(dir, args + " --out \"" + out.string() + "\" --report \"" + report.string() + "\"",
+               "timeout --preserve-status -s INT " + std::to_string(seconds) + " ");
     EXPECT_EQ(run.exitCode, 130) << run.stderrText;
     EXPECT_TRUE(std::filesystem::exists(report)) << run.stderrText;
     if (!std::filesystem::exists(report)) {
@@ -129,7 +129,8 @@ TEST(Cli, CtrlCStopsASimulationBetweenFramesFarApart) {
     scene.replace(scene.find("\"duration\": 0.05"), 16, "\"duration\": 1000000");
     scene.replace(scene.find("\"frame_rate\": 100"), 17, "\"frame_rate\": 0.0001");
     const auto path = dir.write("long.json", scene);
-    const auto r = expectInterruptedRunWritesItsState(dir, "simulate \"" + path.string() + "\"", 1.0);
+    const auto r =
+        expectInterruptedRunWritesItsState(dir, "simulate \"" + path.string() + "\"", 1.0);
     ASSERT_TRUE(r["sim_time_s"].is_number()) << r;
     EXPECT_GT(r["sim_time_s"].get<double>(), 0.0);
     EXPECT_LT(r["sim_time_s"].get<double>(), 10000.0) << "stopped before the first frame";

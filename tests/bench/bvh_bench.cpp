@@ -5,13 +5,15 @@
 /// Counters: `triangles`, `ns_per_triangle` (wall time per triangle [ns]) and, for the queries,
 /// `pairs` (pairs reported per query).
 
-#include "bench_scenes.h"
 #include "sim/collision/bvh.h"
 #include "sim/core/parallel.h"
 #include "sim/mesh/cloth_mesh.h"
 
-#include <array>
+#include "bench_scenes.h"
+
 #include <benchmark/benchmark.h>
+
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <numbers>

@@ -14,11 +14,12 @@
 ///   sheet with self-collision draping on a 20k-triangle closed sphere; counter
 ///   `collision_fraction` = collision wall time / step wall time.
 
-#include "bench_scenes.h"
 #include "sim/collision/collision_stage.h"
 #include "sim/collision/obstacle.h"
 #include "sim/core/parallel.h"
 #include "sim/simulation.h"
+
+#include "bench_scenes.h"
 
 #include <benchmark/benchmark.h>
 
@@ -79,7 +80,8 @@ void timeUpdates(benchmark::State& state, const sim::SceneSpec& scene, double mo
     xe = x0 + delta;
     ve = delta / 1e-3;
     stage.update(0.0, 1e-3, x0, xe, ve, invMass);
-    state.counters["first_update_ms"] = std::chrono::duration<double, std::milli>(Clock::now() - first).count();
+    state.counters["first_update_ms"] =
+        std::chrono::duration<double, std::milli>(Clock::now() - first).count();
     double t = 1e-3;
     const auto start = Clock::now();
     for (auto _ : state) {
@@ -93,8 +95,9 @@ void timeUpdates(benchmark::State& state, const sim::SceneSpec& scene, double mo
     const double triangles = scene.cloths[0].mesh.triangleCount();
     state.counters["triangles"] = triangles;
     state.counters["contacts"] = static_cast<double>(stage.figures().contacts);
-    state.counters["candidates"] = static_cast<double>(stage.figures().candidatePairs) /
-                                   static_cast<double>(std::max<std::int64_t>(1, state.iterations()));
+    state.counters["candidates"] =
+        static_cast<double>(stage.figures().candidatePairs) /
+        static_cast<double>(std::max<std::int64_t>(1, state.iterations()));
     state.counters["ns_per_triangle"] = nsPerItem(elapsed, state.iterations(), triangles);
     state.SetComplexityN(static_cast<std::int64_t>(triangles));
 }
@@ -209,23 +212,53 @@ void drapeStep(benchmark::State& state) {
     state.counters["triangles"] = c.mesh.triangleCount();
     state.counters["obstacle_triangles"] = static_cast<double>(s.obstacles[0].triangles.rows());
     state.counters["contacts"] = static_cast<double>(stats.contacts);
-    state.counters["collision_fraction"] = wall > 0 ? (stats.stageSeconds.at("collision") - coll0) / wall : 0.0;
+    state.counters["collision_fraction"] =
+        wall > 0 ? (stats.stageSeconds.at("collision") - coll0) / wall : 0.0;
 }
 
 } // namespace
 
-BENCHMARK(dome)->Name("collision/dome")->ArgName("cells")->Arg(22)->Arg(71)->Arg(224)->Arg(316)
-    ->Unit(benchmark::kMillisecond)->Complexity(benchmark::oNLogN);
-BENCHMARK(contacts)->Name("collision/contacts")->ArgNames({"cells", "touching"})
-    ->Args({22, 50})->Args({71, 0})->Args({71, 25})->Args({71, 50})->Args({71, 100})
+BENCHMARK(dome)
+    ->Name("collision/dome")
+    ->ArgName("cells")
+    ->Arg(22)
+    ->Arg(71)
+    ->Arg(224)
+    ->Arg(316)
+    ->Unit(benchmark::kMillisecond)
+    ->Complexity(benchmark::oNLogN);
+BENCHMARK(contacts)
+    ->Name("collision/contacts")
+    ->ArgNames({"cells", "touching"})
+    ->Args({22, 50})
+    ->Args({71, 0})
+    ->Args({71, 25})
+    ->Args({71, 50})
+    ->Args({71, 100})
     ->Unit(benchmark::kMillisecond);
-BENCHMARK(selfSheet<false>)->Name("collision/self-flat")->ArgNames({"cells", "failsafe"})
-    ->Args({22, 0})->Args({71, 0})->Args({224, 0})->Args({316, 0})->Args({22, 1})->Args({71, 1})->Args({224, 1})
+BENCHMARK(selfSheet<false>)
+    ->Name("collision/self-flat")
+    ->ArgNames({"cells", "failsafe"})
+    ->Args({22, 0})
+    ->Args({71, 0})
+    ->Args({224, 0})
+    ->Args({316, 0})
+    ->Args({22, 1})
+    ->Args({71, 1})
+    ->Args({224, 1})
     ->Unit(benchmark::kMillisecond);
-BENCHMARK(selfSheet<true>)->Name("collision/self-wavy")->ArgNames({"cells", "failsafe"})
-    ->Args({22, 0})->Args({71, 0})->Args({224, 0})
+BENCHMARK(selfSheet<true>)
+    ->Name("collision/self-wavy")
+    ->ArgNames({"cells", "failsafe"})
+    ->Args({22, 0})
+    ->Args({71, 0})
+    ->Args({224, 0})
     ->Unit(benchmark::kMillisecond);
-BENCHMARK(drapeStep)->Name("collision/drape-step")->ArgName("cells")->Arg(71)
-    ->Unit(benchmark::kMillisecond)->Iterations(40);
+BENCHMARK(drapeStep)
+    ->Name("collision/drape-step")
+    ->ArgName("cells")
+    ->Arg(71)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(40);
 
 } // namespace atelier::bench

@@ -11,12 +11,14 @@
 /// - `geometry/orient3d/case:C`: C = 0 generic points (the filter decides), C = 1 nearly coplanar
 ///   points (the exact expansion runs).
 
-#include "bench_scenes.h"
 #include "sim/collision/geometry.h"
 
+#include "bench_scenes.h"
+
 #include <Eigen/Geometry>
-#include <array>
 #include <benchmark/benchmark.h>
+
+#include <array>
 #include <cstdint>
 #include <random>
 #include <vector>

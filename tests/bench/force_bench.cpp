@@ -3,14 +3,16 @@
 /// 2n² triangles: 22 → 968, 71 → 10 082, 224 → 100 352.
 /// Counter `ns_per_triangle`: wall time of one evaluation per triangle [ns].
 
-#include "bench_scenes.h"
 #include "sim/core/parallel.h"
 #include "sim/forces/bending.h"
 #include "sim/forces/fem.h"
 #include "sim/forces/springs.h"
 #include "sim/forces/volino.h"
 
+#include "bench_scenes.h"
+
 #include <benchmark/benchmark.h>
+
 #include <memory>
 
 namespace atelier::bench {

@@ -6,9 +6,10 @@
 /// Counters: `ns_per_triangle` per step, `rejected` steps (should be 0), `force_evals` and
 /// `cg_iterations` per accepted step.
 
-#include "bench_scenes.h"
 #include "sim/core/parallel.h"
 #include "sim/simulation.h"
+
+#include "bench_scenes.h"
 
 #include <benchmark/benchmark.h>
 

@@ -1,5 +1,4 @@
 #include "io/atomic_file.h"
-
 #include "io/temp_dir.h"
 
 #include <gtest/gtest.h>

@@ -1,5 +1,4 @@
 #include "io/obj.h"
-
 #include "io/temp_dir.h"
 
 #include "sim/mesh/cloth_mesh.h"
@@ -39,7 +38,8 @@ TEST(Obj, RoundTripWithUvsAndGroups) {
     ObjWriteOptions options;
     options.uvs = rest;
     const int half = static_cast<int>(triangles.rows() / 2);
-    options.groups = {{"front", 0, half}, {"back", half, static_cast<int>(triangles.rows()) - half}};
+    options.groups = {{"front", 0, half},
+                      {"back", half, static_cast<int>(triangles.rows()) - half}};
     options.comment = "test\nsecond line";
     const auto path = dir / "sheet.obj";
     const auto written = writeObj(path, positions, triangles, options);

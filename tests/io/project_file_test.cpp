@@ -1,6 +1,5 @@
-#include "io/project_file.h"
-
 #include "io/materials.h"
+#include "io/project_file.h"
 #include "io/temp_dir.h"
 
 #include <gtest/gtest.h>
@@ -208,12 +207,14 @@ std::string fullWith(const std::string& pointer, const json& value) {
     return doc.dump();
 }
 
-json removed() { return json(json::value_t::discarded); }
+json removed() {
+    return json(json::value_t::discarded);
+}
 
 void expectError(const Result<patterns::Project>& result, const std::string& where,
                  const std::string& fragment, const std::string& file = "shirt.atelier") {
-    ASSERT_FALSE(result.ok()) << "expected an error at " << where << " containing \""
-                              << fragment << "\"";
+    ASSERT_FALSE(result.ok()) << "expected an error at " << where << " containing \"" << fragment
+                              << "\"";
     EXPECT_EQ(result.error().file, file);
     EXPECT_EQ(result.error().where, where) << result.error().toString();
     EXPECT_NE(result.error().message.find(fragment), std::string::npos)
@@ -427,9 +428,9 @@ TEST(ProjectFile, FormatParseFormatIsByteIdentical) {
     for (const auto& [key, unused] : ordered.items()) {
         keys.push_back(key);
     }
-    EXPECT_EQ(keys, (std::vector<std::string>{"format", "version", "name", "body", "materials",
-                                              "next_id", "panels", "seams", "ease_tolerance_mm",
-                                              "simulation"}));
+    EXPECT_EQ(keys,
+              (std::vector<std::string>{"format", "version", "name", "body", "materials", "next_id",
+                                        "panels", "seams", "ease_tolerance_mm", "simulation"}));
     // Values survive the trip.
     EXPECT_EQ(second.body.measurements, first.body.measurements);
     EXPECT_EQ(second.garment.materials[1].material.density, 0.08);
@@ -534,14 +535,14 @@ TEST(ProjectFile, BadValuesNameFileAndPath) {
         {"unknown top key", fullWith("/colour", "red"), "/colour", "unknown key \"colour\""},
         {"body base", fullWith("/body/base", "child"), "/body/base", "unknown body base"},
         {"mesh and base", fullWith("/body/mesh", "body.obj"), "/body/base", "not both"},
-        {"measurement in mm", fullWith("/body/measurements/bust", 920),
-         "/body/measurements/bust", "in metres"},
-        {"measurement type", fullWith("/body/measurements/bust", "92cm"),
-         "/body/measurements/bust", "expected a number"},
+        {"measurement in mm", fullWith("/body/measurements/bust", 920), "/body/measurements/bust",
+         "in metres"},
+        {"measurement type", fullWith("/body/measurements/bust", "92cm"), "/body/measurements/bust",
+         "expected a number"},
         {"materials type", fullWith("/materials", json::object()), "/materials",
          "expected an array"},
-        {"unknown fabric", fullWith("/materials/0/fabric", "cotton-jersey"),
-         "/materials/0/fabric", "unknown fabric preset \"cotton-jersey\""},
+        {"unknown fabric", fullWith("/materials/0/fabric", "cotton-jersey"), "/materials/0/fabric",
+         "unknown fabric preset \"cotton-jersey\""},
         {"zero density", fullWith("/materials/1/density_kg_per_m2", 0),
          "/materials/1/density_kg_per_m2", "must be positive"},
         {"negative density", fullWith("/materials/1/density_kg_per_m2", -0.1),
@@ -591,8 +592,8 @@ TEST(ProjectFile, BadValuesNameFileAndPath) {
          "non-negative integer"},
         {"dart leg float", fullWith("/panels/0/darts/0/leg", 1.5), "/panels/0/darts/0/leg",
          "expected an integer"},
-        {"notch segment", fullWith("/panels/0/notches/0/segment", 7),
-         "/panels/0/notches/0/segment", "no segment 7 in the outline (it has 7)"},
+        {"notch segment", fullWith("/panels/0/notches/0/segment", 7), "/panels/0/notches/0/segment",
+         "no segment 7 in the outline (it has 7)"},
         {"notch t", fullWith("/panels/0/notches/0/t", 1.5), "/panels/0/notches/0/t",
          "must be in [0, 1]"},
         {"placement typo", fullWith("/panels/0/placement/clerance_mm", 3),
@@ -614,8 +615,8 @@ TEST(ProjectFile, BadValuesNameFileAndPath) {
          "unknown integrator \"verlet\""},
         {"particle distance", fullWith("/simulation/particle_distance_mm", 0),
          "/simulation/particle_distance_mm", "must be positive"},
-        {"self collision", fullWith("/simulation/self_collision", 1),
-         "/simulation/self_collision", "expected true or false"},
+        {"self collision", fullWith("/simulation/self_collision", 1), "/simulation/self_collision",
+         "expected true or false"},
         {"simulation typo", fullWith("/simulation/dt", 0.01), "/simulation/dt",
          "unknown key \"dt\""},
     };
@@ -705,8 +706,8 @@ patterns::Project randomProject(std::mt19937& rng) {
         line.path.push_back(s);
         line.foldAngle = between(-PI, PI);
         panel.internalLines.push_back(line);
-        panel.notches.push_back({static_cast<int>(rng() % static_cast<unsigned>(n)),
-                                 between(0, 1)});
+        panel.notches.push_back(
+            {static_cast<int>(rng() % static_cast<unsigned>(n)), between(0, 1)});
         panel.placement.slot = "slot" + std::to_string(k);
         panel.placement.offset = sim::Vec2(between(-0.3, 0.3), between(-0.3, 0.3));
         panel.placement.rotation = between(-PI, PI);

@@ -2,7 +2,6 @@
 // (every sample meshes the same after save and reload), version 2 round-trips byte for byte,
 // and bad ids and references name their JSON pointer.
 #include "io/project_file.h"
-
 #include "io/temp_dir.h"
 
 #include "patterns/document.h"
@@ -53,7 +52,9 @@ Result<patterns::Project> parse(const std::string& text) {
 }
 
 /// The version-2 text of V1, as JSON to take apart.
-json v2Json() { return json::parse(formatProject(parse(V1).value())); }
+json v2Json() {
+    return json::parse(formatProject(parse(V1).value()));
+}
 
 TEST(ProjectFileV2, Version1MigratesWithIdsAndReferences) {
     const auto v1 = parse(V1);
@@ -188,7 +189,9 @@ std::string v2With(const std::string& pointer, const json& value) {
     return doc.dump();
 }
 
-json removed() { return json(json::value_t::discarded); }
+json removed() {
+    return json(json::value_t::discarded);
+}
 
 struct BadCase {
     const char* label;
@@ -227,8 +230,8 @@ TEST(ProjectFileV2, BadIdsAndReferencesNameTheJsonPointer) {
          "no panel has id"},
         {"missing seam edge", v2With("/seams/0/a/0/edge", 999), "/seams/0/a/0/edge",
          "panel \"front\" has no outline edge with id 999"},
-        {"seam edge of another panel", v2With("/seams/0/b/0/edge", frontEdge),
-         "/seams/0/b/0/edge", "panel \"back\" has no outline edge"},
+        {"seam edge of another panel", v2With("/seams/0/b/0/edge", frontEdge), "/seams/0/b/0/edge",
+         "panel \"back\" has no outline edge"},
         {"seam on a hole edge", v2With("/seams/0/a/0/edge", holeEdge), "/seams/0/a/0/edge",
          "has no outline edge"},
         {"seam t", v2With("/seams/0/a/0/t1", 2), "/seams/0/a/0/t1", "must be in [0, 1]"},
@@ -240,8 +243,8 @@ TEST(ProjectFileV2, BadIdsAndReferencesNameTheJsonPointer) {
          "/panels/0/darts/0/leg2", "must be the outline edge after leg1"},
         {"dart on the last edge", v2With("/panels/0/darts/0/leg1", front["outline"][6]["edge"]),
          "/panels/0/darts/0/leg1", "must not be the outline's last edge"},
-        {"unknown notch edge", v2With("/panels/0/notches/0/edge", 999),
-         "/panels/0/notches/0/edge", "no outline edge with id 999"},
+        {"unknown notch edge", v2With("/panels/0/notches/0/edge", 999), "/panels/0/notches/0/edge",
+         "no outline edge with id 999"},
         {"unknown curve", v2With("/panels/0/outline/0/curve", "spline"),
          "/panels/0/outline/0/curve", "unknown curve \"spline\""},
         {"control point on a line", v2With("/panels/0/outline/0/c1", json::parse("[1, 2]")),

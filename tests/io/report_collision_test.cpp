@@ -1,5 +1,4 @@
 #include "io/report.h"
-
 #include "io/scene_file.h"
 
 #include "sim/simulation.h"

@@ -62,8 +62,8 @@ TEST(Samples, MeshAndStartOutsideTheDefaultBody) {
                 const patterns::VertexRef& v = pair[static_cast<std::size_t>(side)];
                 const patterns::VertexRef& w = pair[static_cast<std::size_t>(1 - side)];
                 EXPECT_TRUE(used.insert({mesh.seamOfPair[k], v.panel, v.vertex, w.panel}).second)
-                    << "seam " << mesh.seamOfPair[k] << " sews vertex " << v.vertex
-                    << " of panel " << v.panel << " twice to panel " << w.panel;
+                    << "seam " << mesh.seamOfPair[k] << " sews vertex " << v.vertex << " of panel "
+                    << v.panel << " twice to panel " << w.panel;
             }
         }
         patterns::AssembledGarment assembled;
@@ -102,9 +102,8 @@ TEST(Samples, MeshAndStartOutsideTheDefaultBody) {
             EXPECT_LE(placed, reversed)
                 << "seam \"" << p.garment.seams[static_cast<std::size_t>(seam)].name
                 << "\" between panels " << std::get<1>(key) << " and " << std::get<2>(key)
-                << ": mean gap " << placed / static_cast<double>(pairs.size())
-                << " m as placed, " << reversed / static_cast<double>(pairs.size())
-                << " m with one side reversed";
+                << ": mean gap " << placed / static_cast<double>(pairs.size()) << " m as placed, "
+                << reversed / static_cast<double>(pairs.size()) << " m with one side reversed";
         }
         ++count;
     }

@@ -1,5 +1,4 @@
 #include "io/scene_file.h"
-
 #include "io/temp_dir.h"
 
 #include "sim/collision/obstacle.h"

@@ -1,13 +1,11 @@
-#include "io/scene_file.h"
-
 #include "io/obj.h"
+#include "io/scene_file.h"
 #include "io/temp_dir.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
-
 #include <regex>
 
 namespace atelier::io {
@@ -204,8 +202,9 @@ TEST(SceneFile, ErrorsNameTheJsonPath) {
         "keys": [[0, 0, 0, 0], [0, 1, 1, 1]]}])")),
                 "/drives/0/keys/1/0", "increase");
     expectError(parse(sceneText(R"(, "gravity": [0, -9.8])")), "/gravity", "3 numbers");
-    expectError(parse(sceneText("", R"(, "placement": {"u_axis": [1, 0, 0], "v_axis": [2, 0, 0]})")),
-                "/cloths/0/placement/v_axis", "parallel");
+    expectError(
+        parse(sceneText("", R"(, "placement": {"u_axis": [1, 0, 0], "v_axis": [2, 0, 0]})")),
+        "/cloths/0/placement/v_axis", "parallel");
     expectError(parse(R"({"format": "atelier-scene", "version": 2, "cloths": []})"), "/version",
                 "unsupported version");
     expectError(parse(R"({"format": "atelier-scene", "version": 1, "cloths": []})"), "/cloths",
@@ -229,15 +228,15 @@ TEST(SceneFile, ObjMeshes) {
                             "vt 0 0\nvt 2 0\nvt 2 2\nvt 0 2\n"
                             "f 1/1 2/2 3/3\nf 1/1 3/3 4/4\n");
     const std::string obj = R"({"type": "obj", "path": "square.obj", "uv_scale": 0.5})";
-    const std::string text = std::regex_replace(
-        sceneText(), std::regex(R"(\{"type": "rectangle"[^}]*\})"), obj);
-    const std::string withPin = std::regex_replace(text, std::regex(R"("corner": "top-left")"),
-                                                   R"("vertex": 2)");
+    const std::string text =
+        std::regex_replace(sceneText(), std::regex(R"(\{"type": "rectangle"[^}]*\})"), obj);
+    const std::string withPin =
+        std::regex_replace(text, std::regex(R"("corner": "top-left")"), R"("vertex": 2)");
     const auto loaded = parse(withPin, dir.path());
     ASSERT_TRUE(loaded.ok()) << loaded.error().toString();
     const sim::ClothSpec& cloth = loaded.value().cloths[0];
     EXPECT_EQ(cloth.mesh.vertexCount(), 4);
-    EXPECT_EQ(cloth.mesh.rest.row(2), Eigen::RowVector2d(1, 1)); // UV × uv_scale
+    EXPECT_EQ(cloth.mesh.rest.row(2), Eigen::RowVector2d(1, 1));   // UV × uv_scale
     EXPECT_EQ(cloth.position.row(2), Eigen::RowVector3d(1, 1, 0)); // the OBJ's own positions
 
     // Corners are only for rectangles.

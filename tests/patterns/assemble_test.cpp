@@ -1,7 +1,7 @@
 // Assembly and sewing of a minimal garment: a band of two rectangular panels sewn at both sides
-// around a capsule "body" (gravity held off, as in the sewing phase of a drape). Hand-built meshes keep this independent of the
-// mesher: what is tested is placement, sewing (imposed seams that weld), the body obstacle and
-// the figures.
+// around a capsule "body" (gravity held off, as in the sewing phase of a drape). Hand-built meshes
+// keep this independent of the mesher: what is tested is placement, sewing (imposed seams that
+// weld), the body obstacle and the figures.
 
 #include "patterns/assemble.h"
 
@@ -67,8 +67,8 @@ Tube tube(int cx, int cy) {
     }
     t.mesh.triangleCount = 2L * cx * cy * 2;
     sim::makeCapsuleMesh(0.1, 0.4, 32, t.body.vertices, t.body.triangles);
-    for (const auto& [name, facing] : {std::pair{"front", sim::Vec3(0, 0, 1)},
-                                       std::pair{"back", sim::Vec3(0, 0, -1)}}) {
+    for (const auto& [name, facing] :
+         {std::pair{"front", sim::Vec3(0, 0, 1)}, std::pair{"back", sim::Vec3(0, 0, -1)}}) {
         ArrangementSlot s;
         s.name = name;
         s.origin = sim::Vec3(0, 0.05, 0);
@@ -106,7 +106,8 @@ TEST(Assemble, MissingSlotOrMaterialIsNamed) {
     AssembledGarment a;
     auto err = assembleGarment(t.garment, t.mesh, t.body, {}, a);
     ASSERT_TRUE(err.has_value());
-    EXPECT_NE(err->find("panel \"back\": the body has no slot \"sleeve\""), std::string::npos) << *err;
+    EXPECT_NE(err->find("panel \"back\": the body has no slot \"sleeve\""), std::string::npos)
+        << *err;
     t = tube(2, 2);
     t.garment.panels[0].material = "silk";
     err = assembleGarment(t.garment, t.mesh, t.body, {}, a);

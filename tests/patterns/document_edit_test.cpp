@@ -2,12 +2,12 @@
 // rename keeps seams), refused edits leave the document untouched, and undoing random edit
 // sequences over the samples gives back the document byte for byte.
 
+#include "io/project_file.h"
+
 #include "patterns/curve.h"
 #include "patterns/document.h"
 #include "patterns/document_edit.h"
 #include "patterns/mesh.h"
-
-#include "io/project_file.h"
 
 #include <gtest/gtest.h>
 
@@ -48,21 +48,25 @@ GarmentMesh meshOf(const Garment& g) {
     return mesh;
 }
 
-GarmentDocument tshirt() { return fromGarment(samples().at("tshirt")); }
+GarmentDocument tshirt() {
+    return fromGarment(samples().at("tshirt"));
+}
 
 double sideLength(const GarmentDocument& d, const std::vector<doc::SeamRange>& side) {
     double total = 0;
     for (const doc::SeamRange& r : side) {
         const doc::Panel& p = *d.panel(r.panel);
-        total += arcLength(contourSegment(p.outline, static_cast<std::size_t>(outlineEdgeIndex(p, r.edge))),
-                           r.t0, r.t1);
+        total += arcLength(
+            contourSegment(p.outline, static_cast<std::size_t>(outlineEdgeIndex(p, r.edge))), r.t0,
+            r.t1);
     }
     return total;
 }
 
 Vec2 rangePoint(const GarmentDocument& d, const doc::SeamRange& r, double t) {
     const doc::Panel& p = *d.panel(r.panel);
-    return pointAt(contourSegment(p.outline, static_cast<std::size_t>(outlineEdgeIndex(p, r.edge))), t);
+    return pointAt(contourSegment(p.outline, static_cast<std::size_t>(outlineEdgeIndex(p, r.edge))),
+                   t);
 }
 
 TEST(DocumentEdits, SplitEdgeKeepsSeamCoverage) {
@@ -75,11 +79,16 @@ TEST(DocumentEdits, SplitEdgeKeepsSeamCoverage) {
     ASSERT_TRUE(edit.ok()) << edit.error().toString();
     const doc::Seam& after = *d.seam(before.id);
     ASSERT_EQ(after.a.size(), before.a.size() + 1);
-    EXPECT_NEAR(sideLength(d, after.a), sideLength(fromGarment(samples().at("tshirt")), before.a), 1e-9);
+    EXPECT_NEAR(sideLength(d, after.a), sideLength(fromGarment(samples().at("tshirt")), before.a),
+                1e-9);
     const GarmentDocument original = tshirt();
-    EXPECT_LT((rangePoint(d, after.a[0], after.a[0].t0) - rangePoint(original, r, r.t0)).norm(), 1e-12);
-    EXPECT_LT((rangePoint(d, after.a[1], after.a[1].t1) - rangePoint(original, r, r.t1)).norm(), 1e-12);
-    EXPECT_LT((rangePoint(d, after.a[0], after.a[0].t1) - rangePoint(d, after.a[1], after.a[1].t0)).norm(), 1e-12);
+    EXPECT_LT((rangePoint(d, after.a[0], after.a[0].t0) - rangePoint(original, r, r.t0)).norm(),
+              1e-12);
+    EXPECT_LT((rangePoint(d, after.a[1], after.a[1].t1) - rangePoint(original, r, r.t1)).norm(),
+              1e-12);
+    EXPECT_LT((rangePoint(d, after.a[0], after.a[0].t1) - rangePoint(d, after.a[1], after.a[1].t0))
+                  .norm(),
+              1e-12);
     EXPECT_LT((rangePoint(d, after.a[0], after.a[0].t1) - rangePoint(original, r, t)).norm(), 1e-9);
     EXPECT_TRUE(checkDocument(d).ok());
     // The garment still meshes, its seams matched.
@@ -93,12 +102,14 @@ TEST(DocumentEdits, SplitCurvedEdgesKeepsTheCurve) {
     for (const doc::Panel& panel : std::vector<doc::Panel>(d.panels)) {
         for (const doc::Edge& e : panel.outline.edges) {
             const doc::Panel& p = *d.panel(panel.id);
-            const Segment s = contourSegment(p.outline, static_cast<std::size_t>(outlineEdgeIndex(p, e.id)));
+            const Segment s =
+                contourSegment(p.outline, static_cast<std::size_t>(outlineEdgeIndex(p, e.id)));
             const auto edit = splitEdge(d, panel.id, e.id, 0.3);
             ASSERT_TRUE(edit.ok()) << edit.error().toString();
             const doc::Panel& q = *d.panel(panel.id);
             const auto i = static_cast<std::size_t>(outlineEdgeIndex(q, e.id));
-            const Segment first = contourSegment(q.outline, i), second = contourSegment(q.outline, i + 1);
+            const Segment first = contourSegment(q.outline, i),
+                          second = contourSegment(q.outline, i + 1);
             EXPECT_LT((pointAt(first, 0.5) - pointAt(s, 0.15)).norm(), 1e-12);
             EXPECT_LT((pointAt(second, 0.5) - pointAt(s, 0.65)).norm(), 1e-12);
         }
@@ -117,7 +128,9 @@ TEST(DocumentEdits, RenameKeepsSeams) {
     for (std::size_t s = 0; s < g.seams.size(); ++s) {
         for (std::size_t k = 0; k < g.seams[s].a.size(); ++k) {
             const SeamEdge& e = g.seams[s].a[k];
-            EXPECT_EQ(e.panel, original.seams[s].a[k].panel == oldName ? "renamed" : original.seams[s].a[k].panel);
+            EXPECT_EQ(e.panel, original.seams[s].a[k].panel == oldName
+                                   ? "renamed"
+                                   : original.seams[s].a[k].panel);
             EXPECT_EQ(e.segment, original.seams[s].a[k].segment);
         }
     }
@@ -151,7 +164,9 @@ TEST(DocumentEdits, RefusedEditsLeaveTheDocumentUntouched) {
     EXPECT_FALSE(deletePoint(d, sewn.panel, sewnPanel.outline.points[k].id).ok()); // sewn edge
     EXPECT_FALSE(splitEdge(d, p.id, p.outline.edges[0].id, 1.0).ok());
     EXPECT_FALSE(splitEdge(d, PanelId{999999}, p.outline.edges[0].id, 0.5).ok());
-    EXPECT_FALSE(addSeam(d, "x", {{p.id, EdgeId{999999}, 0, 1}}, {{p.id, p.outline.edges[0].id, 0, 1}}).ok());
+    EXPECT_FALSE(
+        addSeam(d, "x", {{p.id, EdgeId{999999}, 0, 1}}, {{p.id, p.outline.edges[0].id, 0, 1}})
+            .ok());
     EXPECT_FALSE(duplicatePanel(d, p.id, p.name).ok());
     EXPECT_EQ(dumpDocument(d), dump);
 }
@@ -162,19 +177,25 @@ struct RandomEditor {
     std::mt19937 rng;
     int names = 0;
 
-    double uniform(double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
-    std::size_t pick(std::size_t n) { return std::uniform_int_distribution<std::size_t>(0, n - 1)(rng); }
+    double uniform(double lo, double hi) {
+        return std::uniform_real_distribution<double>(lo, hi)(rng);
+    }
+    std::size_t pick(std::size_t n) {
+        return std::uniform_int_distribution<std::size_t>(0, n - 1)(rng);
+    }
     bool chance(double p) { return uniform(0, 1) < p; }
 
     PanelId panel(const GarmentDocument& d) {
-        return d.panels.empty() || chance(0.05) ? PanelId{999999} : d.panels[pick(d.panels.size())].id;
+        return d.panels.empty() || chance(0.05) ? PanelId{999999}
+                                                : d.panels[pick(d.panels.size())].id;
     }
     const doc::Contour* contour(const GarmentDocument& d, PanelId id) {
         const doc::Panel* p = d.panel(id);
         if (p == nullptr) {
             return nullptr;
         }
-        return p->holes.empty() || chance(0.7) ? &p->outline : &p->holes[pick(p->holes.size())].contour;
+        return p->holes.empty() || chance(0.7) ? &p->outline
+                                               : &p->holes[pick(p->holes.size())].contour;
     }
     EdgeId edge(const GarmentDocument& d, PanelId id) {
         const doc::Contour* c = contour(d, id);
@@ -182,7 +203,8 @@ struct RandomEditor {
     }
     PointId point(const GarmentDocument& d, PanelId id) {
         const doc::Contour* c = contour(d, id);
-        return c == nullptr || chance(0.05) ? PointId{999999} : c->points[pick(c->points.size())].id;
+        return c == nullptr || chance(0.05) ? PointId{999999}
+                                            : c->points[pick(c->points.size())].id;
     }
     std::string name(const GarmentDocument& d) {
         if (!d.panels.empty() && chance(0.3)) {
@@ -194,7 +216,8 @@ struct RandomEditor {
     doc::SeamRange range(const GarmentDocument& d) {
         const PanelId p = panel(d);
         const doc::Panel* q = d.panel(p);
-        const EdgeId e = q == nullptr ? EdgeId{} : q->outline.edges[pick(q->outline.edges.size())].id;
+        const EdgeId e =
+            q == nullptr ? EdgeId{} : q->outline.edges[pick(q->outline.edges.size())].id;
         return {p, e, parameter(), parameter()};
     }
     SeamId seam(const GarmentDocument& d) {
@@ -210,7 +233,8 @@ struct RandomEditor {
         case 2:
             return splitEdge(d, p, edge(d, p), parameter());
         case 3:
-            return addPoint(d, p, edge(d, p), parameter(), Vec2(uniform(-0.3, 0.3), uniform(0, 0.6)));
+            return addPoint(d, p, edge(d, p), parameter(),
+                            Vec2(uniform(-0.3, 0.3), uniform(0, 0.6)));
         case 4:
             return deletePoint(d, p, point(d, p));
         case 5: {
@@ -281,8 +305,8 @@ TEST(DocumentUndo, RandomEditSequencesUndoToTheSameBytes) {
             const auto edit = editor.edit(d);
             if (!edit.ok()) {
                 ++refused;
-                ASSERT_EQ(dumpDocument(d), before) << "refused edit changed the document: "
-                                                   << edit.error().toString();
+                ASSERT_EQ(dumpDocument(d), before)
+                    << "refused edit changed the document: " << edit.error().toString();
                 continue;
             }
             ++applied;

@@ -1,11 +1,11 @@
 // The garment document: conversion to and from the index-based garment meshes the four samples
 // identically, and their documents pass the reference check.
 
+#include "io/project_file.h"
+
 #include "patterns/curve.h"
 #include "patterns/document.h"
 #include "patterns/mesh.h"
-
-#include "io/project_file.h"
 
 #include <gtest/gtest.h>
 

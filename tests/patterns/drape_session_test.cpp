@@ -64,8 +64,8 @@ Project bandProject() {
 Body capsuleBody() {
     Body body;
     sim::makeCapsuleMesh(0.1, 0.6, 32, body.vertices, body.triangles);
-    for (const auto& [name, facing] : {std::pair{"front", sim::Vec3(0, 0, 1)},
-                                       std::pair{"back", sim::Vec3(0, 0, -1)}}) {
+    for (const auto& [name, facing] :
+         {std::pair{"front", sim::Vec3(0, 0, 1)}, std::pair{"back", sim::Vec3(0, 0, -1)}}) {
         ArrangementSlot s;
         s.name = name;
         s.origin = sim::Vec3(0, 0.0, 0);
@@ -121,7 +121,8 @@ TEST(DrapeSession, PhasesAndEventsOfASewnBand) {
     }
     ASSERT_GE(kinds.size(), 4u);
     EXPECT_EQ(kinds.front(), DrapeEvent::Kind::Placed);
-    EXPECT_TRUE(kinds.back() == DrapeEvent::Kind::AtRest || kinds.back() == DrapeEvent::Kind::TimeLimit);
+    EXPECT_TRUE(kinds.back() == DrapeEvent::Kind::AtRest ||
+                kinds.back() == DrapeEvent::Kind::TimeLimit);
     // The band closes by itself before the sewing time is up, and gravity starts then.
     EXPECT_GT(sewnAt, 0.0);
     EXPECT_LT(sewnAt, 0.3);
@@ -259,7 +260,8 @@ TEST(DrapeSession, EditedPanelIsTheOnlyOneMeshedAndPlacedAgain) {
     EXPECT_EQ(f.session.figures().panelsMeshed, 1);
     EXPECT_TRUE(sameBits(panelRows(f.session, 0), front));
     EXPECT_TRUE(sameBits(panelRows(f.session, 1), back));
-    EXPECT_NEAR(panelRows(f.session, 2).col(0).maxCoeff() - panelRows(f.session, 2).col(0).minCoeff(),
+    EXPECT_NEAR(panelRows(f.session, 2).col(0).maxCoeff() -
+                    panelRows(f.session, 2).col(0).minCoeff(),
                 0.12, 0.02)
         << "the new patch is placed, flat on its slot";
     EXPECT_EQ(f.session.advance(0.05), DrapeStatus::Running);

@@ -2,6 +2,7 @@
 // 1 cm of the requested ones (measured here by an independent ray-casting tape), slots in place.
 #include "patterns/body_measure.h"
 #include "patterns/mannequin.h"
+
 #include "sim/core/parallel.h"
 
 #include <Eigen/Geometry>
@@ -93,11 +94,10 @@ void expectMannequin(std::string_view base, const BodyMeasurements& want) {
     const Mannequin m = makeMannequin(base, want);
     SCOPED_TRACE(std::string(base));
     const MeshTopology topo = meshTopology(m.body.vertices, m.body.triangles);
-    EXPECT_TRUE(topo.watertight()) << "boundary " << topo.boundaryEdges << " non-manifold edges "
-                                   << topo.nonManifoldEdges << " vertices "
-                                   << topo.nonManifoldVertices << " misoriented "
-                                   << topo.misorientedEdges << " degenerate "
-                                   << topo.degenerateTriangles;
+    EXPECT_TRUE(topo.watertight())
+        << "boundary " << topo.boundaryEdges << " non-manifold edges " << topo.nonManifoldEdges
+        << " vertices " << topo.nonManifoldVertices << " misoriented " << topo.misorientedEdges
+        << " degenerate " << topo.degenerateTriangles;
     EXPECT_EQ(topo.components, 1);
     EXPECT_EQ(topo.eulerCharacteristic, 2); // a sphere's topology: no handles, no holes
     EXPECT_GT(enclosedVolume(m.body.vertices, m.body.triangles), 0.03); // outward, body-sized
@@ -119,8 +119,8 @@ void expectMannequin(std::string_view base, const BodyMeasurements& want) {
     EXPECT_NEAR(rayTape(m, L.thighPoint[0], up), want.thigh, 0.01);
     EXPECT_NEAR(rayTape(m, L.thighPoint[1], up), want.thigh, 0.01);
     for (std::size_t i = 0; i < 2; ++i) {
-        EXPECT_NEAR(rayTape(m, L.upperArmPoint[i], L.elbow[i] - L.shoulderJoint[i]),
-                    want.upperArm, 0.01);
+        EXPECT_NEAR(rayTape(m, L.upperArmPoint[i], L.elbow[i] - L.shoulderJoint[i]), want.upperArm,
+                    0.01);
         EXPECT_NEAR((L.wrist[i] - L.shoulderPoint[i]).norm(), want.armLength, 1e-9);
     }
     EXPECT_NEAR((L.shoulderPoint[0] - L.shoulderPoint[1]).norm(), want.shoulderWidth, 1e-9);
@@ -137,10 +137,10 @@ void expectMannequin(std::string_view base, const BodyMeasurements& want) {
     EXPECT_GT(L.wrist[0].x(), L.shoulderPoint[0].x()); // A-pose: arms away from the torso
 
     // Slots: every standard one, enclosing its part.
-    for (const char* name : {"torso_front", "torso_back", "torso_left", "torso_right",
-                             "waist_front", "waist_back", "neck", "arm_left", "arm_right",
-                             "leg_left_front", "leg_left_back", "leg_right_front",
-                             "leg_right_back"}) {
+    for (const char* name :
+         {"torso_front", "torso_back", "torso_left", "torso_right", "waist_front", "waist_back",
+          "neck", "arm_left", "arm_right", "leg_left_front", "leg_left_back", "leg_right_front",
+          "leg_right_back"}) {
         const ArrangementSlot* s = m.body.slot(name);
         ASSERT_NE(s, nullptr) << name;
         EXPECT_GT(s->radius, 0.03) << name;
@@ -244,8 +244,10 @@ TEST(Mannequin, SlotsEstimatedForAMeshBodyMatchTheMannequins) {
             // the knee and the hip.
             ASSERT_FALSE(e->profileCentre.empty()) << s.name;
             for (const double y : {0.35, 0.6, 0.9}) {
-                const Vec3 cs = s.origin + (y - s.origin.y()) * s.axis + s.centreAt(y - s.origin.y());
-                const Vec3 ce = e->origin + (y - e->origin.y()) * e->axis + e->centreAt(y - e->origin.y());
+                const Vec3 cs =
+                    s.origin + (y - s.origin.y()) * s.axis + s.centreAt(y - s.origin.y());
+                const Vec3 ce =
+                    e->origin + (y - e->origin.y()) * e->axis + e->centreAt(y - e->origin.y());
                 EXPECT_LT((ce - cs).norm(), 0.03) << s.name << " at y = " << y;
             }
         }

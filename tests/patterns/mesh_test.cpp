@@ -57,18 +57,20 @@ Panel panel(const std::string& name, Loop outline) {
 /// A bodice front: hem, sides, cubic armholes, shoulders, an arc neckline.
 Panel bodice() {
     const double w = 0.26, ay = 0.41, sx = 0.185, sy = 0.585, nx = 0.085, ny = 0.62;
-    return panel("front", {line({-w, 0}, {w, 0}), line({w, 0}, {w, ay}),
-                           cubic({w, ay}, {w - 0.04, ay + 0.02}, {sx + 0.005, ay + 0.11}, {sx, sy}),
-                           line({sx, sy}, {nx, ny}), arc({nx, ny}, {-nx, ny}, -0.5),
-                           line({-nx, ny}, {-sx, sy}),
-                           cubic({-sx, sy}, {-sx - 0.005, ay + 0.11}, {-w + 0.04, ay + 0.02}, {-w, ay}),
-                           line({-w, ay}, {-w, 0})});
+    return panel("front",
+                 {line({-w, 0}, {w, 0}), line({w, 0}, {w, ay}),
+                  cubic({w, ay}, {w - 0.04, ay + 0.02}, {sx + 0.005, ay + 0.11}, {sx, sy}),
+                  line({sx, sy}, {nx, ny}), arc({nx, ny}, {-nx, ny}, -0.5),
+                  line({-nx, ny}, {-sx, sy}),
+                  cubic({-sx, sy}, {-sx - 0.005, ay + 0.11}, {-w + 0.04, ay + 0.02}, {-w, ay}),
+                  line({-w, ay}, {-w, 0})});
 }
 
 double meshArea(const PanelMesh& m) {
     double a = 0;
     for (int t = 0; t < m.triangles.rows(); ++t) {
-        a += sim::signedArea(m.rest.row(m.triangles(t, 0)).transpose(), m.rest.row(m.triangles(t, 1)).transpose(),
+        a += sim::signedArea(m.rest.row(m.triangles(t, 0)).transpose(),
+                             m.rest.row(m.triangles(t, 1)).transpose(),
                              m.rest.row(m.triangles(t, 2)).transpose());
     }
     return a;
@@ -91,7 +93,8 @@ void expectGoodMesh(const GarmentMesh& m, const Garment& g) {
         // Every vertex is used.
         std::vector<char> used(static_cast<std::size_t>(pm.rest.rows()), 0);
         for (int t = 0; t < pm.triangles.rows(); ++t)
-            for (int k = 0; k < 3; ++k) used[static_cast<std::size_t>(pm.triangles(t, k))] = 1;
+            for (int k = 0; k < 3; ++k)
+                used[static_cast<std::size_t>(pm.triangles(t, k))] = 1;
         EXPECT_EQ(std::count(used.begin(), used.end(), 0), 0);
     }
 }
@@ -144,7 +147,9 @@ TEST(Mesh, HoleStaysEmpty) {
     const PanelMesh& pm = m.panels[0];
     for (int t = 0; t < pm.triangles.rows(); ++t) {
         const Vec2 c = (pm.pattern.row(pm.triangles(t, 0)) + pm.pattern.row(pm.triangles(t, 1)) +
-                        pm.pattern.row(pm.triangles(t, 2))).transpose() / 3.0;
+                        pm.pattern.row(pm.triangles(t, 2)))
+                           .transpose() /
+                       3.0;
         EXPECT_GT((c - Vec2(0.15, 0.15)).norm(), 0.05 - 0.002) << "triangle " << t;
     }
 }
@@ -177,10 +182,12 @@ TEST(Mesh, InternalLinesAreEdgesWithTheirFold) {
 }
 
 /// Positions on each side of a seam chain, at the arc-length fraction of each pair.
-double fractionAlong(const Garment& g, const std::vector<SeamEdge>& chain, int panel, const Vec2& q) {
+double fractionAlong(const Garment& g, const std::vector<SeamEdge>& chain, int panel,
+                     const Vec2& q) {
     double total = 0, before = 0, found = -1;
     for (const SeamEdge& e : chain) {
-        const Segment& s = g.panels[static_cast<std::size_t>(g.panelIndex(e.panel))].outline[static_cast<std::size_t>(e.segment)];
+        const Segment& s = g.panels[static_cast<std::size_t>(g.panelIndex(e.panel))]
+                               .outline[static_cast<std::size_t>(e.segment)];
         const double len = arcLength(s, e.t0, e.t1);
         if (found < 0 && g.panelIndex(e.panel) == panel) {
             // Closest sample on this range.
@@ -195,7 +202,8 @@ double fractionAlong(const Garment& g, const std::vector<SeamEdge>& chain, int p
                     bestT = t;
                 }
             }
-            double lo = std::clamp(bestT - std::abs(step), 0.0, 1.0), hi = std::clamp(bestT + std::abs(step), 0.0, 1.0);
+            double lo = std::clamp(bestT - std::abs(step), 0.0, 1.0),
+                   hi = std::clamp(bestT + std::abs(step), 0.0, 1.0);
             for (int it = 0; it < 100; ++it) {
                 const double m1 = lo + (hi - lo) / 3, m2 = hi - (hi - lo) / 3;
                 if ((pointAt(s, m1) - q).norm() < (pointAt(s, m2) - q).norm()) {
@@ -218,8 +226,9 @@ double fractionAlong(const Garment& g, const std::vector<SeamEdge>& chain, int p
 TEST(Mesh, OneToManySeamMatchesOneToOneByLengthFraction) {
     // A's curved top (0.4 m chord) is sewn to B's top and C's top (0.25 + 0.15 m).
     Garment g;
-    Panel a = panel("a", {line({0, 0}, {0.4, 0}), line({0.4, 0}, {0.4, 0.2}),
-                          cubic({0.4, 0.2}, {0.3, 0.26}, {0.1, 0.26}, {0, 0.2}), line({0, 0.2}, {0, 0})});
+    Panel a =
+        panel("a", {line({0, 0}, {0.4, 0}), line({0.4, 0}, {0.4, 0.2}),
+                    cubic({0.4, 0.2}, {0.3, 0.26}, {0.1, 0.26}, {0, 0.2}), line({0, 0.2}, {0, 0})});
     Panel b = panel("b", polygon({{0, 0}, {0.25, 0}, {0.25, 0.1}, {0, 0.1}}));
     Panel c = panel("c", polygon({{0, 0}, {0.15, 0}, {0.15, 0.1}, {0, 0.1}}));
     g.panels = {a, b, c};
@@ -240,7 +249,8 @@ TEST(Mesh, OneToManySeamMatchesOneToOneByLengthFraction) {
         ASSERT_EQ(pa.panel, 0);
         onA.insert(pa.vertex);
         const Vec2 qa = m.panels[0].pattern.row(pa.vertex).transpose();
-        const Vec2 qb = m.panels[static_cast<std::size_t>(pb.panel)].pattern.row(pb.vertex).transpose();
+        const Vec2 qb =
+            m.panels[static_cast<std::size_t>(pb.panel)].pattern.row(pb.vertex).transpose();
         const double fa = fractionAlong(g, s.a, 0, qa), fb = fractionAlong(g, s.b, pb.panel, qb);
         ASSERT_GE(fa, 0) << "pair " << k << ": A's vertex is not on its curve";
         ASSERT_GE(fb, 0) << "pair " << k << ": B's vertex is not on its curve";
@@ -255,7 +265,9 @@ TEST(Mesh, OneToManySeamMatchesOneToOneByLengthFraction) {
 TEST(Mesh, DartLegsArePairedTipToMouth) {
     // A rectangle with a V dart cut into its top edge, tip at (0.15, 0.12).
     Garment g;
-    Panel p = panel("p", polygon({{0, 0}, {0.3, 0}, {0.3, 0.2}, {0.17, 0.2}, {0.15, 0.12}, {0.13, 0.2}, {0, 0.2}}));
+    Panel p = panel(
+        "p",
+        polygon({{0, 0}, {0.3, 0}, {0.3, 0.2}, {0.17, 0.2}, {0.15, 0.12}, {0.13, 0.2}, {0, 0.2}}));
     p.darts.push_back({3}); // legs 3 ((0.17,0.2)→tip) and 4 (tip→(0.13,0.2))
     g.panels.push_back(p);
     GarmentMesh m;
@@ -284,7 +296,10 @@ TEST(Mesh, NotchesBackPanelsAndGrain) {
     expectGoodMesh(m, g);
     const PanelMesh& pm = m.panels[0];
     ASSERT_EQ(pm.notchVertices.size(), 1u);
-    EXPECT_NEAR((pm.pattern.row(pm.notchVertices[0]) - sim::MatX2::Map(std::array<double, 2>{0.074, 0.0}.data(), 1, 2)).norm(), 0.0, 1e-12);
+    EXPECT_NEAR((pm.pattern.row(pm.notchVertices[0]) -
+                 sim::MatX2::Map(std::array<double, 2>{0.074, 0.0}.data(), 1, 2))
+                    .norm(),
+                0.0, 1e-12);
     // Mirrored (x → −x), then the grain (now along −x) turned to +y: pattern (x, y) → (y, −x)?
     // Rest lengths are kept, and the pattern's x extent becomes the rest's y extent.
     EXPECT_NEAR(pm.rest.col(1).maxCoeff() - pm.rest.col(1).minCoeff(), 0.2, 1e-12);
@@ -306,12 +321,14 @@ TEST(Mesh, ValidationNamesEachProblem) {
 
     Garment bowtie = ok;
     bowtie.panels[0].outline = polygon({{0, 0}, {0.2, 0.1}, {0.2, 0}, {0, 0.1}});
-    EXPECT_NE(firstIssue(bowtie).find("/panels/0/outline: outline intersects itself"), std::string::npos)
+    EXPECT_NE(firstIssue(bowtie).find("/panels/0/outline: outline intersects itself"),
+              std::string::npos)
         << firstIssue(bowtie);
 
     Garment gap = ok;
     gap.panels[0].outline[2].end = Vec2(0.05, 0.11);
-    EXPECT_EQ(firstIssue(gap), "/panels/0/outline/2: segment does not end where the next one starts");
+    EXPECT_EQ(firstIssue(gap),
+              "/panels/0/outline/2: segment does not end where the next one starts");
 
     Garment missing = ok;
     missing.seams.push_back({"side", {{"front", 1, 0, 1}}, {{"sleeve", 0, 0, 1}}});
@@ -327,8 +344,8 @@ TEST(Mesh, ValidationNamesEachProblem) {
 
     Garment outside = ok;
     outside.panels[0].internalLines.push_back({{line({0.1, 0.05}, {0.3, 0.05})}, 0});
-    EXPECT_EQ(firstIssue(outside),
-              "/panels/0/internal_lines/0/segments/0: internal line leaves the panel (it must lie inside)");
+    EXPECT_EQ(firstIssue(outside), "/panels/0/internal_lines/0/segments/0: internal line leaves "
+                                   "the panel (it must lie inside)");
 
     Garment clockwise = ok;
     clockwise.panels[0].outline = polygon({{0, 0}, {0, 0.1}, {0.2, 0.1}, {0.2, 0}});

@@ -171,9 +171,9 @@ TEST(Placement, FollowsTheSlotsSectionCentres) {
         slot.profileCentre.push_back(s * s * Vec3(0.05, 0, -0.01));
     }
     // Linear between bins, clamped beyond the ends.
-    EXPECT_LT((slot.centreAt(-0.155) - 0.5 * (slot.profileCentre[14] + slot.profileCentre[15]))
-                  .norm(),
-              1e-12);
+    EXPECT_LT(
+        (slot.centreAt(-0.155) - 0.5 * (slot.profileCentre[14] + slot.profileCentre[15])).norm(),
+        1e-12);
     EXPECT_LT((slot.centreAt(-1.0) - Vec3(0.05, 0, -0.01)).norm(), 1e-12);
     EXPECT_LT(slot.centreAt(0.5).norm(), 1e-12);
     // Rows every 5 mm: half of them between the slot's bins.

@@ -73,7 +73,7 @@ TEST(Interaction, StepByStepWithPausesIsTheUninterruptedRun) {
 TEST(Interaction, StepNeverGoesPastUntil) {
     sim::Simulation s(sheetOverBox());
     ASSERT_EQ(s.step(1.0), sim::RunStatus::Finished); // a frame to 1/30 s is under way
-    const double until = s.time() + 0.002;          // nearer than the frame's end
+    const double until = s.time() + 0.002;            // nearer than the frame's end
     ASSERT_EQ(s.step(until), sim::RunStatus::Finished);
     EXPECT_LE(s.time(), until + 1e-15);
     EXPECT_EQ(s.step(until), sim::RunStatus::Finished) << "at until: nothing to do";
@@ -92,7 +92,8 @@ TEST(Interaction, PinningAGrabbedVertexHoldsIt) {
     ASSERT_TRUE(s.pin(vertex));
     ASSERT_EQ(s.run(0.5), sim::RunStatus::Finished);
     EXPECT_EQ(Vec3(s.positions().row(vertex).transpose()), at) << "the pin wins over the grab";
-    EXPECT_GT(s.positions()(s.clothTriangles()(0, 1), 1), at.y() + 0.02) << "the grab lifts the rest";
+    EXPECT_GT(s.positions()(s.clothTriangles()(0, 1), 1), at.y() + 0.02)
+        << "the grab lifts the rest";
 }
 
 TEST(Interaction, GrabbedCornerFollowsAndComesBackToRestWithoutIntersections) {

@@ -2,6 +2,7 @@
 // evaluations than fixed-step rk4 at the largest step at which rk4 is stable.
 
 #include "io/scene_file.h"
+
 #include "sim/simulation.h"
 
 #include <gtest/gtest.h>
@@ -27,7 +28,8 @@ Outcome runWith(sim::SceneSpec scene) {
     while (simulation.time() < simulation.scene().duration - 1e-9 &&
            status == sim::RunStatus::Finished &&
            !(fixedStep && simulation.stats().rejectedSteps > 0)) {
-        status = simulation.advance(std::min(frame, simulation.scene().duration - simulation.time()));
+        status =
+            simulation.advance(std::min(frame, simulation.scene().duration - simulation.time()));
     }
     const auto& st = simulation.stats();
     Outcome o;

@@ -3,6 +3,7 @@
 // out the side it entered within 1 s, and no intersecting triangle pair at the end.
 
 #include "io/scene_file.h"
+
 #include "sim/collision/collision_stage.h"
 #include "sim/collision/geometry.h"
 #include "sim/simulation.h"
@@ -10,11 +11,10 @@
 
 #include <gtest/gtest.h>
 
-#include <cstdio>
-#include <cstdlib>
-
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 
 namespace atelier {
@@ -52,9 +52,8 @@ TEST_P(RestingScene, PenetrationStaysWithinTenPercentOfThicknessAtEveryFrame) {
     sim::Simulation simulation(scene);
     ASSERT_TRUE(simulation.error().empty()) << simulation.error();
     double worst = 0;
-    const auto status = simulation.run(scene.duration, [&](int, double) {
-        worst = std::max(worst, simulation.penetration());
-    });
+    const auto status = simulation.run(
+        scene.duration, [&](int, double) { worst = std::max(worst, simulation.penetration()); });
     ASSERT_EQ(status, sim::RunStatus::Finished) << simulation.stats().error;
     EXPECT_TRUE(simulation.stats().finite);
     const double limit = 0.1 * smallestObstacleThickness(scene);
@@ -79,7 +78,8 @@ TEST(FastRotatingSphere, FrictionCarriesTheSheetAroundWithoutTunnelling) {
     sim::Simulation simulation(scene);
     ASSERT_TRUE(simulation.error().empty()) << simulation.error();
     double worst = 0;
-    ASSERT_EQ(simulation.run(1.0, [&](int, double) { worst = std::max(worst, simulation.penetration()); }),
+    ASSERT_EQ(simulation.run(
+                  1.0, [&](int, double) { worst = std::max(worst, simulation.penetration()); }),
               sim::RunStatus::Finished)
         << simulation.stats().error;
     // Angular velocity of the sheet about the sphere's vertical axis: mass-weighted
@@ -115,7 +115,8 @@ TEST(ThroughBody, TrappedClothComesOutTheSideItEnteredWithinOneSecond) {
     double outAt = -1, xMinWhenOut = 0;
     ASSERT_EQ(simulation.run(1.0,
                              [&](int, double t) {
-                                 if (outAt < 0 && simulation.collision()->figures().trappedVertices == 0) {
+                                 if (outAt < 0 &&
+                                     simulation.collision()->figures().trappedVertices == 0) {
                                      outAt = t;
                                      xMinWhenOut = simulation.positions().col(0).minCoeff();
                                  }

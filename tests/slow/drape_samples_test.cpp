@@ -8,17 +8,17 @@
 
 #include "sim/collision/geometry.h"
 
+#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <array>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <map>
-#include <sys/wait.h>
 #include <unordered_map>
 
 namespace atelier {
@@ -62,16 +62,20 @@ long intersections(const sim::MatX3& xa, const sim::MatX3i& fa, const sim::MatX3
     for (int t = 0; t < fb.rows(); ++t) {
         const Box b = triangleBox(xb, fb, t);
         for (int i = int(std::floor(b.lo.x() / cell)); i <= int(std::floor(b.hi.x() / cell)); ++i)
-            for (int j = int(std::floor(b.lo.y() / cell)); j <= int(std::floor(b.hi.y() / cell)); ++j)
-                for (int k = int(std::floor(b.lo.z() / cell)); k <= int(std::floor(b.hi.z() / cell)); ++k)
+            for (int j = int(std::floor(b.lo.y() / cell)); j <= int(std::floor(b.hi.y() / cell));
+                 ++j)
+                for (int k = int(std::floor(b.lo.z() / cell));
+                     k <= int(std::floor(b.hi.z() / cell)); ++k)
                     grid.emplace(key(i, j, k), t);
     }
     std::vector<std::pair<int, int>> candidates;
     for (int t = 0; t < fa.rows(); ++t) {
         const Box b = triangleBox(xa, fa, t);
         for (int i = int(std::floor(b.lo.x() / cell)); i <= int(std::floor(b.hi.x() / cell)); ++i)
-            for (int j = int(std::floor(b.lo.y() / cell)); j <= int(std::floor(b.hi.y() / cell)); ++j)
-                for (int k = int(std::floor(b.lo.z() / cell)); k <= int(std::floor(b.hi.z() / cell)); ++k) {
+            for (int j = int(std::floor(b.lo.y() / cell)); j <= int(std::floor(b.hi.y() / cell));
+                 ++j)
+                for (int k = int(std::floor(b.lo.z() / cell));
+                     k <= int(std::floor(b.hi.z() / cell)); ++k) {
                     const auto range = grid.equal_range(key(i, j, k));
                     for (auto it = range.first; it != range.second; ++it) {
                         if (!self || it->second > t) {
@@ -104,8 +108,8 @@ long intersections(const sim::MatX3& xa, const sim::MatX3i& fa, const sim::MatX3
 
 /// What a drape must reach beyond finite, sewn shut, area kept and a good mesh.
 struct Bar {
-    bool rest = false;            ///< came to rest before the time limit
-    bool noIntersections = false; ///< garment free of itself and of the body (from the files)
+    bool rest = false;                ///< came to rest before the time limit
+    bool noIntersections = false;     ///< garment free of itself and of the body (from the files)
     double maxPenetration = INFINITY; ///< [m], over all frames (report)
 };
 
@@ -117,9 +121,8 @@ void drapeAndCheck(const std::string& name, const std::string& args, const Bar& 
     const fs::path out = dir / "draped.obj";
     const fs::path report = dir / "report.json";
     const std::string command = std::string("\"") + ATELIER_CLI + "\" drape \"" + project.string() +
-                                "\" --out \"" + out.string() + "\" --report \"" +
-                                report.string() + "\" " + args + " 2> \"" +
-                                (dir / "stderr.txt").string() + "\"";
+                                "\" --out \"" + out.string() + "\" --report \"" + report.string() +
+                                "\" " + args + " 2> \"" + (dir / "stderr.txt").string() + "\"";
     const int status = std::system(command.c_str());
     ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0)
         << test::readText(dir / "stderr.txt");

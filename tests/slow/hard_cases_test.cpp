@@ -2,6 +2,7 @@
 // energy put in, and back to a sane shape once released (max edge strain < 10%).
 
 #include "io/scene_file.h"
+
 #include "sim/collision/collision_stage.h"
 #include "sim/simulation.h"
 #include "sim/test_scenes.h"
@@ -18,7 +19,8 @@ namespace fs = std::filesystem;
 
 std::vector<std::string> hardScenes() {
     std::vector<std::string> names;
-    for (const auto& e : fs::directory_iterator(fs::path(ATELIER_SOURCE_DIR) / "assets/scenes/hard")) {
+    for (const auto& e :
+         fs::directory_iterator(fs::path(ATELIER_SOURCE_DIR) / "assets/scenes/hard")) {
         if (e.path().extension() == ".json") {
             names.push_back(e.path().stem().string());
         }
@@ -54,7 +56,8 @@ void runHardScene(const sim::SceneSpec& scene, const std::string& label) {
 }
 
 TEST_P(HardCase, EndsFiniteBoundedAndSane) {
-    const fs::path path = fs::path(ATELIER_SOURCE_DIR) / "assets/scenes/hard" / (GetParam() + ".json");
+    const fs::path path =
+        fs::path(ATELIER_SOURCE_DIR) / "assets/scenes/hard" / (GetParam() + ".json");
     auto loaded = io::loadScene(path.string());
     ASSERT_TRUE(loaded.ok()) << loaded.error().toString();
     runHardScene(loaded.value(), GetParam());
@@ -62,13 +65,15 @@ TEST_P(HardCase, EndsFiniteBoundedAndSane) {
 
 TEST_P(HardCase, EndsFiniteBoundedAndSaneWithRk45) {
     // The same scene with the paper's adaptive Runge–Kutta instead of the scene's integrator.
-    const fs::path path = fs::path(ATELIER_SOURCE_DIR) / "assets/scenes/hard" / (GetParam() + ".json");
+    const fs::path path =
+        fs::path(ATELIER_SOURCE_DIR) / "assets/scenes/hard" / (GetParam() + ".json");
     auto loaded = io::loadScene(path.string());
     ASSERT_TRUE(loaded.ok()) << loaded.error().toString();
     sim::SceneSpec scene = loaded.value();
     if (!scene.obstacles.empty()) {
-        GTEST_SKIP() << GetParam() << ": collision scenes run with their own integrator only (rk45 "
-                     << "with contacts is covered by the unit tier's sheet-on-sphere and slope tests)";
+        GTEST_SKIP()
+            << GetParam() << ": collision scenes run with their own integrator only (rk45 "
+            << "with contacts is covered by the unit tier's sheet-on-sphere and slope tests)";
     }
     scene.integrator.kind = sim::IntegratorKind::Rk45;
     scene.integrator.dt = 1e-4;
@@ -77,12 +82,11 @@ TEST_P(HardCase, EndsFiniteBoundedAndSaneWithRk45) {
     runHardScene(scene, GetParam() + " (rk45)");
 }
 
-INSTANTIATE_TEST_SUITE_P(Scenes, HardCase, ::testing::ValuesIn(hardScenes()),
-                         [](const auto& info) {
-                             std::string n = info.param;
-                             std::replace(n.begin(), n.end(), '-', '_');
-                             return n;
-                         });
+INSTANTIATE_TEST_SUITE_P(Scenes, HardCase, ::testing::ValuesIn(hardScenes()), [](const auto& info) {
+    std::string n = info.param;
+    std::replace(n.begin(), n.end(), '-', '_');
+    return n;
+});
 
 } // namespace
 } // namespace atelier

@@ -45,16 +45,14 @@ BodyMeasurements with(BodyMeasurements m, double BodyMeasurements::*field, doubl
 INSTANTIATE_TEST_SUITE_P(
     Bodies, MannequinRange,
     ::testing::Values(
-        Case{"female_default", "female", BodyMeasurements{}},
-        Case{"male_default", "male", male()},
+        Case{"female_default", "female", BodyMeasurements{}}, Case{"male_default", "male", male()},
         Case{"female_petite", "female",
              BodyMeasurements{1.52, 0.82, 0.70, 0.62, 0.86, 0.31, 0.35, 0.51, 0.25, 0.69, 0.49}},
         Case{"female_plus", "female",
              BodyMeasurements{1.70, 1.16, 0.98, 0.98, 1.20, 0.38, 0.41, 0.58, 0.36, 0.76, 0.64}},
         Case{"male_tall", "male",
              BodyMeasurements{1.95, 1.08, 0.98, 0.90, 1.04, 0.41, 0.50, 0.69, 0.33, 0.92, 0.60}},
-        Case{"male_slim_long_arms", "male",
-             with(male(), &BodyMeasurements::armLength, 0.68)}),
+        Case{"male_slim_long_arms", "male", with(male(), &BodyMeasurements::armLength, 0.68)}),
     [](const ::testing::TestParamInfo<Case>& info) { return std::string(info.param.name); });
 
 } // namespace

@@ -132,7 +132,8 @@ TEST(Parallel, AnExceptionReachesTheCaller) {
     for (int round = 0; round < 20; ++round) {
         EXPECT_THROW(parallelForEach(64, true,
                                      [](std::int64_t i) {
-                                         std::this_thread::sleep_for(std::chrono::microseconds(i % 3));
+                                         std::this_thread::sleep_for(
+                                             std::chrono::microseconds(i % 3));
                                          throw std::runtime_error("task");
                                      }),
                      std::runtime_error);

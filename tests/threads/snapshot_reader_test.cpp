@@ -32,9 +32,8 @@ TEST(SnapshotReader, ReaderThreadSeesWholeSnapshotsWhileTheTshirtDrapes) {
     project.drape.particleDistance = 0.02;
     project.drape.timeLimit = 0.25; // sewing and the first fall: hundreds of published steps
     const std::filesystem::path dir = TSHIRT.parent_path();
-    patterns::DrapeSession session([&](const patterns::BodySource& source) {
-        return io::loadBody(source, dir, TSHIRT);
-    });
+    patterns::DrapeSession session(
+        [&](const patterns::BodySource& source) { return io::loadBody(source, dir, TSHIRT); });
     session.setProject(project);
     ASSERT_TRUE(session.prepare().ok());
     session.setPublishing(true);

@@ -3,6 +3,7 @@
 #include "sim/collision/ccd/ccd_tolerances.h"
 
 #include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cstddef>
 #include <utility>

@@ -87,7 +87,8 @@ long voteSides(const std::vector<int>& members, UnionFind& regions, std::vector<
                std::vector<signed char>& sides, const std::vector<char>& reliable) {
     std::unordered_map<int, long> vote, voteAll;
     for (int i : members) {
-        const int side = sides[static_cast<std::size_t>(i)]; // NOLINT(bugprone-signed-char-misuse): -1, 0 or +1
+        const int side =
+            sides[static_cast<std::size_t>(i)]; // NOLINT(bugprone-signed-char-misuse): -1, 0 or +1
         voteAll[regions.find(i)] += side;
         if (reliable[static_cast<std::size_t>(i)]) {
             vote[regions.find(i)] += side;

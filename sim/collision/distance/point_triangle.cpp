@@ -3,6 +3,7 @@
 #include "sim/collision/distance/point_segment.h"
 
 #include <Eigen/Geometry>
+
 #include <algorithm>
 
 namespace atelier::sim {

@@ -4,6 +4,7 @@
 #include "sim/collision/predicates/orient3d.h"
 
 #include <Eigen/Geometry>
+
 #include <algorithm>
 #include <array>
 #include <cstddef>

@@ -4,11 +4,12 @@
 #include "sim/mesh/cloth_mesh.h"
 
 #include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <fstream>
-#include <gtest/gtest.h>
 #include <iterator>
 #include <limits>
 #include <numbers>

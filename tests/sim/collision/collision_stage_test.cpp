@@ -294,9 +294,8 @@ TEST_P(SheetOnSphere, NeverPenetratesBeyondTenPercentOfThickness) {
     ASSERT_TRUE(simulation.error().empty()) << simulation.error();
     double worst = 0;
     const double until = GetParam() == sim::IntegratorKind::Rk45 ? 0.4 : 0.8;
-    const auto status = simulation.run(until, [&](int, double) {
-        worst = std::max(worst, simulation.penetration());
-    });
+    const auto status = simulation.run(
+        until, [&](int, double) { worst = std::max(worst, simulation.penetration()); });
     ASSERT_EQ(status, sim::RunStatus::Finished) << simulation.stats().error;
     EXPECT_TRUE(simulation.stats().finite);
     EXPECT_LE(worst, 0.1 * 0.003);
@@ -318,12 +317,15 @@ INSTANTIATE_TEST_SUITE_P(Integrators, SheetOnSphere,
                          ::testing::Values(sim::IntegratorKind::ImplicitEuler,
                                            sim::IntegratorKind::Rk45),
                          [](const auto& info) {
-                             return info.param == sim::IntegratorKind::Rk45 ? std::string("rk45")
-                                                                            : std::string("implicit");
+                             return info.param == sim::IntegratorKind::Rk45
+                                        ? std::string("rk45")
+                                        : std::string("implicit");
                          });
 
 /// Mean position of the cloth's vertices.
-Vec3 centroid(const sim::MatX3& x) { return x.colwise().mean().transpose(); }
+Vec3 centroid(const sim::MatX3& x) {
+    return x.colwise().mean().transpose();
+}
 
 struct SlopeCase {
     double friction;
@@ -383,21 +385,23 @@ TEST_P(SlopeFriction, HoldsAboveTheThresholdAndSlidesAtTheCoulombRateBelow) {
     if (c.friction > std::tan(theta)) {
         EXPECT_LT(std::abs(moved), 1e-3) << "the sheet should stick";
     } else {
-        const double expected = sim::STANDARD_GRAVITY * (std::sin(theta) - c.friction * std::cos(theta));
+        const double expected =
+            sim::STANDARD_GRAVITY * (std::sin(theta) - c.friction * std::cos(theta));
         EXPECT_NEAR(accel, expected, 0.05 * expected);
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Cases, SlopeFriction,
-    ::testing::Values(SlopeCase{0.5, sim::IntegratorKind::ImplicitEuler},
-                      SlopeCase{0.2, sim::IntegratorKind::ImplicitEuler},
-                      SlopeCase{0.5, sim::IntegratorKind::Rk45},
-                      SlopeCase{0.2, sim::IntegratorKind::Rk45}),
-    [](const auto& info) {
-        return std::string(info.param.integrator == sim::IntegratorKind::Rk45 ? "rk45" : "implicit") +
-               (info.param.friction > 0.3 ? "_sticks" : "_slides");
-    });
+INSTANTIATE_TEST_SUITE_P(Cases, SlopeFriction,
+                         ::testing::Values(SlopeCase{0.5, sim::IntegratorKind::ImplicitEuler},
+                                           SlopeCase{0.2, sim::IntegratorKind::ImplicitEuler},
+                                           SlopeCase{0.5, sim::IntegratorKind::Rk45},
+                                           SlopeCase{0.2, sim::IntegratorKind::Rk45}),
+                         [](const auto& info) {
+                             return std::string(info.param.integrator == sim::IntegratorKind::Rk45
+                                                    ? "rk45"
+                                                    : "implicit") +
+                                    (info.param.friction > 0.3 ? "_sticks" : "_slides");
+                         });
 
 /// A 0.2 m sheet on a floor, squeezed by a box 7 mm above the floor (it needs 8 mm: its own
 /// and the two obstacles' thicknesses), the box sweeping 0.1 m along x in 0.25 s: how far the
@@ -445,8 +449,10 @@ TEST(SewingFriction, ScalesFrictionWhileSewingAndRestoresItAfter) {
     // Sewing over at 0.05 s: the sheet slid while it lasted, then the full friction stops it
     // and holds it: between 0.3 s and 0.5 s it does not move (sliding at the μ = 0.2 rate it
     // would go 12 cm).
-    const double at03 = slideOnSlope(0.5, sim::IntegratorKind::ImplicitEuler, 0.2, nullptr, 0.05, 0.4);
-    const double at05 = slideOnSlope(0.5, sim::IntegratorKind::ImplicitEuler, 0.4, nullptr, 0.05, 0.4);
+    const double at03 =
+        slideOnSlope(0.5, sim::IntegratorKind::ImplicitEuler, 0.2, nullptr, 0.05, 0.4);
+    const double at05 =
+        slideOnSlope(0.5, sim::IntegratorKind::ImplicitEuler, 0.4, nullptr, 0.05, 0.4);
     EXPECT_GT(at03, 1e-3);
     EXPECT_LT(std::abs(at05 - at03), 1e-4);
 }
@@ -509,7 +515,8 @@ TEST(ContactRegions, VerticesPushedThroughALayerGoBackToTheMajoritySide) {
     ASSERT_EQ(simulation.advance(0.05), sim::RunStatus::Finished) << simulation.stats().error;
     EXPECT_EQ(simulation.intersectingTrianglePairs(), 0);
     for (int p : pushed) {
-        EXPECT_GT(simulation.positions()(p, 1), simulation.positions()(5 * 11 + 5, 1)) << "vertex " << p;
+        EXPECT_GT(simulation.positions()(p, 1), simulation.positions()(5 * 11 + 5, 1))
+            << "vertex " << p;
     }
 }
 
@@ -534,8 +541,7 @@ TEST(TrappedCloth, ComesOutOnItsEntrySideUnstretched) {
     sim::Simulation simulation(s);
     ASSERT_TRUE(simulation.error().empty()) << simulation.error();
     ASSERT_GT(simulation.collision()->figures().trappedVertices, 10);
-    ASSERT_EQ(simulation.run(0.3), sim::RunStatus::Finished)
-        << simulation.stats().error;
+    ASSERT_EQ(simulation.run(0.3), sim::RunStatus::Finished) << simulation.stats().error;
     EXPECT_EQ(simulation.collision()->figures().trappedVertices, 0);
     EXPECT_GT(simulation.positions().col(0).minCoeff(), -0.1) << "out on the entry side (+x)";
     long withObstacles = -1;
@@ -599,7 +605,8 @@ TEST(Obstacles, GeneratedShapesAreClosedAndOriented) {
     sim::makePlaneMesh(2.0, 3, v, f);
     EXPECT_FALSE(sim::isClosedOriented(f, static_cast<int>(v.rows())));
     for (int t = 0; t < f.rows(); ++t) {
-        const Vec3 n = (v.row(f(t, 1)) - v.row(f(t, 0))).cross(v.row(f(t, 2)) - v.row(f(t, 0))).transpose();
+        const Vec3 n =
+            (v.row(f(t, 1)) - v.row(f(t, 0))).cross(v.row(f(t, 2)) - v.row(f(t, 0))).transpose();
         EXPECT_GT(n.y(), 0) << "plane normals face +Y";
     }
 }

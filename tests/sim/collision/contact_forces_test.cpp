@@ -82,8 +82,7 @@ struct ThreeContacts {
     sim::BlockSparseMatrix pattern() const {
         // Each side's blocks, and one pair across the cloth–cloth contact (4, 6) whose block
         // must stay empty.
-        return sim::BlockSparseMatrix(
-            N, {{1, 2}, {1, 3}, {2, 3}, {4, 5}, {6, 7}, {4, 6}});
+        return sim::BlockSparseMatrix(N, {{1, 2}, {1, 3}, {2, 3}, {4, 5}, {6, 7}, {4, 6}});
     }
 
     MatX3 forces(const MatX3& xs, const MatX3& vs) const {
@@ -95,7 +94,8 @@ struct ThreeContacts {
     }
 };
 
-Eigen::MatrixXd finiteDifference(const ThreeContacts& s, const MatX3& x, const MatX3& v, bool wrtV) {
+Eigen::MatrixXd finiteDifference(const ThreeContacts& s, const MatX3& x, const MatX3& v,
+                                 bool wrtV) {
     Eigen::MatrixXd J(3 * N, 3 * N);
     const double eps = 1e-7;
     for (int j = 0; j < 3 * N; ++j) {
@@ -135,7 +135,8 @@ TEST(ContactForces, JacobiansMatchFiniteDifferencesOnEachSide) {
         J.setZero();
         f.addJacobian(wrtV ? 0.0 : 1.0, wrtV ? 1.0 : 0.0, J);
         const Eigen::MatrixXd analytic = J.toDense();
-        const Eigen::MatrixXd numeric = finiteDifference(s, s.x, wrtV ? v : MatX3::Zero(N, 3), wrtV);
+        const Eigen::MatrixXd numeric =
+            finiteDifference(s, s.x, wrtV ? v : MatX3::Zero(N, 3), wrtV);
         for (int a = 0; a < N; ++a) {
             for (int b = 0; b < N; ++b) {
                 const bool across = (a >= 4 && a <= 5 && b >= 6) || (b >= 4 && b <= 5 && a >= 6);
@@ -146,7 +147,9 @@ TEST(ContactForces, JacobiansMatchFiniteDifferencesOnEachSide) {
                 }
                 const Eigen::Matrix3d D = numeric.block<3, 3>(3 * a, 3 * b);
                 EXPECT_LT((A - D).norm(), 1e-5 * (1.0 + D.norm()))
-                    << (wrtV ? "dv " : "dx ") << a << "," << b << "\n" << A << "\n" << D;
+                    << (wrtV ? "dv " : "dx ") << a << "," << b << "\n"
+                    << A << "\n"
+                    << D;
             }
         }
         // Symmetric and negative semi-definite: the solve's matrix stays positive definite.

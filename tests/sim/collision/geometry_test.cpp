@@ -1,12 +1,13 @@
 #include "sim/collision/geometry.h"
 
 #include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <gtest/gtest.h>
 #include <limits>
 #include <optional>
 #include <random>

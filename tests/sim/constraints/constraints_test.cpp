@@ -80,10 +80,13 @@ TEST(Constraints, TrackerDriveSmoothsNoisyInput) {
     Simulation sim(scene);
     double outputPath = 0;
     Vec3 last = p0;
-    ASSERT_EQ(sim.run(1.0, [&](int, double) {
-        outputPath += (sim.positions().row(0).transpose() - last).norm();
-        last = sim.positions().row(0).transpose();
-    }), RunStatus::Finished) << sim.error();
+    ASSERT_EQ(sim.run(1.0,
+                      [&](int, double) {
+                          outputPath += (sim.positions().row(0).transpose() - last).norm();
+                          last = sim.positions().row(0).transpose();
+                      }),
+              RunStatus::Finished)
+        << sim.error();
     EXPECT_TRUE(sim.positions().allFinite());
     EXPECT_LT((sim.positions().row(0).transpose() - (p0 + Vec3(0.5, 0, 0))).norm(), 0.1);
     EXPECT_LT(outputPath, 0.5 * inputPath);
@@ -98,8 +101,8 @@ TEST(Constraints, SeamElasticsCloseWithTheirTimeConstant) {
     second.material.density *= 3.0; // masses differ: the closing must not depend on them
     scene.cloths.push_back(second);
     scene.gravity = false;
-    const int a = 4;                    // centre of the first sheet
-    const int b = 9 + 4;                // centre of the second
+    const int a = 4;     // centre of the first sheet
+    const int b = 9 + 4; // centre of the second
     scene.seams.push_back({a, b});
     scene.seamTimeConstant = 0.05;
     scene.integrator.kind = IntegratorKind::Rk45;
@@ -114,7 +117,8 @@ TEST(Constraints, SeamElasticsCloseWithTheirTimeConstant) {
     ASSERT_EQ(sim.advance(0.45), RunStatus::Finished);
     EXPECT_LT((sim.positions().row(a) - sim.positions().row(b)).norm(), 0.1 * gap0);
     // Momentum is conserved (no gravity, no pins).
-    const Vec3 momentum = (sim.velocities().array().colwise() * sim.masses().array()).colwise().sum();
+    const Vec3 momentum =
+        (sim.velocities().array().colwise() * sim.masses().array()).colwise().sum();
     EXPECT_LT(momentum.norm(), 1e-9);
 }
 
@@ -365,9 +369,8 @@ TEST(Pipeline, HoldsOnlyTheStagesTheSceneNeeds) {
     bare.gravity = false;
     bare.cloths[0].bending = false;
     Simulation plain(bare);
-    EXPECT_EQ(plain.activeStages(),
-              (std::vector<std::string>{"stretch.springs", "integrator.rk45",
-                                        "step-control.error-estimate"}));
+    EXPECT_EQ(plain.activeStages(), (std::vector<std::string>{"stretch.springs", "integrator.rk45",
+                                                              "step-control.error-estimate"}));
 
     SceneSpec full = test::smallSheet(StretchModel::Fem, 2);
     full.air.enabled = true;

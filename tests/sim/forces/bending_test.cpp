@@ -1,8 +1,9 @@
 #include "sim/forces/bending.h"
 #include "sim/forces/force_check.h"
 
-#include <cmath>
 #include <gtest/gtest.h>
+
+#include <cmath>
 #include <numbers>
 
 namespace atelier::sim {
@@ -180,8 +181,7 @@ TEST(DihedralBending, FoldedPairEnergyFollowsTheDocumentedFormula) {
     for (double phi : {0.2, -0.9, 2.0}) {
         const MatX3 x = foldedPair(mesh, phi, 1, 6);
         EXPECT_NEAR(model.angle(x, 0), phi, 1e-12);
-        EXPECT_NEAR(model.energy(x), m.bending * w * (1.0 - std::cos(phi)),
-                    1e-12 * m.bending * w);
+        EXPECT_NEAR(model.energy(x), m.bending * w * (1.0 - std::cos(phi)), 1e-12 * m.bending * w);
         // Moment about the edge: the force on the folded wing tip is k·w·sin θ/h₁ against the
         // fold (≈ k·w·θ/h₁ for small folds).
         const MatX3 f = test::forces(model, x, MatX3::Zero(6, 3));

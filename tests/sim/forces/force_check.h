@@ -8,8 +8,9 @@
 #include "sim/mesh/cloth_mesh.h"
 
 #include <Eigen/Dense>
-#include <cmath>
 #include <gtest/gtest.h>
+
+#include <cmath>
 #include <random>
 #include <string>
 #include <utility>

@@ -47,7 +47,8 @@ double measuredOrder(IntegratorKind kind, double h0) {
     double order = 0;
     for (int k = 0; k < 3; ++k) {
         const double h = h0 / std::pow(2.0, k);
-        const double err = (finalPositions(kind, h, duration) - reference).rowwise().norm().maxCoeff();
+        const double err =
+            (finalPositions(kind, h, duration) - reference).rowwise().norm().maxCoeff();
         if (k > 0) {
             order = std::log2(previous / err);
         }
@@ -123,7 +124,8 @@ TEST(Convergence, EmbeddedEstimateTracksTheTrueError) {
         const MatX3 ref = reference(h);
         const double error5 = (x - ref).rowwise().norm().maxCoeff();
         const double error4 = (x4 - ref).rowwise().norm().maxCoeff();
-        EXPECT_GT(estimate / error4, 0.7) << "h = " << h << " error4 " << error4 << " est " << estimate;
+        EXPECT_GT(estimate / error4, 0.7)
+            << "h = " << h << " error4 " << error4 << " est " << estimate;
         EXPECT_LT(estimate / error4, 1.4) << "h = " << h;
         EXPECT_LT(error5, error4) << "h = " << h;
         if (k > 0) {
