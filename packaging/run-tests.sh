@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs dependencies, builds Atelier twice and runs the whole test suite:
+# Installs dependencies, checks the formatting, builds Atelier three times and runs the whole
+# test suite:
 #   1. Release with -Werror: unit tier + slow tier (long stability/accuracy scenes);
 #   2. AddressSanitizer + UndefinedBehaviorSanitizer: the unit tier and the benchmark smoke run
 #      again (the slow tier's long scenes take 10-50x longer under the sanitizers, beyond CI's
@@ -10,6 +11,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 bash packaging/install-deps.sh
+
+echo "== Format (.clang-format)"
+bash packaging/check-format.sh
 
 JOBS=${ATELIER_JOBS:-$(nproc)}
 export CTEST_OUTPUT_ON_FAILURE=1
