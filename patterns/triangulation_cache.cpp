@@ -1,6 +1,7 @@
 #include "patterns/triangulation_cache.h"
 
-#include <cstring>
+#include <algorithm>
+#include <bit>
 
 namespace atelier::patterns {
 
@@ -34,24 +35,22 @@ std::uint64_t hashOf(const TriangulationInput& in) {
     return h;
 }
 
-/// Bitwise equality (a moved point by one ulp is another input).
+/// The same bits (a point moved by one ulp is another input; -0 and +0 differ).
+bool sameBits(double a, double b) {
+    return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
+}
+
 bool same(const TriangulationInput& a, const TriangulationInput& b) {
     const auto samePoints = [](const std::vector<sim::Vec2>& x, const std::vector<sim::Vec2>& y) {
-        if (x.size() != y.size()) {
-            return false;
-        }
-        for (std::size_t i = 0; i < x.size(); ++i) {
-            if (std::memcmp(x[i].data(), y[i].data(), 2 * sizeof(double)) != 0) {
-                return false;
-            }
-        }
-        return true;
+        return x.size() == y.size() && std::equal(x.begin(), x.end(), y.begin(),
+                                                  [](const sim::Vec2& p, const sim::Vec2& q) {
+                                                      return sameBits(p.x(), q.x()) &&
+                                                             sameBits(p.y(), q.y());
+                                                  });
     };
     return samePoints(a.points, b.points) && samePoints(a.holeSeeds, b.holeSeeds) &&
-           a.constraints == b.constraints &&
-           std::memcmp(&a.maxEdge, &b.maxEdge, sizeof a.maxEdge) == 0 &&
-           std::memcmp(&a.minAngleDeg, &b.minAngleDeg, sizeof a.minAngleDeg) == 0 &&
-           a.lloydIterations == b.lloydIterations;
+           a.constraints == b.constraints && sameBits(a.maxEdge, b.maxEdge) &&
+           sameBits(a.minAngleDeg, b.minAngleDeg) && a.lloydIterations == b.lloydIterations;
 }
 
 } // namespace

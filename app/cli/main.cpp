@@ -4,10 +4,12 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cstdio>
 #include <exception>
-#include <iostream>
 
-int main(int argc, char** argv) {
+namespace {
+
+int run(int argc, char** argv) {
     CLI::App app{"Atelier: cloth and garment simulation, headless"};
     app.name("atelier-cli");
     app.require_subcommand(1);
@@ -25,10 +27,20 @@ int main(int argc, char** argv) {
         // Usage errors exit 2 (bad input); --help and --version exit 0.
         const int code = app.exit(e);
         return code == 0 || e.get_name() == "RuntimeError" ? code : atelier::app::EXIT_BAD_INPUT;
-    } catch (const std::exception& e) {
-        // Nothing below should throw; if something does, say what instead of aborting.
-        std::cerr << "error: " << e.what() << "\n";
-        return atelier::app::EXIT_RUN_FAILED;
     }
     return atelier::app::EXIT_OK;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    try {
+        return run(argc, argv);
+    } catch (const std::exception& e) {
+        // Nothing should throw this far; if something does, say what instead of aborting.
+        std::fprintf(stderr, "error: %s\n", e.what());
+    } catch (...) {
+        std::fputs("error: unexpected exception\n", stderr);
+    }
+    return atelier::app::EXIT_RUN_FAILED;
 }
