@@ -2,8 +2,9 @@
 # Installs dependencies, builds Atelier (Release) and runs its main job on the bundled
 # default: draping assets/garments/tshirt.atelier on the default mannequin, writing the draped
 # garment (out/tshirt.obj; the body beside it, out/tshirt.body.obj) and the report.
-# At the project's own resolution (10 mm, 16.5k triangles) it comes to rest in ~25 s on 2
-# cores; PARTICLE_DISTANCE_MM overrides it (20 for a quick ~10 s look).
+# At the project's own resolution (10 mm, 16.2k triangles) it comes to rest in about 10 s of
+# draping on 2 cores; PARTICLE_DISTANCE_MM overrides it (20 for a quick look, about 4 s).
+# Figures: docs/benchmarks.md.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
