@@ -8,6 +8,7 @@
 #include "patterns/document.h"
 #include "patterns/document_edit.h"
 #include "patterns/mesh.h"
+#include "patterns/sample_garments.h"
 
 #include <gtest/gtest.h>
 
@@ -18,38 +19,8 @@
 namespace atelier::patterns {
 namespace {
 
-const std::filesystem::path SAMPLES = std::filesystem::path(ATELIER_SOURCE_DIR) / "assets/garments";
-
-/// The sample garments by file name, loaded once.
-const std::map<std::string, Garment>& samples() {
-    static const std::map<std::string, Garment> loaded = [] {
-        std::map<std::string, Garment> out;
-        for (const auto& entry : std::filesystem::directory_iterator(SAMPLES)) {
-            if (entry.path().extension() == ".atelier") {
-                const auto project = io::loadProject(entry.path());
-                if (project.ok()) {
-                    out[entry.path().stem().string()] = project.value().garment;
-                } else {
-                    ADD_FAILURE() << project.error().toString();
-                }
-            }
-        }
-        return out;
-    }();
-    return loaded;
-}
-
-GarmentMesh meshOf(const Garment& g) {
-    MeshOptions options;
-    options.particleDistance = 0.02;
-    GarmentMesh mesh;
-    const auto error = meshGarment(g, options, mesh);
-    EXPECT_FALSE(error.has_value()) << *error;
-    return mesh;
-}
-
 GarmentDocument tshirt() {
-    return fromGarment(samples().at("tshirt"));
+    return fromGarment(test::sampleGarments().at("tshirt"));
 }
 
 double sideLength(const GarmentDocument& d, const std::vector<doc::SeamRange>& side) {
@@ -79,8 +50,8 @@ TEST(DocumentEdits, SplitEdgeKeepsSeamCoverage) {
     ASSERT_TRUE(edit.ok()) << edit.error().toString();
     const doc::Seam& after = *d.seam(before.id);
     ASSERT_EQ(after.a.size(), before.a.size() + 1);
-    EXPECT_NEAR(sideLength(d, after.a), sideLength(fromGarment(samples().at("tshirt")), before.a),
-                1e-9);
+    EXPECT_NEAR(sideLength(d, after.a),
+                sideLength(fromGarment(test::sampleGarments().at("tshirt")), before.a), 1e-9);
     const GarmentDocument original = tshirt();
     EXPECT_LT((rangePoint(d, after.a[0], after.a[0].t0) - rangePoint(original, r, r.t0)).norm(),
               1e-12);
@@ -92,7 +63,7 @@ TEST(DocumentEdits, SplitEdgeKeepsSeamCoverage) {
     EXPECT_LT((rangePoint(d, after.a[0], after.a[0].t1) - rangePoint(original, r, t)).norm(), 1e-9);
     EXPECT_TRUE(checkDocument(d).ok());
     // The garment still meshes, its seams matched.
-    EXPECT_FALSE(meshOf(toGarment(d)).seamPairs.empty());
+    EXPECT_FALSE(test::meshAt20mm(toGarment(d)).seamPairs.empty());
     undo(d, edit.value());
     EXPECT_EQ(dumpDocument(d), dump);
 }
@@ -123,7 +94,7 @@ TEST(DocumentEdits, RenameKeepsSeams) {
     const auto edit = renamePanel(d, id, "renamed");
     ASSERT_TRUE(edit.ok());
     const Garment g = toGarment(d);
-    const Garment original = samples().at("tshirt");
+    const Garment original = test::sampleGarments().at("tshirt");
     ASSERT_EQ(g.seams.size(), original.seams.size());
     for (std::size_t s = 0; s < g.seams.size(); ++s) {
         for (std::size_t k = 0; k < g.seams[s].a.size(); ++k) {
@@ -293,7 +264,7 @@ struct RandomEditor {
 TEST(DocumentUndo, RandomEditSequencesUndoToTheSameBytes) {
     int applied = 0, refused = 0;
     unsigned seed = 1;
-    for (const auto& [name, garment] : samples()) {
+    for (const auto& [name, garment] : test::sampleGarments()) {
         SCOPED_TRACE(name);
         GarmentDocument d = fromGarment(garment);
         RandomEditor editor{std::mt19937(seed++)};
