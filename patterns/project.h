@@ -43,15 +43,13 @@ struct DrapeSettings {
     double bodyKineticFriction = 0.4;
     /// Seams close like (1 + t/τ)e^{−t/τ} when nothing resists [s]. The elastic's stiffness is
     /// μ/τ² (μ: the pair's reduced mass), tiny against fabric stiffness at garment masses: at
-    /// 30 ms almost no tshirt pair closed below the weld distance by itself; at 4 ms half do,
-    /// and the rest are millimetres to centimetres apart when the sewing phase ends.
+    /// 4 ms half the tshirt's pairs close by themselves (docs/decisions/009).
     double seamTimeConstant = 0.004;
     /// The seams' strength: stiffness per metre of seam added to the μ/τ² law
     /// (sim::SceneSpec::seamStiffnessPerLength), so that a seam holds against the fabric's
-    /// tension at any mesh resolution [N/m²]; 0 = the mass-proportional law only. On the 10 mm
-    /// tshirt, μ/τ² alone left 96 pairs open after 1 s of sewing (welded up to 48 mm apart);
-    /// 1000 left 16, 4000 left 9, 16000 closed every pair by 0.74 s; 64000 crumpled the panels
-    /// (133 intersecting pairs).
+    /// tension at any mesh resolution [N/m²]; 0 = the mass-proportional law only. 16000 closes
+    /// every pair of the 10 mm tshirt by 0.74 s; the sweep that chose it is in
+    /// docs/decisions/008.
     double seamStiffness = 16000.0;
     double seamWeldDistance = 0.001; ///< a closed seam pair welds below this gap [m]
     /// Beyond this gap a seam pulls with a constant force (sim::SceneSpec::seamReach): gaps
