@@ -163,7 +163,14 @@ struct Simulation::Impl {
     /// Gravity acts in the step starting at t (steps stop at gravityStartTime).
     bool gravityActive() const { return scene.gravity && t >= scene.gravityStartTime - 1e-12; }
 
-    void build();
+    void build(); // simulation_build.cpp
+    /// Positions, velocities, masses, the force models, pins, drives and welds.
+    void buildStateAndModels();
+    /// The names of the pipeline's stages (only what the scene needs).
+    void listStages();
+    /// Stage timers, the Jacobian's pattern, the integrator, the collision stage and the
+    /// energy the start holds.
+    void buildSolver();
     void accelerations(double time, const MatX3& xs, const MatX3& vs, MatX3& a);
     void applyCorrectionsA(double h);
     bool explicitStep(double h, double& errorRatio);
