@@ -296,4 +296,8 @@ void ObjectReader::finish() const {
     }
 }
 
+std::string inQuotes(std::string_view s) {
+    return nlohmann::json(std::string(s)).dump();
+}
+
 } // namespace atelier::io::detail

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <optional>
 #include <set>
 #include <string>
@@ -91,5 +92,18 @@ long long integerAt(const nlohmann::json& value, const std::string& pointer);
 sim::Vec3 vec3At(const nlohmann::json& value, const std::string& pointer);
 /// An array at `pointer`; throws otherwise.
 const nlohmann::json& arrayAt(const nlohmann::json& value, const std::string& pointer);
+
+/// `s` as a JSON string, quoted and escaped: names in error messages.
+std::string inQuotes(std::string_view s);
+
+/// `"a", "b", "c"`: the names of an enum's values, for "expected one of" messages.
+template <class Enum, std::size_t N>
+std::string nameList(const std::array<Enum, N>& values, std::string_view (*toName)(Enum)) {
+    std::string out;
+    for (const Enum v : values) {
+        out += (out.empty() ? "" : ", ") + inQuotes(toName(v));
+    }
+    return out;
+}
 
 } // namespace atelier::io::detail

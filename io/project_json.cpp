@@ -39,15 +39,6 @@ constexpr std::array<sim::IntegratorKind, 5> INTEGRATORS = {
 constexpr std::array<sim::StretchModel, 3> MODELS = {
     sim::StretchModel::Springs, sim::StretchModel::Volino, sim::StretchModel::Fem};
 
-template <class Enum, std::size_t N>
-std::string nameList(const std::array<Enum, N>& values, std::string_view (*toName)(Enum)) {
-    std::string out;
-    for (const Enum v : values) {
-        out += (out.empty() ? "" : ", ") + inQuotes(toName(v));
-    }
-    return out;
-}
-
 bool sameParameters(const sim::Material& a, const sim::Material& b) {
     return a.density == b.density && a.stretchWeft == b.stretchWeft &&
            a.stretchWarp == b.stretchWarp && a.shear == b.shear && a.poisson == b.poisson &&
@@ -96,10 +87,6 @@ void readMeasurements(ObjectReader& r, const ordered_json& ordered, patterns::Bo
 }
 
 } // namespace
-
-std::string inQuotes(std::string_view s) {
-    return json(std::string(s)).dump();
-}
 
 // ---------------------------------------------------------------------------------------------
 // Reading

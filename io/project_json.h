@@ -34,8 +34,6 @@ template <class Read> void forEachIn(ObjectReader& r, std::string_view key, Read
     }
 }
 
-std::string inQuotes(std::string_view s);
-
 /// A length `key` in millimetres, in metres; exactly `fallback` [m] when absent.
 double lengthMm(ObjectReader& r, std::string_view key, double fallback, Range range);
 /// An angle `key` in degrees, in radians; exactly `fallback` [rad] when absent.

@@ -22,7 +22,9 @@ namespace atelier::io {
 
 namespace {
 
+using detail::inQuotes;
 using detail::JsonError;
+using detail::nameList;
 using detail::ObjectReader;
 using nlohmann::json;
 
@@ -35,19 +37,6 @@ struct ClothInfo {
     int cellsX = 0;
     int cellsY = 0;
 };
-
-std::string inQuotes(std::string_view s) {
-    return json(std::string(s)).dump();
-}
-
-template <class Enum, std::size_t N>
-std::string nameList(const std::array<Enum, N>& values, std::string_view (*toName)(Enum)) {
-    std::string out;
-    for (const Enum v : values) {
-        out += (out.empty() ? "" : ", ") + inQuotes(toName(v));
-    }
-    return out;
-}
 
 constexpr std::array<sim::IntegratorKind, 5> INTEGRATORS = {
     sim::IntegratorKind::Euler, sim::IntegratorKind::Midpoint, sim::IntegratorKind::Rk4,

@@ -194,10 +194,14 @@ int outlineEdgeIndex(const doc::Panel& panel, EdgeId edge) {
     return it == edges.end() ? -1 : static_cast<int>(it - edges.begin());
 }
 
-doc::Contour* contourOfPoint(doc::Panel& panel, PointId point, int& index) {
+/// The contour of `panel` (outline or a hole) whose `items` (points or edges) hold `id`, with
+/// its position there in `index`; null when none does.
+template <class Id, class Items>
+doc::Contour* contourHolding(doc::Panel& panel, Id id, int& index, Items items) {
     auto search = [&](doc::Contour& c) {
-        for (std::size_t i = 0; i < c.points.size(); ++i) {
-            if (c.points[i].id == point) {
+        const auto& list = items(c);
+        for (std::size_t i = 0; i < list.size(); ++i) {
+            if (list[i].id == id) {
                 index = static_cast<int>(i);
                 return true;
             }
@@ -215,25 +219,14 @@ doc::Contour* contourOfPoint(doc::Panel& panel, PointId point, int& index) {
     return nullptr;
 }
 
+doc::Contour* contourOfPoint(doc::Panel& panel, PointId point, int& index) {
+    return contourHolding(
+        panel, point, index, [](doc::Contour & c) -> auto& { return c.points; });
+}
+
 doc::Contour* contourOfEdge(doc::Panel& panel, EdgeId edge, int& index) {
-    auto search = [&](doc::Contour& c) {
-        for (std::size_t i = 0; i < c.edges.size(); ++i) {
-            if (c.edges[i].id == edge) {
-                index = static_cast<int>(i);
-                return true;
-            }
-        }
-        return false;
-    };
-    if (search(panel.outline)) {
-        return &panel.outline;
-    }
-    for (doc::Hole& h : panel.holes) {
-        if (search(h.contour)) {
-            return &h.contour;
-        }
-    }
-    return nullptr;
+    return contourHolding(
+        panel, edge, index, [](doc::Contour & c) -> auto& { return c.edges; });
 }
 
 Segment contourSegment(const doc::Contour& contour, std::size_t i) {
