@@ -11,10 +11,6 @@ namespace atelier::patterns {
 
 namespace {
 
-/// How much stronger the pull of an open seam is at the end of the closing time
-/// (DrapeSettings::closingTime).
-constexpr double CLOSING_PULL_GROWTH = 10.0;
-
 /// Per hinge of a built cloth mesh, the fold angle of the internal line its edge lies on.
 sim::VecX hingeRestAngles(const sim::ClothMesh& cloth, const PanelMesh& mesh) {
     if (mesh.lineEdges.empty()) {
@@ -143,17 +139,8 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
     obstacle.kineticFriction = settings.bodyKineticFriction;
     scene.obstacles.push_back(std::move(obstacle));
 
+    // Gravity is held while the garment is sewn (patterns/sewing.h).
     scene.gravity = true;
-    scene.gravityStartTime = settings.sewingTime;
-    // The sewing phase ends with every seam sewn: pairs still apart are welded then.
-    scene.seamWeldAllTime = settings.sewingTime;
-    // ... or earlier, once every seam is sewn: waiting longer only delays the drape.
-    scene.sewingEndsWhenSewn = true;
-    scene.sewingFrictionScale = settings.sewingFrictionScale;
-    if (settings.closingTime > 0) {
-        scene.seamReachGrowthStart = std::max(0.0, settings.sewingTime - settings.closingTime);
-        scene.seamReachGrowth = CLOSING_PULL_GROWTH;
-    }
     // Cloth–cloth contacts stay out of the implicit solve for garments: measured twice on the
     // eight sample drapes (README, "Collisions"), they fix the 20 mm tshirt but cost 10 mm
     // drapes (once the tshirt's sewing; on the corrected samples the dress's and trousers' rest).

@@ -149,18 +149,6 @@ Result<void> DrapeSession::build(const Start& start) {
             scene.cloths[p].position = start.positions[p];
         }
     }
-    if (start.sewn) {
-        scene.gravityStartTime = 0;
-        scene.seamWeldAllTime = 0;
-        scene.seamReachGrowthStart = -1;
-    } else if (start.sewingElapsed > 0) {
-        const double e = start.sewingElapsed;
-        scene.gravityStartTime = std::max(0.0, scene.gravityStartTime - e);
-        scene.seamWeldAllTime = std::max(0.0, scene.seamWeldAllTime - e);
-        if (scene.seamReachGrowthStart >= 0) {
-            scene.seamReachGrowthStart = std::max(0.0, scene.seamReachGrowthStart - e);
-        }
-    }
     auto simulation = std::make_unique<sim::Simulation>(scene);
     if (!simulation->error().empty()) {
         return sessionError(simulation->error());
@@ -171,6 +159,7 @@ Result<void> DrapeSession::build(const Start& start) {
     }
     m_assembled = std::move(assembled);
     m_simulation = std::move(simulation);
+    m_sewing.begin(*m_simulation, m_project.drape, start.sewingElapsed, start.sewn);
     if (m_publishing) {
         m_simulation->publishTo(&m_snapshots);
     }
@@ -236,9 +225,9 @@ DrapeStatus DrapeSession::finalStatus() const {
 void DrapeSession::afterStep() {
     sim::Simulation& s = *m_simulation;
     const sim::SceneSpec& scene = s.scene();
-    if (m_sewnAt < 0 && s.sewingEndTime() >= 0) {
+    if (const Sewing::End end = m_sewing.afterStep(s); end != Sewing::End::None) {
+        m_sewnAt = time();
         const sim::RunStats& stats = s.stats();
-        m_sewnAt = m_timeOffset + stats.sewingEndTime;
         if (stats.largestForcedWeld > 0) {
             std::string seams;
             for (const ForcedWeld& w :
@@ -254,7 +243,7 @@ void DrapeSession::afterStep() {
             raise(DrapeEvent::Kind::SeamsSewn, "every seam pair closed");
         }
     }
-    if (!m_gravityRaised && scene.gravity && s.time() >= scene.gravityStartTime - 1e-12) {
+    if (!m_gravityRaised && scene.gravity && !m_sewing.holdsGravity()) {
         m_gravityRaised = true;
         raise(DrapeEvent::Kind::GravityOn, "gravity acts");
     }
@@ -270,10 +259,8 @@ void DrapeSession::afterStep() {
     m_kineticEnergyPerVertex = ke;
     // Rest counts after sewing: at its set end, or earlier once every seam is sewn.
     const double t = s.time();
-    const double sewn = s.sewingEndTime();
-    const double sewingEnd = sewn >= 0 ? sewn : std::max(0.0, scene.seamWeldAllTime);
     const DrapeSettings& settings = m_project.drape;
-    if (t >= sewingEnd - 1e-12 && ke < settings.restKineticEnergy) {
+    if (!m_sewing.active() && ke < settings.restKineticEnergy) {
         if (m_restSince < 0) {
             m_restSince = t;
         }
@@ -303,6 +290,7 @@ DrapeStatus DrapeSession::stepOnce() {
         return finalStatus();
     }
     const double until = m_project.drape.timeLimit - m_timeOffset;
+    m_sewing.beforeStep(*m_simulation);
     if (m_simulation->step(until) != sim::RunStatus::Finished) {
         const sim::RunStats& stats = m_simulation->stats();
         m_error = !m_simulation->error().empty() ? m_simulation->error() : stats.error;

@@ -8,6 +8,7 @@
 #include "patterns/body.h"
 #include "patterns/mesh.h"
 #include "patterns/project.h"
+#include "patterns/sewing.h"
 #include "patterns/triangulation_cache.h"
 
 #include "sim/core/result.h"
@@ -206,7 +207,7 @@ class DrapeSession {
     double m_restTime = -1;
     double m_sewnAt = -1;
     double m_sewingStart = 0; ///< drape time at which the current sewing began [s]
-    double m_gravityAt = -1;  ///< simulation time gravity starts (from its scene) [s]
+    Sewing m_sewing;          ///< the current simulation's sewing phase
     bool m_gravityRaised = false;
     bool m_timeLimit = false;
     std::string m_error;

@@ -62,11 +62,11 @@ struct DrapeSettings {
     /// body before the garment can fall off it.
     double sewingTime = 0.3;
     /// Friction against the body and between layers is multiplied by this while sewing
-    /// (sim::SceneSpec::sewingFrictionScale): panels pressed onto the body by their own
+    /// (sim::Simulation::setFrictionScale): panels pressed onto the body by their own
     /// tension slide along it to meet their seams instead of sticking where they land [-].
     double sewingFrictionScale = 0.0;
     /// Over the last this-many seconds of sewing the pull of open seams grows tenfold
-    /// (sim::SceneSpec::seamReachGrowthStart), so they close before sewing ends rather than
+    /// (patterns/sewing.h), so they close before sewing ends rather than
     /// being welded across their gap [s]; 0 = a constant pull.
     double closingTime = 0.3;
     /// At rest when the mean kinetic energy per vertex stays below this [J] ...

@@ -199,40 +199,21 @@ struct SceneSpec {
     double seamStiffnessPerLength = 0.0;
     /// A seam pair whose gap closes below this distance is welded for good: from then on its
     /// vertices move as one (positions and velocities merged by mass, A; accelerations shared,
-    /// B), so a closed seam stays closed under any tension [m]. 0 = elastics only.
+    /// B), so a closed seam stays closed under any tension [m]. 0 = elastics only. The caller
+    /// ends a sewing phase by welding every pair whatever its gap (Simulation::weldAllSeams,
+    /// Simulation::setSewingDeadline).
     double seamWeldDistance = 0.0;
-    /// The end of a sewing phase: from this time on every seam pair is welded, whatever its
-    /// gap (RunStats::largestForcedWeld says how far apart the worst pair was), except a pair
-    /// whose merge would carry cloth through cloth (with self-collision): that one is tried
-    /// again at every step (RunStats::deferredWelds) [s]; < 0 = never.
-    double seamWeldAllTime = -1.0;
-    /// The sewing phase ends as soon as every seam pair is welded (closed below
-    /// seamWeldDistance): seamWeldAllTime becomes that time, and so does gravityStartTime if it
-    /// was not after the phase's end (RunStats::sewingEndTime says when).
-    bool sewingEndsWhenSewn = false;
-    /// Friction of every contact (cloth–obstacle and cloth–cloth) is multiplied by this during
-    /// the sewing phase (before seamWeldAllTime), so panels slide around the body to close
-    /// their seams instead of being held where they first touch it [-]; 1 = unchanged.
-    double sewingFrictionScale = 1.0;
-    /// Closing (elastic seams with a reach, a sewing phase): from this time to seamWeldAllTime
-    /// the reach grows linearly to seamReachGrowth × seamReach, so open pairs are pulled harder
-    /// and harder and close before the forced weld instead of being merged across their gap in
-    /// one step (which stretched the two triangles beside each such pair by up to 100%) [s];
-    /// < 0 = off.
-    double seamReachGrowthStart = -1.0;
-    double seamReachGrowth = 1.0; ///< [-]
     /// Seam routing (elastic seams, closed obstacles): an open pair whose straight chord passes
     /// through an obstacle is pulled around it, both vertices towards a via point this far
-    /// outside (SeamElastics::setVia), re-chosen every step [m]; 0 = off.
+    /// outside (SeamElastics::setVia), re-chosen every step while routing is on
+    /// (Simulation::setSeamRouting) [m]; 0 = off.
     double seamRouteClearance = 0.0;
     /// High damping: purely dissipative velocity damping (A) of every vertex toward the mean
     /// velocity of its neighbours, time constant [s]; 0 = off.
     double highDampingTimeConstant = 0.0;
+    /// The scene has gravity (it may be held while a garment is sewn: Simulation::setGravity).
     bool gravity = true;
     Vec3 gravityVector = Vec3(0, -STANDARD_GRAVITY, 0); ///< [m/s²]
-    /// Gravity acts from this time on [s]: a garment is sewn first (seams closing around the
-    /// body without falling off it), then draped.
-    double gravityStartTime = 0.0;
     AirOptions air;
     IntegratorOptions integrator;
     double duration = 1.0;   ///< simulated time [s]

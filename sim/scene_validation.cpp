@@ -97,9 +97,6 @@ std::optional<std::string> validateConstraints(const SceneSpec& s, int total) {
                    ": vertices must be two different vertices in range";
         }
     }
-    if (!(s.gravityStartTime >= 0) || !std::isfinite(s.gravityStartTime)) {
-        return std::string("gravity start time must be zero or positive");
-    }
     if (!(s.seamWeldDistance >= 0)) {
         return std::string("seam weld distance must be zero or positive");
     }

@@ -218,29 +218,11 @@ void Simulation::Impl::applyCorrectionsA(double h) {
     welds.merge(&x, v, mass, invMass);
 }
 
-void Simulation::Impl::growSeamReach() {
-    if (seamElastics == nullptr || scene.seamReachGrowthStart < 0 || !(scene.seamReach > 0) ||
-        scene.seamWeldAllTime <= scene.seamReachGrowthStart) {
-        return;
-    }
-    const double s = std::clamp((t - scene.seamReachGrowthStart) /
-                                    (scene.seamWeldAllTime - scene.seamReachGrowthStart),
-                                0.0, 1.0);
-    const double reach = scene.seamReach * (1.0 + (scene.seamReachGrowth - 1.0) * s);
-    if (reach == seamElastics->reach()) {
-        return;
-    }
-    // A longer reach raises the potential of wide gaps: energy put in, counted.
-    const double before = seamElastics->energy(x);
-    seamElastics->setReach(reach);
-    baseEnergyInput += std::max(0.0, seamElastics->energy(x) - before);
-}
-
 void Simulation::Impl::routeSeams() {
     if (seamElastics == nullptr || !collision || !(scene.seamRouteClearance > 0)) {
         return;
     }
-    const bool sewing = scene.seamWeldAllTime < 0 || t < scene.seamWeldAllTime - 1e-12;
+    const bool sewing = seamRouting;
     if (!sewing && !seamsRouted) {
         return; // after sewing: nothing to route, nothing left to clear
     }
@@ -259,28 +241,13 @@ void Simulation::Impl::routeSeams() {
 }
 
 bool Simulation::Impl::weldClosedSeams() {
-    const bool all = scene.seamWeldAllTime >= 0 && t >= scene.seamWeldAllTime - 1e-12;
-    if (all && stats.sewingEndTime < 0) {
-        stats.sewingEndTime = t;
+    if (sewingDeadline >= 0 && t >= sewingDeadline - 1e-12) {
+        forceWelds = true;
     }
-    if (!(scene.seamWeldDistance > 0) && !all) {
+    if (!(scene.seamWeldDistance > 0) && !forceWelds) {
         return false;
     }
-    return welds.weldClosed(x, scene.seamWeldDistance, all, weldFigures);
-}
-
-void Simulation::Impl::endSewingIfSewn() {
-    if (!(scene.seamWeldAllTime > t) || scene.seams.empty() ||
-        stats.weldedSeamPairs < static_cast<long>(scene.seams.size())) {
-        return;
-    }
-    // Every pair is sewn: what the rest of the phase waits for has happened. Gravity, if it
-    // was to start with the phase's end, starts now.
-    if (scene.gravityStartTime > t && scene.gravityStartTime <= scene.seamWeldAllTime + 1e-12) {
-        scene.gravityStartTime = t;
-    }
-    scene.seamWeldAllTime = t;
-    stats.sewingEndTime = t;
+    return welds.weldClosed(x, scene.seamWeldDistance, forceWelds, weldFigures);
 }
 
 double Simulation::Impl::imposeSeamAccelerations(const MatX3& xs, const MatX3& vs, MatX3& a) const {
@@ -449,15 +416,10 @@ double Simulation::Impl::beginStep(double maxH) {
             h = ev - t;
         }
     }
-    if (scene.gravity && scene.gravityStartTime > t + 1e-12 && scene.gravityStartTime < t + h) {
-        h = scene.gravityStartTime - t;
+    if (sewingDeadline > t + 1e-12 && sewingDeadline < t + h) {
+        h = sewingDeadline - t;
     }
-    growSeamReach();
     routeSeams();
-    if (collision && scene.sewingFrictionScale != 1.0) {
-        const bool sewing = scene.seamWeldAllTime >= 0 && t < scene.seamWeldAllTime - 1e-12;
-        collision->setFrictionScale(sewing ? scene.sewingFrictionScale : 1.0);
-    }
     return h;
 }
 
@@ -577,9 +539,6 @@ void Simulation::Impl::weldAfterStep() {
         stats.largestForcedWeld = weldFigures.largestForced;
         stats.deferredWelds = weldFigures.deferred;
         stats.forcedWeldGaps = weldFigures.forcedGaps;
-    }
-    if (scene.sewingEndsWhenSewn) {
-        endSewingIfSewn();
     }
 }
 
@@ -775,8 +734,43 @@ long Simulation::frameIndex() const {
 double Simulation::time() const {
     return m_impl->t;
 }
-double Simulation::sewingEndTime() const {
-    return m_impl->stats.sewingEndTime;
+void Simulation::setGravity(bool on) {
+    m_impl->gravityOn = on;
+}
+
+void Simulation::setFrictionScale(double scale) {
+    if (m_impl->collision) {
+        m_impl->collision->setFrictionScale(scale);
+    }
+}
+
+void Simulation::setSeamReach(double reach) {
+    Impl& s = *m_impl;
+    if (s.seamElastics == nullptr || reach == s.seamElastics->reach()) {
+        return;
+    }
+    // A longer reach raises the potential of wide gaps: energy put in, counted.
+    const double before = s.seamElastics->energy(s.x);
+    s.seamElastics->setReach(reach);
+    s.baseEnergyInput += std::max(0.0, s.seamElastics->energy(s.x) - before);
+}
+
+void Simulation::setSeamRouting(bool on) {
+    m_impl->seamRouting = on;
+}
+
+void Simulation::weldAllSeams() {
+    m_impl->forceWelds = true;
+}
+
+void Simulation::setSewingDeadline(double time) {
+    m_impl->sewingDeadline = time;
+}
+
+bool Simulation::seamsWelded() const {
+    const Impl& s = *m_impl;
+    return !s.scene.seams.empty() &&
+           s.stats.weldedSeamPairs >= static_cast<long>(s.scene.seams.size());
 }
 const MatX3& Simulation::positions() const {
     return m_impl->x;

@@ -38,18 +38,16 @@ struct RunStats {
     double maxPenetration = 0;
     long contacts = 0;        ///< active contacts after the last step
     long weldedSeamPairs = 0; ///< seam pairs welded so far (see SceneSpec::seamWeldDistance)
-    /// Largest gap of a pair welded at SceneSpec::seamWeldAllTime, beyond the weld distance [m]
+    /// Largest gap of a pair welded by force (Simulation::weldAllSeams), beyond the weld
+    /// distance [m]
     double largestForcedWeld = 0;
     /// Welds put off because merging the pair would have carried cloth through cloth (the
     /// pair stays an elastic and is tried again at the next step), counted per pair and step:
     /// a pair blocked for 100 steps counts 100 [-].
     long deferredWelds = 0;
-    /// Per seam pair (SceneSpec::seams): its gap when welded at SceneSpec::seamWeldAllTime
-    /// beyond the weld distance, 0 if it closed by itself or is still open [m].
+    /// Per seam pair (SceneSpec::seams): its gap when welded by force beyond the weld
+    /// distance, 0 if it closed by itself or is still open [m].
     std::vector<double> forcedWeldGaps;
-    /// When the sewing phase ended: every pair welded (SceneSpec::sewingEndsWhenSewn) or
-    /// SceneSpec::seamWeldAllTime reached [s]; < 0 while it lasts (or with no sewing phase).
-    double sewingEndTime = -1.0;
 };
 
 class CollisionStage;
@@ -133,9 +131,36 @@ class Simulation {
     /// buffer must outlive the publishing (a drape session keeps one across simulations).
     void publishTo(SnapshotBuffer* buffer);
 
+    // ---- Sewing, driven by the caller between steps ----
+    // A garment is sewn before it is draped: seams close around the body with gravity held
+    // and friction lowered, then every pair still open is welded where it is and gravity
+    // acts. The caller (patterns::DrapeSession) decides when, raises the events, and calls:
+
+    /// Gravity acts from the next step on, or stops acting; no effect without
+    /// SceneSpec::gravity. On by default.
+    void setGravity(bool on);
+    /// Multiplies the friction of every contact (cloth–obstacle and cloth–cloth) from the next
+    /// step on, so panels slide around the body to close their seams [-]; 1 by default.
+    void setFrictionScale(double scale);
+    /// Elastic seams: the reach beyond which a seam pulls with a constant force (see
+    /// SceneSpec::seamReach) from the next step on [m]; a longer reach pulls wide gaps harder
+    /// (the energy that adds counts as put in). No effect without elastic seams.
+    void setSeamReach(double reach);
+    /// Seam routing (SceneSpec::seamRouteClearance) on or off from the next step on; on by
+    /// default. Off clears the via points.
+    void setSeamRouting(bool on);
+    /// From the end of the next step on, every seam pair is welded whatever its gap
+    /// (RunStats::largestForcedWeld, forcedWeldGaps), except a pair whose merge would carry
+    /// cloth through cloth (with self-collision): that one is tried again at every step
+    /// (RunStats::deferredWelds).
+    void weldAllSeams();
+    /// Steps end at `time` [s] (so that the caller can act there), and the step that reaches
+    /// it ends with weldAllSeams(): a sewing phase's deadline. < 0 = none (the default).
+    void setSewingDeadline(double time);
+    /// Every seam pair is welded (false without seams).
+    bool seamsWelded() const;
+
     double time() const;
-    /// RunStats::sewingEndTime without refreshing the other figures (cheap, for every step).
-    double sewingEndTime() const;
     const MatX3& positions() const;  ///< (|V|×3) over all cloths [m]
     const MatX3& velocities() const; ///< (|V|×3) [m/s]
     const VecX& masses() const;      ///< (|V|) [kg]

@@ -93,7 +93,7 @@ void Simulation::Impl::listStages() {
     if (!scene.seams.empty() && scene.seamMode == SeamMode::Imposed) {
         stages.emplace_back("constraints.seams");
     }
-    if (!scene.seams.empty() && (scene.seamWeldDistance > 0 || scene.seamWeldAllTime >= 0)) {
+    if (!scene.seams.empty()) {
         stages.emplace_back("constraints.seam-welds");
     }
     for (const auto& m : models) {

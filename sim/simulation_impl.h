@@ -137,11 +137,9 @@ struct Simulation::Impl {
     void publishSnapshot();
     const MatX3i& globalTriangles();
 
-    /// Welds the seam pairs that have closed (all at the end of sewing); returns whether a
-    /// weld group changed.
+    /// Welds the seam pairs that have closed (all once forced: weldAllSeams or the sewing
+    /// deadline reached); returns whether a weld group changed.
     bool weldClosedSeams();
-    /// SceneSpec::sewingEndsWhenSewn: ends the sewing phase at t once every pair is welded.
-    void endSewingIfSewn();
     /// Imposed seams (B): each open pair's relative acceleration becomes
     /// \f$ -r/\tau^2 - 2\dot r/\tau \f$, split by mass (momentum conserved). Returns the
     /// power of the corrections [W].
@@ -155,13 +153,17 @@ struct Simulation::Impl {
     /// Seam routing: re-chooses the via points of the open pairs blocked by an obstacle (see
     /// SceneSpec::seamRouteClearance); energy the moved targets add counts as put in.
     void routeSeams();
-    /// The sewing phase's growing pull (SceneSpec::seamReachGrowthStart), set for time t.
-    void growSeamReach();
-    double seamPower = 0; ///< power of the imposed seam corrections at the step's start [W]
+
+    // Sewing, set by the caller between steps (Simulation::setGravity and the rest).
+    bool gravityOn = true;      ///< gravity acts (with SceneSpec::gravity)
+    bool seamRouting = true;    ///< routeSeams() chooses via points
+    bool forceWelds = false;    ///< every open pair is welded at each step's end
+    double sewingDeadline = -1; ///< steps end there, the one reaching it forcing welds [s]
+    double seamPower = 0;       ///< power of the imposed seam corrections at the step's start [W]
 
     bool hasDrives() const { return !scene.drives.empty(); }
-    /// Gravity acts in the step starting at t (steps stop at gravityStartTime).
-    bool gravityActive() const { return scene.gravity && t >= scene.gravityStartTime - 1e-12; }
+    /// Gravity acts in the step starting at t.
+    bool gravityActive() const { return scene.gravity && gravityOn; }
 
     void build(); // simulation_build.cpp
     /// Positions, velocities, masses, the force models, pins, drives and welds.

@@ -4,6 +4,7 @@
 // weld), the body obstacle and the figures.
 
 #include "patterns/assemble.h"
+#include "patterns/sewing.h"
 
 #include "sim/collision/obstacle.h"
 #include "sim/mesh/cloth_mesh.h"
@@ -124,13 +125,23 @@ TEST(Drape, BandSewsShutAroundTheBody) {
     ASSERT_FALSE(assembleGarment(t.garment, t.mesh, t.body, settings, a).has_value());
     sim::Simulation simulation(a.scene);
     ASSERT_TRUE(simulation.error().empty()) << simulation.error();
-    ASSERT_EQ(simulation.run(settings.timeLimit), sim::RunStatus::Finished)
-        << simulation.stats().error;
+    Sewing sewing;
+    sewing.begin(simulation, settings, 0.0, false);
+    double sewnAt = -1;
+    while (simulation.time() < settings.timeLimit - 1e-12) {
+        sewing.beforeStep(simulation);
+        ASSERT_EQ(simulation.step(settings.timeLimit), sim::RunStatus::Finished)
+            << simulation.stats().error;
+        if (sewing.afterStep(simulation) == Sewing::End::Sewn) {
+            sewnAt = simulation.time();
+            EXPECT_FALSE(sewing.holdsGravity());
+        }
+    }
     EXPECT_EQ(seamGapMax(a, simulation.positions()), 0.0);
     EXPECT_EQ(simulation.stats().weldedSeamPairs, static_cast<long>(a.scene.seams.size()));
     // Sewing ended when the last pair closed, not at its set end (gravity started then).
-    EXPECT_GT(simulation.stats().sewingEndTime, 0.0);
-    EXPECT_LT(simulation.stats().sewingEndTime, settings.sewingTime);
+    EXPECT_GT(sewnAt, 0.0);
+    EXPECT_LT(sewnAt, settings.sewingTime);
     for (const sim::SeamPair& p : a.scene.seams) {
         EXPECT_GT(p.length, 0.0); // the length of seam each pair stands for, for its pull
     }
@@ -165,7 +176,18 @@ TEST(Drape, ForcedWeldsNameTheSeamsWidestFirst) {
     }();
     sim::Simulation simulation(a.scene);
     ASSERT_TRUE(simulation.error().empty()) << simulation.error();
-    simulation.run(settings.timeLimit);
+    Sewing sewing;
+    sewing.begin(simulation, settings, 0.0, false);
+    double endedAt = -1;
+    while (simulation.time() < settings.timeLimit - 1e-12) {
+        EXPECT_EQ(sewing.holdsGravity(), endedAt < 0);
+        sewing.beforeStep(simulation);
+        ASSERT_EQ(simulation.step(settings.timeLimit), sim::RunStatus::Finished);
+        if (sewing.afterStep(simulation) == Sewing::End::Timeup) {
+            endedAt = simulation.time();
+        }
+    }
+    EXPECT_NEAR(endedAt, settings.sewingTime, 1e-12); // steps stopped at the deadline
     const std::vector<double>& gaps = simulation.stats().forcedWeldGaps;
     ASSERT_EQ(gaps.size(), a.scene.seams.size());
     double widest[2] = {0, 0};

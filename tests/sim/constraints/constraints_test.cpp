@@ -185,13 +185,13 @@ SceneSpec twoSheetsSewn(int cells, double gap) {
 
 TEST(Constraints, SewingPhaseEndsWithEverySeamWelded) {
     // Elastic seams, slow to close (τ = 1 s), between two sheets 2 cm apart with no gravity:
-    // at seamWeldAllTime every pair is welded whatever its gap, and the largest such gap is
-    // reported.
+    // at the sewing deadline every pair is welded whatever its gap, and the largest such gap
+    // is reported.
     const int cells = 3;
     SceneSpec scene = twoSheetsSewn(cells, 0.02);
     scene.seamTimeConstant = 1.0;
-    scene.seamWeldAllTime = 0.05;
     Simulation sim(scene);
+    sim.setSewingDeadline(0.05);
     ASSERT_TRUE(hasStage(sim, "constraints.seam-welds"));
     ASSERT_EQ(sim.advance(0.04), RunStatus::Finished) << sim.error();
     EXPECT_EQ(sim.stats().weldedSeamPairs, 0);
@@ -218,13 +218,14 @@ TEST(Constraints, AGrowingReachClosesSeamsBeforeTheForcedWeld) {
         SceneSpec scene = twoSheetsSewn(cells, 0.1);
         scene.seamTimeConstant = 0.05;
         scene.seamReach = 0.005;
-        scene.seamWeldAllTime = 1.0;
-        if (grow) {
-            scene.seamReachGrowthStart = 0.0;
-            scene.seamReachGrowth = 20.0;
-        }
         Simulation sim(scene);
-        EXPECT_EQ(sim.advance(1.1), RunStatus::Finished) << sim.error() << sim.stats().error;
+        sim.setSewingDeadline(1.0);
+        while (sim.time() < 1.1 - 1e-12) {
+            if (grow) { // the reach grows linearly to 20 times over the phase
+                sim.setSeamReach(scene.seamReach * (1.0 + 19.0 * std::min(sim.time(), 1.0)));
+            }
+            EXPECT_EQ(sim.step(1.1), RunStatus::Finished) << sim.error() << sim.stats().error;
+        }
         EXPECT_TRUE(sim.stats().finite);
         EXPECT_EQ(sim.stats().weldedSeamPairs, cells + 1);
         gaps = sim.stats().forcedWeldGaps;
@@ -300,17 +301,24 @@ TEST(Constraints, SeamBlockedByABodyIsLedAroundIt) {
     EXPECT_EQ(routed.intersectingTrianglePairs(), 0);
 }
 
-TEST(Constraints, GravityStartsAtItsTime) {
-    // A free sheet stays put during the sewing phase, then falls with g from the start time.
+TEST(Constraints, GravityHeldUntilTheDeadline) {
+    // A free sheet stays put while gravity is held (a sewing phase), then falls with g from
+    // the deadline, where steps stop.
     SceneSpec scene = test::smallSheet(StretchModel::Fem, 2, 0.2, false);
-    scene.gravityStartTime = 0.1;
     for (IntegratorKind kind : {IntegratorKind::Rk45, IntegratorKind::ImplicitEuler}) {
         scene.integrator.kind = kind;
         SCOPED_TRACE(std::string(integratorName(kind)));
-        scene.integrator.dt = 0.007; // not a divisor of the start time: steps must stop there
+        scene.integrator.dt = 0.007; // not a divisor of the deadline: steps must stop there
         Simulation sim(scene);
-        ASSERT_EQ(sim.advance(0.1), RunStatus::Finished) << sim.error();
+        sim.setGravity(false);
+        sim.setSewingDeadline(0.1);
+        while (sim.time() < 0.1 - 1e-12) {
+            ASSERT_EQ(sim.step(), RunStatus::Finished) << sim.error();
+        }
+        EXPECT_NEAR(sim.time(), 0.1, 1e-15);
         EXPECT_EQ(sim.velocities().norm(), 0.0);
+        sim.setGravity(true);
+        sim.setSewingDeadline(-1);
         ASSERT_EQ(sim.advance(0.05), RunStatus::Finished) << sim.error();
         // Internal forces sum to zero: the momentum shows gravity alone, acting for 0.05 s.
         const double meanVy = sim.masses().dot(sim.velocities().col(1)) / sim.masses().sum();
