@@ -4,10 +4,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
-#include <fstream>
-#include <sstream>
 
 namespace atelier::io {
 
@@ -47,6 +46,32 @@ class TempFile {
     int m_fd;
     std::string m_path;
 };
+
+/// Why a file that is not a regular file is refused, naming its kind.
+std::string notRegularFile(mode_t mode) {
+    if (S_ISDIR(mode)) {
+        return "not a regular file (a directory)";
+    }
+    if (S_ISFIFO(mode)) {
+        return "not a regular file (a FIFO)";
+    }
+    if (S_ISCHR(mode)) {
+        return "not a regular file (a character device)";
+    }
+    if (S_ISBLK(mode)) {
+        return "not a regular file (a block device)";
+    }
+    if (S_ISSOCK(mode)) {
+        return "not a regular file (a socket)";
+    }
+    return "not a regular file";
+}
+
+Error tooLarge(const std::filesystem::path& path, std::uint64_t size, std::uint64_t maxBytes) {
+    return Error{path.string(), "",
+                 "file too large: " + std::to_string(size) + " bytes (the limit is " +
+                     std::to_string(maxBytes) + " bytes)"};
+}
 
 } // namespace
 
@@ -101,17 +126,54 @@ Result<void> writeFileAtomically(const std::filesystem::path& path, std::string_
     return {};
 }
 
-Result<std::string> readFile(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
+Result<std::string> readFile(const std::filesystem::path& path, std::uint64_t maxBytes) {
+    // O_NONBLOCK: opening a FIFO must not wait for a writer; the type is checked on the open
+    // descriptor, so the file cannot be swapped between the check and the read.
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) {
         return systemError(path, "cannot open");
     }
-    std::ostringstream s;
-    s << in.rdbuf();
-    if (in.bad()) {
+    TempFile file(fd, ""); // closes the descriptor; no path, nothing to remove
+    struct stat info {};
+    if (::fstat(file.fd(), &info) != 0) {
         return systemError(path, "cannot read");
     }
-    return s.str();
+    if (!S_ISREG(info.st_mode)) {
+        return Error{path.string(), "", notRegularFile(info.st_mode)};
+    }
+    const auto size = static_cast<std::uint64_t>(info.st_size);
+    if (size > maxBytes) {
+        return tooLarge(path, size, maxBytes);
+    }
+    std::string out(static_cast<std::size_t>(size), '\0');
+    std::size_t done = 0;
+    for (;;) {
+        if (done == out.size()) {
+            // The file may have grown since fstat: read on, within the limit.
+            if (done >= maxBytes) {
+                char probe = 0;
+                const ssize_t n = ::read(file.fd(), &probe, 1);
+                if (n > 0) {
+                    return tooLarge(path, done + 1, maxBytes);
+                }
+                break;
+            }
+            out.resize(done + std::min<std::uint64_t>(maxBytes - done, 64 * 1024));
+        }
+        const ssize_t n = ::read(file.fd(), out.data() + done, out.size() - done);
+        if (n < 0) {
+            if (errno == EINTR) {
+                continue;
+            }
+            return systemError(path, "cannot read");
+        }
+        if (n == 0) {
+            break;
+        }
+        done += static_cast<std::size_t>(n);
+    }
+    out.resize(done);
+    return out;
 }
 
 } // namespace atelier::io

@@ -3,7 +3,10 @@
 
 #include "io/result.h"
 
+#include <cstdint>
 #include <filesystem>
+#include <limits>
+#include <string>
 #include <string_view>
 
 namespace atelier::io {
@@ -13,7 +16,10 @@ namespace atelier::io {
 /// failure the temporary file is removed and `path` keeps its old content.
 Result<void> writeFileAtomically(const std::filesystem::path& path, std::string_view contents);
 
-/// Reads a whole file into a string.
-Result<std::string> readFile(const std::filesystem::path& path);
+/// Reads a whole file into a string. The path must name a regular file (a symbolic link to one
+/// is fine): a directory, FIFO, device or socket is refused without reading or blocking, and so
+/// is a file larger than `maxBytes` (checked before reading, and again while reading).
+Result<std::string> readFile(const std::filesystem::path& path,
+                             std::uint64_t maxBytes = std::numeric_limits<std::uint64_t>::max());
 
 } // namespace atelier::io

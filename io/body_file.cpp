@@ -63,9 +63,24 @@ Result<patterns::Mannequin> makeBody(const patterns::BodySource& source, const s
     return patterns::makeMannequin(source.base, m.value());
 }
 
+std::optional<std::string> checkBodyExtent(const sim::MatX3& vertices, double maxExtent) {
+    if (vertices.rows() == 0) {
+        return std::nullopt;
+    }
+    const sim::Vec3 extent = vertices.colwise().maxCoeff() - vertices.colwise().minCoeff();
+    Eigen::Index axis = 0;
+    if (!(extent.maxCoeff(&axis) <= maxExtent)) {
+        return "the mesh is " + nlohmann::json(extent[axis]).dump() + " m along " +
+               std::string(1, static_cast<char>('x' + axis)) + ", more than the " +
+               nlohmann::json(maxExtent).dump() +
+               " m a body may measure (a body mesh is in metres, Y up)";
+    }
+    return std::nullopt;
+}
+
 Result<patterns::Body> loadBody(const patterns::BodySource& source,
                                 const std::filesystem::path& projectDir,
-                                const std::filesystem::path& projectFile) {
+                                const std::filesystem::path& projectFile, const Limits& limits) {
     if (source.meshPath.empty()) {
         auto mannequin = makeBody(source, projectFile.string());
         if (!mannequin.ok()) {
@@ -77,9 +92,12 @@ Result<patterns::Body> loadBody(const patterns::BodySource& source,
     if (!std::filesystem::exists(path)) {
         return Error{projectFile.string(), "/body/mesh", "body mesh not found: " + path.string()};
     }
-    auto obj = readObj(path);
+    auto obj = readObj(path, limits.maxMeshBytes);
     if (!obj.ok()) {
         return obj.error();
+    }
+    if (auto problem = checkBodyExtent(obj.value().positions, limits.maxBodyExtent)) {
+        return Error{path.string(), "", *problem};
     }
     patterns::Body body;
     body.vertices = obj.value().positions;
@@ -90,13 +108,14 @@ Result<patterns::Body> loadBody(const patterns::BodySource& source,
     return body;
 }
 
-Result<patterns::BodySource> readMeasurementsFile(const std::filesystem::path& path) {
+Result<patterns::BodySource> readMeasurementsFile(const std::filesystem::path& path,
+                                                  const Limits& limits) {
     const std::string file = path.string();
-    auto text = readFile(path);
+    auto text = readFile(path, limits.maxJsonBytes);
     if (!text.ok()) {
         return text.error();
     }
-    auto parsed = detail::parseJson(text.value(), file);
+    auto parsed = detail::parseJson(text.value(), file, limits.maxJsonDepth);
     if (!parsed.ok()) {
         return parsed.error();
     }

@@ -2,12 +2,15 @@
 /// The body of a project: the parametric mannequin from a base and measurements, or a mesh
 /// file; and measurement files for `atelier-cli body`.
 
+#include "io/limits.h"
 #include "io/result.h"
 
 #include "patterns/mannequin.h"
 #include "patterns/project.h"
 
 #include <filesystem>
+#include <optional>
+#include <string>
 
 namespace atelier::io {
 
@@ -22,12 +25,20 @@ Result<patterns::Mannequin> makeBody(const patterns::BodySource& source, const s
 
 /// The body a project drapes on: the mannequin, or the mesh at meshPath (relative to
 /// projectDir; slots estimated from its proportions, see patterns::estimateSlots).
+/// The mesh must be a regular file of at most `limits.maxMeshBytes`, and no side of its
+/// bounding box longer than `limits.maxBodyExtent`.
 Result<patterns::Body> loadBody(const patterns::BodySource& source,
                                 const std::filesystem::path& projectDir,
-                                const std::filesystem::path& projectFile);
+                                const std::filesystem::path& projectFile,
+                                const Limits& limits = {});
+
+/// What is wrong when a body (or obstacle) mesh has a bounding-box side longer than `maxExtent`
+/// [m], naming the length and the axis; nullopt when it fits.
+std::optional<std::string> checkBodyExtent(const sim::MatX3& vertices, double maxExtent);
 
 /// A measurements file: `{"base": "female", "height": 1.70, "waist": 0.72, ...}` (metres; every
 /// key but `base` optional).
-Result<patterns::BodySource> readMeasurementsFile(const std::filesystem::path& path);
+Result<patterns::BodySource> readMeasurementsFile(const std::filesystem::path& path,
+                                                  const Limits& limits = {});
 
 } // namespace atelier::io

@@ -8,6 +8,10 @@ namespace atelier::io::detail {
 
 using nlohmann::json;
 
+void failWith(const std::string& pointer, const Error& inner) {
+    throw JsonError{pointer, inner.toString()};
+}
+
 std::string childPointer(const std::string& base, std::string_view key) {
     std::string out = base + "/";
     for (const char c : key) {
@@ -48,10 +52,7 @@ std::string typeName(const json& value) {
     }
 }
 
-namespace {
-
-/// "line L, column C" of the byte at `offset` (0-based) in `text`.
-std::string lineColumn(const std::string& text, std::size_t offset) {
+std::string lineColumn(std::string_view text, std::size_t offset) {
     int line = 1;
     std::size_t lineStart = 0;
     for (std::size_t i = 0; i < offset && i < text.size(); ++i) {
@@ -63,9 +64,10 @@ std::string lineColumn(const std::string& text, std::size_t offset) {
     return "line " + std::to_string(line) + ", column " + std::to_string(offset - lineStart + 1);
 }
 
-} // namespace
-
-Result<json> parseJson(const std::string& text, const std::string& file) {
+Result<json> parseJson(const std::string& text, const std::string& file, int maxDepth) {
+    if (auto error = checkJsonStructure(text, file, maxDepth)) {
+        return *error;
+    }
     try {
         return json::parse(text);
     } catch (const json::parse_error& e) {
@@ -297,7 +299,7 @@ void ObjectReader::finish() const {
 }
 
 std::string inQuotes(std::string_view s) {
-    return nlohmann::json(std::string(s)).dump();
+    return nlohmann::json(std::string(s)).dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
 } // namespace atelier::io::detail

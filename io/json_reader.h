@@ -2,6 +2,7 @@
 /// Internal to io/: strict reading of JSON objects with errors that name the JSON pointer.
 /// Not installed, not included by public headers (the public API does not expose nlohmann).
 
+#include "io/limits.h"
 #include "io/result.h"
 
 #include "sim/core/types.h"
@@ -23,6 +24,9 @@ struct JsonError {
     std::string message;
 };
 
+/// Throws the error of a file read from this one (a mesh, a preset file) at `pointer`.
+[[noreturn]] void failWith(const std::string& pointer, const Error& inner);
+
 /// `base` + "/" + `key`, escaped as RFC 6901 asks (`~` → `~0`, `/` → `~1`).
 std::string childPointer(const std::string& base, std::string_view key);
 std::string childPointer(const std::string& base, std::size_t index);
@@ -30,9 +34,20 @@ std::string childPointer(const std::string& base, std::size_t index);
 /// The JSON type name of a value, for messages ("a string", "an array", ...).
 std::string typeName(const nlohmann::json& value);
 
-/// Parses JSON text; a syntax error or a number too large for a double (`1e999`) becomes
-/// Error{file, "line L, column C", message}. Never throws.
-Result<nlohmann::json> parseJson(const std::string& text, const std::string& file);
+/// "line L, column C" of the byte at `offset` (0-based) in `text`.
+std::string lineColumn(std::string_view text, std::size_t offset);
+
+/// Checks what the JSON parser does not, before it runs: arrays and objects nested more than
+/// `maxDepth` deep, and a key held twice by one object (naming both places and the object's
+/// pointer). nullopt when neither is found; syntax errors are left to the parser.
+std::optional<Error> checkJsonStructure(std::string_view text, const std::string& file,
+                                        int maxDepth);
+
+/// Parses JSON text; nesting deeper than `maxDepth`, a duplicate key, a syntax error or a
+/// number too large for a double (`1e999`) becomes Error{file, "line L, column C", message}.
+/// Never throws.
+Result<nlohmann::json> parseJson(const std::string& text, const std::string& file,
+                                 int maxDepth = Limits{}.maxJsonDepth);
 
 /// Reads the members of one JSON object. Each accessor marks its key as known;
 /// `finish()` throws for any key that no accessor asked for (catches typos).
@@ -93,7 +108,8 @@ sim::Vec3 vec3At(const nlohmann::json& value, const std::string& pointer);
 /// An array at `pointer`; throws otherwise.
 const nlohmann::json& arrayAt(const nlohmann::json& value, const std::string& pointer);
 
-/// `s` as a JSON string, quoted and escaped: names in error messages.
+/// `s` as a JSON string, quoted and escaped: names in error messages. Invalid UTF-8 is
+/// replaced by U+FFFD rather than thrown on.
 std::string inQuotes(std::string_view s);
 
 /// `"a", "b", "c"`: the names of an enum's values, for "expected one of" messages.

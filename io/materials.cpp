@@ -57,8 +57,9 @@ void readMaterial(ObjectReader& reader, sim::Material& material, bool requireAll
 
 } // namespace detail
 
-Result<MaterialPresets> parseMaterialPresets(std::string_view text, const std::string& file) {
-    auto parsed = detail::parseJson(std::string(text), file);
+Result<MaterialPresets> parseMaterialPresets(std::string_view text, const std::string& file,
+                                             const Limits& limits) {
+    auto parsed = detail::parseJson(std::string(text), file, limits.maxJsonDepth);
     if (!parsed.ok()) {
         return parsed.error();
     }
@@ -96,12 +97,13 @@ Result<MaterialPresets> parseMaterialPresets(std::string_view text, const std::s
     }
 }
 
-Result<MaterialPresets> loadMaterialPresets(const std::filesystem::path& path) {
-    auto text = readFile(path);
+Result<MaterialPresets> loadMaterialPresets(const std::filesystem::path& path,
+                                            const Limits& limits) {
+    auto text = readFile(path, limits.maxJsonBytes);
     if (!text.ok()) {
         return text.error();
     }
-    return parseMaterialPresets(text.value(), path.string());
+    return parseMaterialPresets(text.value(), path.string(), limits);
 }
 
 const MaterialPresets& builtinMaterialPresets() {

@@ -1,6 +1,7 @@
 #pragma once
 /// Fabric presets: named sim::Material values from a JSON file (assets/materials/fabrics.json).
 
+#include "io/limits.h"
 #include "io/result.h"
 
 #include "sim/material.h"
@@ -19,10 +20,13 @@ using MaterialPresets = std::map<std::string, sim::Material>;
 /// `{"format": "atelier-fabrics", "version": 1, "presets": {"cotton": {...}, ...}}`, each preset
 /// with every field of `readMaterial` below plus a `"source"` string citing where the values
 /// come from. Errors name the JSON pointer (`fabrics.json: /presets/denim/density_kg_per_m2: ...`).
-Result<MaterialPresets> loadMaterialPresets(const std::filesystem::path& path);
+/// The file must be a regular file within `limits` (size, nesting).
+Result<MaterialPresets> loadMaterialPresets(const std::filesystem::path& path,
+                                            const Limits& limits = {});
 
 /// Same as `loadMaterialPresets` for JSON text; `file` is used in error messages.
-Result<MaterialPresets> parseMaterialPresets(std::string_view text, const std::string& file);
+Result<MaterialPresets> parseMaterialPresets(std::string_view text, const std::string& file,
+                                             const Limits& limits = {});
 
 /// The presets of assets/materials/fabrics.json as built into the library (no file access).
 const MaterialPresets& builtinMaterialPresets();

@@ -287,6 +287,37 @@ class ObjParser {
     bool m_hasOpenGroup = false;
 };
 
+/// A group name as one OBJ token: control characters, whitespace and `#` (which would end the
+/// line, split the name or start a comment) become `_`; an empty name is "default".
+std::string objName(std::string_view name) {
+    if (name.empty()) {
+        return "default";
+    }
+    std::string out(name);
+    for (char& c : out) {
+        const auto u = static_cast<unsigned char>(c);
+        if (u <= 0x20 || u == 0x7f || c == '#') {
+            c = '_';
+        }
+    }
+    return out;
+}
+
+/// Appends `comment` as `# ` lines; control characters other than the line breaks become
+/// spaces, so that no reader sees a statement in it.
+void appendComment(std::string& out, std::string_view comment) {
+    while (!comment.empty()) {
+        const std::size_t nl = comment.find('\n');
+        out += "# ";
+        for (const char c : comment.substr(0, nl)) {
+            const auto u = static_cast<unsigned char>(c);
+            out += u < 0x20 || u == 0x7f ? ' ' : c;
+        }
+        out += '\n';
+        comment.remove_prefix(nl == std::string_view::npos ? comment.size() : nl + 1);
+    }
+}
+
 void appendNumber(std::string& out, double value) {
     std::array<char, 32> buffer{};
     const auto [ptr, ec] = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
@@ -295,8 +326,8 @@ void appendNumber(std::string& out, double value) {
 
 } // namespace
 
-Result<ObjMesh> readObj(const std::filesystem::path& path) {
-    auto text = readFile(path);
+Result<ObjMesh> readObj(const std::filesystem::path& path, std::uint64_t maxBytes) {
+    auto text = readFile(path, maxBytes);
     if (!text.ok()) {
         return text.error();
     }
@@ -330,16 +361,7 @@ Result<std::string> formatObj(const sim::MatX3& positions, const sim::MatX3i& tr
 
     std::string out;
     out.reserve(static_cast<std::size_t>(nv * 90 + nf * 40));
-    if (!options.comment.empty()) {
-        std::string_view c = options.comment;
-        while (!c.empty()) {
-            const std::size_t nl = c.find('\n');
-            out += "# ";
-            out += c.substr(0, nl);
-            out += '\n';
-            c.remove_prefix(nl == std::string_view::npos ? c.size() : nl + 1);
-        }
-    }
+    appendComment(out, options.comment);
     for (Eigen::Index i = 0; i < nv; ++i) {
         out += 'v';
         for (int k = 0; k < 3; ++k) {
@@ -379,7 +401,7 @@ Result<std::string> formatObj(const sim::MatX3& positions, const sim::MatX3i& tr
     for (Eigen::Index f = 0; f < nf; ++f) {
         if (const ObjGroup* g = groupAt[static_cast<std::size_t>(f)]) {
             out += "g ";
-            out += g->name.empty() ? std::string("default") : g->name;
+            out += objName(g->name);
             out += '\n';
         }
         out += 'f';

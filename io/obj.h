@@ -1,10 +1,12 @@
 #pragma once
 /// Wavefront OBJ triangle meshes: reading (with UVs as cloth rest coordinates) and writing.
 
+#include "io/limits.h"
 #include "io/result.h"
 
 #include "sim/core/types.h"
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -38,16 +40,22 @@ struct ObjMesh {
 /// Reads an OBJ file: `v`, `vt`, `vn`, `f` (all of `v`, `v/vt`, `v//vn`, `v/vt/vn`, negative =
 /// relative indices), `g`, `o`; other statements (`mtllib`, `usemtl`, `s`, `l`, ...) are ignored.
 /// Errors name the file and the line (`shirt.obj: line 12: face index 40 out of range [1, 39]`).
-Result<ObjMesh> readObj(const std::filesystem::path& path);
+/// The file must be a regular file of at most `maxBytes` (see readFile).
+Result<ObjMesh> readObj(const std::filesystem::path& path,
+                        std::uint64_t maxBytes = Limits{}.maxMeshBytes);
 
 /// Options of `writeObj`.
 struct ObjWriteOptions {
     /// (|V|×2) texture coordinates written as `vt`, one per vertex; empty = none.
     sim::MatX2 uvs;
-    /// Groups over the triangles (each written as `g name` before its first triangle).
+    /// Groups over the triangles (each written as `g name` before its first triangle; in the
+    /// name, control characters, whitespace and `#` are written as `_`, an empty name as
+    /// `default`).
     std::vector<ObjGroup> groups;
     bool normals = true; ///< write area-weighted vertex normals as `vn`
-    std::string comment; ///< written as `# ...` lines at the top; may hold newlines
+    /// Written as `# ...` lines at the top; may hold newlines (other control characters are
+    /// written as spaces).
+    std::string comment;
 };
 
 /// Writes a triangle mesh as OBJ, atomically. Numbers are written in the shortest form that

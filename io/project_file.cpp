@@ -4,8 +4,10 @@
 #include "io/json_reader.h"
 #include "io/project_json.h"
 
+#include "patterns/curve.h"
 #include "patterns/mesh.h"
 
+#include <cmath>
 #include <limits>
 
 namespace atelier::io {
@@ -261,11 +263,38 @@ Result<void> completeProject(patterns::Project& project, const std::string& file
     return {};
 }
 
+/// The drape within the limits: steps (time limit over the step) and triangles (the panels'
+/// area over the area of an equilateral triangle at the particle distance).
+Result<void> checkDrapeSize(const patterns::Project& project, const std::string& file,
+                            const Limits& limits) {
+    const patterns::DrapeSettings& d = project.drape;
+    const auto text = [](double v) { return json(v).dump(); };
+    const double steps = d.timeLimit / d.dt;
+    if (!(steps <= static_cast<double>(limits.maxSteps))) {
+        return Error{file, "/simulation/time_limit_s",
+                     "time_limit_s / dt_s is " + text(steps) + " steps, more than the limit of " +
+                         std::to_string(limits.maxSteps)};
+    }
+    double area = 0;
+    for (const patterns::Panel& panel : project.garment.panels) {
+        area += std::abs(patterns::loopArea(panel.outline));
+    }
+    const double triangles = area / (std::sqrt(3.0) / 4 * d.particleDistance * d.particleDistance);
+    if (!(triangles <= static_cast<double>(limits.maxGarmentTriangles))) {
+        return Error{file, "/simulation/particle_distance_mm",
+                     "the panels' " + text(area) + " m² at this particle distance make about " +
+                         text(std::round(triangles)) + " triangles, more than the limit of " +
+                         std::to_string(limits.maxGarmentTriangles)};
+    }
+    return {};
+}
+
 } // namespace
 
-Result<patterns::Project> parseProject(std::string_view text, const std::string& file) {
+Result<patterns::Project> parseProject(std::string_view text, const std::string& file,
+                                       const Limits& limits) {
     const std::string textCopy(text);
-    auto parsed = detail::parseJson(textCopy, file);
+    auto parsed = detail::parseJson(textCopy, file, limits.maxJsonDepth);
     if (!parsed.ok()) {
         return parsed.error();
     }
@@ -280,23 +309,30 @@ Result<patterns::Project> parseProject(std::string_view text, const std::string&
     if (auto complete = completeProject(project, file); !complete.ok()) {
         return complete.error();
     }
+    if (auto size = checkDrapeSize(project, file, limits); !size.ok()) {
+        return size.error();
+    }
     return project;
 }
 
-Result<patterns::Project> loadProject(const std::filesystem::path& path) {
-    auto text = readFile(path);
+Result<patterns::Project> loadProject(const std::filesystem::path& path, const Limits& limits) {
+    auto text = readFile(path, limits.maxJsonBytes);
     if (!text.ok()) {
         return text.error();
     }
-    auto project = parseProject(text.value(), path.string());
+    auto project = parseProject(text.value(), path.string(), limits);
     if (!project.ok()) {
         return project;
     }
     if (const std::string& mesh = project.value().body.meshPath; !mesh.empty()) {
         const std::filesystem::path resolved = path.parent_path() / mesh;
         std::error_code ec;
-        if (!std::filesystem::is_regular_file(resolved, ec)) {
+        if (!std::filesystem::exists(resolved, ec)) {
             return Error{path.string(), "/body/mesh", "body mesh not found: " + resolved.string()};
+        }
+        if (!std::filesystem::is_regular_file(resolved, ec)) {
+            return Error{path.string(), "/body/mesh",
+                         "body mesh is not a regular file: " + resolved.string()};
         }
     }
     return project;

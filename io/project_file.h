@@ -38,6 +38,7 @@
 /// A version-1 file (segments by index, seams by panel name) is read into a patterns::Garment
 /// and migrated with patterns::fromGarment, ids handed out in file order.
 
+#include "io/limits.h"
 #include "io/result.h"
 
 #include "patterns/project.h"
@@ -62,11 +63,14 @@ inline constexpr int PROJECT_FORMAT_VERSION = 2;
 /// `document` and `garment` of the result are filled. Invalid JSON gives the line and column.
 /// The body mesh is not looked for (there is no directory to resolve it against): `loadProject`
 /// does that.
-Result<patterns::Project> parseProject(std::string_view text, const std::string& file);
+/// `limits` bounds the nesting of the JSON and what the drape settings ask for.
+Result<patterns::Project> parseProject(std::string_view text, const std::string& file,
+                                       const Limits& limits = {});
 
 /// Reads a project file. As `parseProject`, and a body mesh path is resolved against the
-/// project file's directory and must exist.
-Result<patterns::Project> loadProject(const std::filesystem::path& path);
+/// project file's directory and must be a regular file. The project file itself must be a
+/// regular file of at most `limits.maxJsonBytes`.
+Result<patterns::Project> loadProject(const std::filesystem::path& path, const Limits& limits = {});
 
 /// The canonical version-2 text of `project.document` with the project's name, body and drape
 /// settings (`project.garment` is not read). A material whose `material.name` is a

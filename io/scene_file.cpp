@@ -4,6 +4,7 @@
 #include "io/json_reader.h"
 #include "io/material_json.h"
 #include "io/obj.h"
+#include "io/scene_obstacles.h"
 
 #include "sim/collision/obstacle.h"
 #include "sim/simulation.h"
@@ -38,95 +39,22 @@ struct ClothInfo {
     int cellsY = 0;
 };
 
+/// Caps on per-step loops (collision rounds, conjugate-gradient iterations), far above what
+/// converges; a larger value would let one step run for hours.
+constexpr long long MAX_COLLISION_ITERATIONS = 1000;
+constexpr long long MAX_CG_ITERATIONS = 100'000;
+
 constexpr std::array<sim::IntegratorKind, 5> INTEGRATORS = {
     sim::IntegratorKind::Euler, sim::IntegratorKind::Midpoint, sim::IntegratorKind::Rk4,
     sim::IntegratorKind::Rk45, sim::IntegratorKind::ImplicitEuler};
 constexpr std::array<sim::StretchModel, 3> MODELS = {
     sim::StretchModel::Springs, sim::StretchModel::Volino, sim::StretchModel::Fem};
 
-/// Largest generated grid, to refuse a typo like `"cells": [20000, 20000]` early.
-constexpr long long MAX_GRID_VERTICES = 4'000'000;
-/// Limits of generated obstacle shapes (typos like `"cells": 20000` are refused early).
-constexpr long long MAX_SHAPE_CELLS = 500;
-constexpr long long MAX_SPHERE_SUBDIVISIONS = 7;
-constexpr long long MIN_CAPSULE_SEGMENTS = 6;
-constexpr long long MAX_CAPSULE_SEGMENTS = 1024;
-
-constexpr double RAD_PER_DEG = 3.14159265358979323846 / 180.0;
-
-/// An integer `key` in [lo, hi], or `fallback` when absent.
-int boundedInteger(ObjectReader& r, std::string_view key, long long fallback, long long lo,
-                   long long hi) {
-    const long long n = r.integer(key, fallback);
-    if (n < lo || n > hi) {
-        r.fail(key, "must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
-                        "] (found " + std::to_string(n) + ")");
-    }
-    return static_cast<int>(n);
-}
-
-/// An OBJ as an obstacle mesh: one vertex per `v` line that a face uses, in file order (UV
-/// seams welded back, unused `v` lines dropped), scaled by `scale`.
-void weldObj(const ObjMesh& mesh, double scale, sim::MatX3& vertices, sim::MatX3i& triangles) {
-    int sources = 0;
-    for (const int s : mesh.sourceVertex) {
-        sources = std::max(sources, s + 1);
-    }
-    std::vector<int> index(static_cast<std::size_t>(sources), -1);
-    for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
-        for (int c = 0; c < 3; ++c) {
-            index[static_cast<std::size_t>(
-                mesh.sourceVertex[static_cast<std::size_t>(mesh.triangles(t, c))])] = 0;
-        }
-    }
-    int next = 0;
-    for (int& i : index) {
-        if (i == 0) {
-            i = next++;
-        }
-    }
-    vertices.resize(next, 3);
-    for (std::size_t v = 0; v < mesh.sourceVertex.size(); ++v) {
-        const int i = index[static_cast<std::size_t>(mesh.sourceVertex[v])];
-        if (i >= 0) {
-            vertices.row(i) = scale * mesh.positions.row(static_cast<Eigen::Index>(v));
-        }
-    }
-    triangles.resize(mesh.triangles.rows(), 3);
-    for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
-        for (int c = 0; c < 3; ++c) {
-            triangles(t, c) = index[static_cast<std::size_t>(
-                mesh.sourceVertex[static_cast<std::size_t>(mesh.triangles(t, c))])];
-        }
-    }
-}
-
-/// Six times the signed volume enclosed by a closed mesh: positive when its faces are
-/// counter-clockwise seen from outside.
-double signedVolume6(const sim::MatX3& vertices, const sim::MatX3i& triangles) {
-    double sum = 0;
-    for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
-        const sim::Vec3 a = vertices.row(triangles(t, 0));
-        const sim::Vec3 b = vertices.row(triangles(t, 1));
-        const sim::Vec3 c = vertices.row(triangles(t, 2));
-        sum += a.dot(b.cross(c));
-    }
-    return sum;
-}
-
-/// The rotation matrix of a rotation vector (axis × angle) [rad].
-sim::Mat3 rotationMatrix(const sim::Vec3& rotation) {
-    const double angle = rotation.norm();
-    if (angle < 1e-300) {
-        return sim::Mat3::Identity();
-    }
-    return Eigen::AngleAxisd(angle, rotation / angle).toRotationMatrix();
-}
-
 class SceneParser {
   public:
     SceneParser(std::string file, std::filesystem::path baseDir, const SceneLoadOptions& options)
-        : m_file(std::move(file)), m_baseDir(std::move(baseDir)), m_presets(options.presets) {}
+        : m_file(std::move(file)), m_baseDir(std::move(baseDir)), m_presets(options.presets),
+          m_limits(options.limits) {}
 
     sim::SceneSpec parse(const json& root) {
         ObjectReader r(root, "");
@@ -147,16 +75,18 @@ class SceneParser {
         if (cloths.empty()) {
             r.fail("cloths", "a scene needs at least one cloth");
         }
+        if (cloths.size() > static_cast<std::size_t>(m_limits.maxCloths)) {
+            r.fail("cloths", std::to_string(cloths.size()) + " cloths, more than the limit of " +
+                                 std::to_string(m_limits.maxCloths));
+        }
         int offset = 0;
         for (std::size_t i = 0; i < cloths.size(); ++i) {
             readCloth(cloths[i], detail::childPointer(r.pointerOf("cloths"), i), offset);
             offset += m_scene.cloths.back().mesh.vertexCount();
         }
         if (const json* obstacles = r.find("obstacles")) {
-            const std::string ptr = r.pointerOf("obstacles");
-            for (std::size_t i = 0; i < detail::arrayAt(*obstacles, ptr).size(); ++i) {
-                readObstacle((*obstacles)[i], detail::childPointer(ptr, i));
-            }
+            detail::readObstacles(*obstacles, r.pointerOf("obstacles"), m_baseDir, m_limits, m_size,
+                                  m_scene.obstacles);
         }
 
         if (const json* pins = r.find("pins")) {
@@ -209,21 +139,39 @@ class SceneParser {
         }
         m_scene.duration = r.positive("duration", m_scene.duration);
         m_scene.frameRate = r.positive("frame_rate", m_scene.frameRate);
+        checkRunLength(r);
         r.finish();
         return std::move(m_scene);
     }
 
   private:
-    [[noreturn]] void failFile(const std::string& pointer, const Error& inner) const {
-        throw JsonError{pointer, inner.toString()};
+    /// Frame rate, frames and steps within the limits: each is a loop the run goes round.
+    void checkRunLength(ObjectReader& r) const {
+        const auto text = [](double v) { return json(v).dump(); };
+        if (m_scene.frameRate > m_limits.maxFrameRate) {
+            r.fail("frame_rate", "must be at most " + text(m_limits.maxFrameRate) +
+                                     " frames per second (found " + text(m_scene.frameRate) + ")");
+        }
+        const double frames = m_scene.duration * m_scene.frameRate;
+        if (!(frames <= static_cast<double>(m_limits.maxFrames))) {
+            r.fail("duration", "duration × frame_rate is " + text(frames) +
+                                   " frames, more than the limit of " +
+                                   std::to_string(m_limits.maxFrames));
+        }
+        const double steps = m_scene.duration / m_scene.integrator.dt;
+        if (!(steps <= static_cast<double>(m_limits.maxSteps))) {
+            r.fail("duration", "duration / integrator dt is " + text(steps) +
+                                   " steps, more than the limit of " +
+                                   std::to_string(m_limits.maxSteps));
+        }
     }
 
     void readPresets(ObjectReader& r) {
         if (const auto materialsFile = r.optionalString("materials_file")) {
             if (m_presets.empty()) {
-                auto loaded = loadMaterialPresets(m_baseDir / *materialsFile);
+                auto loaded = loadMaterialPresets(m_baseDir / *materialsFile, m_limits);
                 if (!loaded.ok()) {
-                    failFile(r.pointerOf("materials_file"), loaded.error());
+                    detail::failWith(r.pointerOf("materials_file"), loaded.error());
                 }
                 m_presets = std::move(loaded).value();
             }
@@ -287,9 +235,15 @@ class SceneParser {
                     if (nx < 1 || ny < 1) {
                         m.fail("cells", "cell counts must be at least 1");
                     }
-                    if ((nx + 1) * (ny + 1) > MAX_GRID_VERTICES) {
-                        m.fail("cells",
-                               "more than " + std::to_string(MAX_GRID_VERTICES) + " vertices");
+                    // In floating point: (nx + 1)(ny + 1) may not fit 64 bits.
+                    const double vertices =
+                        (static_cast<double>(nx) + 1) * (static_cast<double>(ny) + 1);
+                    if (vertices > static_cast<double>(m_limits.maxSceneVertices)) {
+                        m.fail("cells", "a grid of " + std::to_string(nx) + " × " +
+                                            std::to_string(ny) + " cells has " +
+                                            json(vertices).dump() +
+                                            " vertices, more than the limit of " +
+                                            std::to_string(m_limits.maxSceneVertices));
                     }
                     rect.cellsX = static_cast<int>(nx);
                     rect.cellsY = static_cast<int>(ny);
@@ -315,9 +269,9 @@ class SceneParser {
             } else if (type == "obj") {
                 const std::string path = m.string("path");
                 const double uvScale = m.positive("uv_scale", 1.0);
-                auto obj = readObj(m_baseDir / path);
+                auto obj = readObj(m_baseDir / path, m_limits.maxMeshBytes);
                 if (!obj.ok()) {
-                    failFile(m.pointerOf("path"), obj.error());
+                    detail::failWith(m.pointerOf("path"), obj.error());
                 }
                 ObjMesh& mesh = obj.value();
                 if (mesh.uvs.rows() == 0) {
@@ -337,6 +291,7 @@ class SceneParser {
             }
         }
         info.vertexCount = cloth.mesh.vertexCount();
+        m_size.add(info.vertexCount, cloth.mesh.triangles.rows(), m_limits, r.pointerOf("mesh"));
 
         // Initial positions: placement of the rest shape, or the OBJ's own positions.
         const json* placement = r.find("placement");
@@ -390,6 +345,7 @@ class SceneParser {
                 }
             }
         }
+        detail::checkCoordinates(cloth.position, m_limits, ptr, "the cloth's positions");
         if (const json* velocity = r.find("velocity")) {
             const sim::Vec3 v0 = detail::vec3At(*velocity, r.pointerOf("velocity"));
             cloth.velocity = sim::MatX3(info.vertexCount, 3);
@@ -674,198 +630,13 @@ class SceneParser {
         m_scene.seams.push_back(seam);
     }
 
-    void readObstacle(const json& value, const std::string& ptr) {
-        ObjectReader r(value, ptr);
-        r.allow({"description"});
-        r.optionalString("description");
-        sim::ObstacleSpec obstacle;
-        obstacle.name = r.string("name", "obstacle" + std::to_string(m_scene.obstacles.size()));
-        for (const sim::ObstacleSpec& other : m_scene.obstacles) {
-            if (other.name == obstacle.name) {
-                r.fail("name", "another obstacle is already named " + inQuotes(obstacle.name));
-            }
-        }
-
-        // Shape: the mesh in the obstacle's own frame.
-        bool closedDefault = true;
-        bool isObj = false;
-        double scale = 1.0;
-        {
-            ObjectReader sh(r.require("shape"), r.pointerOf("shape"));
-            const std::string type = sh.string("type");
-            if (type == "plane") {
-                const double size = sh.positive("size", 2.0);
-                const int cells = boundedInteger(sh, "cells", 1, 1, MAX_SHAPE_CELLS);
-                sim::makePlaneMesh(size, cells, obstacle.vertices, obstacle.triangles);
-                closedDefault = false;
-            } else if (type == "sphere") {
-                const double radius = sh.positive("radius");
-                const int subdivisions =
-                    boundedInteger(sh, "subdivisions", 4, 0, MAX_SPHERE_SUBDIVISIONS);
-                sim::makeSphereMesh(radius, subdivisions, obstacle.vertices, obstacle.triangles);
-            } else if (type == "box") {
-                const sim::Vec3 size = sh.vec3("size");
-                if (!(size.minCoeff() > 0)) {
-                    sh.fail("size", "every extent must be positive");
-                }
-                const int cells = boundedInteger(sh, "cells", 1, 1, MAX_SHAPE_CELLS);
-                sim::makeBoxMesh(size, cells, obstacle.vertices, obstacle.triangles);
-            } else if (type == "capsule") {
-                const double radius = sh.positive("radius");
-                const double length = sh.positive("length");
-                const int segments =
-                    boundedInteger(sh, "segments", 32, MIN_CAPSULE_SEGMENTS, MAX_CAPSULE_SEGMENTS);
-                sim::makeCapsuleMesh(radius, length, segments, obstacle.vertices,
-                                     obstacle.triangles);
-            } else if (type == "obj") {
-                const std::string path = sh.string("path");
-                scale = sh.positive("scale", 1.0);
-                auto obj = readObj(m_baseDir / path);
-                if (!obj.ok()) {
-                    failFile(sh.pointerOf("path"), obj.error());
-                }
-                if (obj.value().triangles.rows() == 0) {
-                    sh.fail("path", path + ": has no faces");
-                }
-                weldObj(obj.value(), scale, obstacle.vertices, obstacle.triangles);
-                isObj = true;
-            } else {
-                sh.fail("type", "unknown shape type " + inQuotes(type) +
-                                    " (expected \"plane\", \"sphere\", \"box\", \"capsule\" "
-                                    "or \"obj\")");
-            }
-            sh.finish();
-        }
-        const bool closedOriented =
-            sim::isClosedOriented(obstacle.triangles, static_cast<int>(obstacle.vertices.rows()));
-        if (isObj) {
-            closedDefault = closedOriented;
-        }
-        obstacle.closed = r.boolean("closed", closedDefault);
-        if (obstacle.closed && !closedOriented) {
-            r.fail("closed", "the mesh is not closed: a closed obstacle needs every edge shared "
-                             "by exactly two triangles that traverse it in opposite directions "
-                             "(leave \"closed\" out or set it to false for a two-sided surface)");
-        }
-        if (obstacle.closed && isObj &&
-            !(signedVolume6(obstacle.vertices, obstacle.triangles) > 0)) {
-            r.fail("shape", "the faces of the closed mesh point inward (negative enclosed "
-                            "volume); reverse their vertex order so that they are "
-                            "counter-clockwise seen from outside");
-        }
-
-        obstacle.thickness = r.nonNegative("thickness", obstacle.thickness);
-        obstacle.staticFriction = r.nonNegative("static_friction", obstacle.staticFriction);
-        obstacle.kineticFriction = r.nonNegative("kinetic_friction", obstacle.kineticFriction);
-
-        // Pose and motion: a static pose (one key), rigid keys, or per-vertex frames.
-        sim::ObstacleKey pose;
-        pose.translation = r.vec3("position", sim::Vec3::Zero());
-        pose.rotation = r.vec3("rotation_deg", sim::Vec3::Zero()) * RAD_PER_DEG;
-        const json* motion = r.find("motion");
-        const json* frames = r.find("frames");
-        if (motion != nullptr && frames != nullptr) {
-            r.fail("frames", "give either \"motion\" (rigid keys) or \"frames\" (per-vertex "
-                             "animation), not both");
-        }
-        if (motion != nullptr) {
-            readObstacleMotion(ObjectReader(*motion, r.pointerOf("motion")), pose, obstacle);
-        } else if (frames != nullptr) {
-            if (!isObj) {
-                r.fail("frames", "per-vertex frames need an \"obj\" shape");
-            }
-            readObstacleFrames(ObjectReader(*frames, r.pointerOf("frames")), pose, scale, obstacle);
-        } else {
-            obstacle.keys.push_back(pose);
-        }
-        r.finish();
-        m_scene.obstacles.push_back(std::move(obstacle));
-    }
-
-    /// `motion`: rigid keys; positions and rotations a key leaves out are the static pose's.
-    static void readObstacleMotion(ObjectReader r, const sim::ObstacleKey& pose,
-                                   sim::ObstacleSpec& obstacle) {
-        const std::string kp = r.pointerOf("keys");
-        const json& keys = detail::arrayAt(r.require("keys"), kp);
-        if (keys.empty()) {
-            r.fail("keys", "a motion needs at least one key");
-        }
-        for (std::size_t i = 0; i < keys.size(); ++i) {
-            ObjectReader k(keys[i], detail::childPointer(kp, i));
-            sim::ObstacleKey key;
-            key.time = k.number("time");
-            if (!obstacle.keys.empty() && !(key.time > obstacle.keys.back().time)) {
-                k.fail("time", "key times must increase (the previous key is at " +
-                                   json(obstacle.keys.back().time).dump() + " s)");
-            }
-            key.translation = k.vec3("position", pose.translation);
-            key.rotation = pose.rotation;
-            if (const json* rotation = k.find("rotation_deg")) {
-                key.rotation = detail::vec3At(*rotation, k.pointerOf("rotation_deg")) * RAD_PER_DEG;
-            }
-            k.finish();
-            obstacle.keys.push_back(key);
-        }
-        r.finish();
-    }
-
-    /// `frames`: per-vertex animation from OBJ files of the same mesh; each frame is scaled
-    /// and placed by the static pose like the shape.
-    void readObstacleFrames(ObjectReader r, const sim::ObstacleKey& pose, double scale,
-                            sim::ObstacleSpec& obstacle) const {
-        const std::string tp = r.pointerOf("times");
-        const std::string pp = r.pointerOf("paths");
-        const json& times = detail::arrayAt(r.require("times"), tp);
-        const json& paths = detail::arrayAt(r.require("paths"), pp);
-        if (times.empty()) {
-            r.fail("times", "frames need at least one time");
-        }
-        if (paths.size() != times.size()) {
-            r.fail("paths", "expected " + std::to_string(times.size()) +
-                                " paths, one per time, found " + std::to_string(paths.size()));
-        }
-        const sim::Mat3 rotation = rotationMatrix(pose.rotation);
-        const Eigen::Index nv = obstacle.vertices.rows();
-        for (std::size_t i = 0; i < times.size(); ++i) {
-            const std::string timePtr = detail::childPointer(tp, i);
-            const double t = detail::numberAt(times[i], timePtr);
-            if (!obstacle.frameTimes.empty() && !(t > obstacle.frameTimes.back())) {
-                throw JsonError{timePtr, "frame times must increase"};
-            }
-            const std::string pathPtr = detail::childPointer(pp, i);
-            if (!paths[i].is_string()) {
-                throw JsonError{pathPtr, "expected a string, found " + detail::typeName(paths[i])};
-            }
-            const std::string path = paths[i].get<std::string>();
-            auto obj = readObj(m_baseDir / path);
-            if (!obj.ok()) {
-                failFile(pathPtr, obj.error());
-            }
-            sim::MatX3 positions;
-            sim::MatX3i triangles;
-            weldObj(obj.value(), scale, positions, triangles);
-            if (positions.rows() != nv) {
-                throw JsonError{pathPtr, path + ": has " + std::to_string(positions.rows()) +
-                                             " vertices (used by faces); the shape's mesh has " +
-                                             std::to_string(nv) +
-                                             " (every frame is the same mesh, moved)"};
-            }
-            for (Eigen::Index v = 0; v < nv; ++v) {
-                positions.row(v) =
-                    (rotation * positions.row(v).transpose() + pose.translation).transpose();
-            }
-            obstacle.frameTimes.push_back(t);
-            obstacle.frames.push_back(std::move(positions));
-        }
-        r.finish();
-    }
-
     void readCollision(ObjectReader r) {
         sim::CollisionOptions& o = m_scene.collision;
         o.continuous = r.boolean("continuous", o.continuous);
         const long long iterations = r.integer("iterations", o.iterations);
-        if (iterations < 1 || iterations > std::numeric_limits<int>::max()) {
-            r.fail("iterations", "must be a positive integer");
+        if (iterations < 1 || iterations > MAX_COLLISION_ITERATIONS) {
+            r.fail("iterations",
+                   "must be an integer in [1, " + std::to_string(MAX_COLLISION_ITERATIONS) + "]");
         }
         o.iterations = static_cast<int>(iterations);
         o.proximityFactor = r.nonNegative("proximity_factor", o.proximityFactor);
@@ -908,8 +679,9 @@ class SceneParser {
         o.growth = r.positive("growth", o.growth);
         o.cgTolerance = r.positive("cg_tolerance", o.cgTolerance);
         const long long cgMax = r.integer("cg_max_iterations", o.cgMaxIterations);
-        if (cgMax < 1 || cgMax > std::numeric_limits<int>::max()) {
-            r.fail("cg_max_iterations", "must be a positive integer");
+        if (cgMax < 1 || cgMax > MAX_CG_ITERATIONS) {
+            r.fail("cg_max_iterations",
+                   "must be an integer in [1, " + std::to_string(MAX_CG_ITERATIONS) + "]");
         }
         o.cgMaxIterations = static_cast<int>(cgMax);
         if (!(o.growth > 1)) {
@@ -927,6 +699,8 @@ class SceneParser {
     std::string m_file;
     std::filesystem::path m_baseDir;
     MaterialPresets m_presets;
+    const Limits& m_limits;
+    detail::SceneSize m_size;
     sim::SceneSpec m_scene;
     std::vector<ClothInfo> m_cloths;
     std::map<std::size_t, sim::MatX3> m_placed; ///< cloth index → positions before a random start
@@ -954,7 +728,7 @@ int rectangleCorner(std::string_view corner, int cellsX, int cellsY) {
 Result<sim::SceneSpec> parseScene(std::string_view text, const std::string& file,
                                   const std::filesystem::path& baseDir,
                                   const SceneLoadOptions& options) {
-    auto parsed = detail::parseJson(std::string(text), file);
+    auto parsed = detail::parseJson(std::string(text), file, options.limits.maxJsonDepth);
     if (!parsed.ok()) {
         return parsed.error();
     }
@@ -974,7 +748,7 @@ Result<sim::SceneSpec> parseScene(std::string_view text, const std::string& file
 
 Result<sim::SceneSpec> loadScene(const std::filesystem::path& path,
                                  const SceneLoadOptions& options) {
-    auto text = readFile(path);
+    auto text = readFile(path, options.limits.maxJsonBytes);
     if (!text.ok()) {
         return text.error();
     }

@@ -2,6 +2,7 @@
 /// Scene files: the versioned JSON format of assets/scenes (documented in
 /// assets/scenes/README.md) read into a sim::SceneSpec.
 
+#include "io/limits.h"
 #include "io/materials.h"
 #include "io/result.h"
 
@@ -20,6 +21,8 @@ struct SceneLoadOptions {
     MaterialPresets presets;
     /// Run sim::Simulation::validate on the result (an error there names no JSON path).
     bool validate = true;
+    /// Bounds on sizes, counts, frames and files (docs/file-formats.md).
+    Limits limits;
 };
 
 /// Reads a scene file (`"format": "atelier-scene"`, `"version": 1`). Every key is checked:

@@ -1,6 +1,7 @@
 #include "patterns/mesh.h"
 
 #include "patterns/curve.h"
+#include "patterns/seam_check.h"
 #include "patterns/triangulate.h"
 #include "patterns/triangulation_cache.h"
 
@@ -119,6 +120,32 @@ void checkLoop(const Loop& loop, const std::string& where, std::vector<GarmentIs
     }
 }
 
+/// A panel wider or taller than MAX_PANEL_EXTENT, measured on its flattened outline (so that
+/// an arc's bulge counts). Non-finite coordinates are left to checkLoop.
+void checkExtent(const Panel& panel, const std::string& where, std::vector<GarmentIssue>& issues) {
+    if (!std::all_of(panel.outline.begin(), panel.outline.end(), segmentFinite)) {
+        return;
+    }
+    const Flat f = flatten(panel.outline, 32);
+    if (f.points.empty()) {
+        return;
+    }
+    Vec2 lo = f.points.front();
+    Vec2 hi = lo;
+    for (const Vec2& q : f.points) {
+        lo = lo.cwiseMin(q);
+        hi = hi.cwiseMax(q);
+    }
+    const double extent = (hi - lo).maxCoeff();
+    if (!(extent <= MAX_PANEL_EXTENT)) {
+        std::ostringstream m;
+        m.precision(4);
+        m << "panel \"" << panel.name << "\" is " << extent << " m across, more than the "
+          << MAX_PANEL_EXTENT << " m a panel may span (outline points are millimetres)";
+        issues.push_back({where, m.str()});
+    }
+}
+
 /// A point on a panel's boundary: loop, segment, parameter (t in [0, 1)).
 struct BoundaryKey {
     int loop = 0;
@@ -184,6 +211,10 @@ std::vector<GarmentIssue> validateGarment(const Garment& garment) {
             issues.push_back({pointer(pi, "/name"), "duplicate panel name \"" + panel.name + "\""});
         }
         const std::size_t before = issues.size();
+        checkExtent(panel, pointer(pi, "/outline"), issues);
+        if (issues.size() != before) {
+            continue;
+        }
         checkLoop(panel.outline, pointer(pi, "/outline"), issues);
         if (issues.size() != before) {
             continue;
@@ -300,6 +331,9 @@ std::vector<GarmentIssue> validateGarment(const Garment& garment) {
     }
     if (!(garment.easeTolerance >= 0)) {
         issues.push_back({"/ease_tolerance_mm", "must be zero or positive"});
+    }
+    if (issues.empty()) {
+        checkSewnRanges(garment, issues);
     }
     return issues;
 }

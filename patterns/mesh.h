@@ -60,9 +60,14 @@ struct GarmentIssue {
     std::string message;
 };
 
-/// Checks the garment's geometry and references: zero-length segments, outlines that
-/// intersect themselves, holes and internal lines outside their panel, seams naming missing
-/// panels or segments, darts out of range, parameters not finite. Empty when it is fine.
+/// Largest width or height of a panel's outline [m]: beyond it a file is in the wrong units or
+/// broken, and meshing it at a particle distance would not end.
+inline constexpr double MAX_PANEL_EXTENT = 10.0;
+
+/// Checks the garment's geometry and references: panels over MAX_PANEL_EXTENT, zero-length
+/// segments, outlines that intersect themselves, holes and internal lines outside their panel,
+/// seams naming missing panels or segments, darts out of range, parameters not finite, and
+/// an outline range sewn twice (patterns/seam_check.h). Empty when it is fine.
 std::vector<GarmentIssue> validateGarment(const Garment& garment);
 
 /// Meshes every panel. Returns what went wrong (naming the panel) or nullopt.

@@ -8,6 +8,14 @@
 namespace atelier::io {
 namespace {
 
+/// One triangle in the z = 0 plane.
+void oneTriangle(sim::MatX3& positions, sim::MatX3i& triangles) {
+    positions.resize(3, 3);
+    positions << 0, 0, 0, 1, 0, 0, 0, 1, 0;
+    triangles.resize(1, 3);
+    triangles << 0, 1, 2;
+}
+
 Result<ObjMesh> readText(const test::TempDir& dir, const std::string& text) {
     return readObj(dir.write("mesh.obj", text));
 }
@@ -59,12 +67,26 @@ TEST(Obj, RoundTripWithUvsAndGroups) {
     EXPECT_EQ(mesh.groups[1].firstTriangle, half);
 }
 
+TEST(Obj, GroupNamesAndCommentsCannotInjectStatements) {
+    // A cloth or panel name with a newline used to write `v` and `f` lines of its own.
+    sim::MatX3 positions;
+    sim::MatX3i triangles;
+    oneTriangle(positions, triangles);
+    ObjWriteOptions options;
+    options.normals = false;
+    options.groups.push_back({"front\nv 9 9 9\nf 1 2 4 #x", 0, 1});
+    options.comment = "a\rv 1 1 1\nb";
+    const auto text = formatObj(positions, triangles, options);
+    ASSERT_TRUE(text.ok());
+    EXPECT_EQ(text.value(), "# a v 1 1 1\n# b\nv 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                            "g front_v_9_9_9_f_1_2_4__x\nf 1 2 3\n");
+}
+
 TEST(Obj, RoundTripWithoutUvsOrNormals) {
     test::TempDir dir;
-    sim::MatX3 positions(3, 3);
-    positions << 0, 0, 0, 1, 0, 0, 0, 1, 0;
-    sim::MatX3i triangles(1, 3);
-    triangles << 0, 1, 2;
+    sim::MatX3 positions;
+    sim::MatX3i triangles;
+    oneTriangle(positions, triangles);
     ObjWriteOptions options;
     options.normals = false;
     ASSERT_TRUE(writeObj(dir / "t.obj", positions, triangles, options).ok());

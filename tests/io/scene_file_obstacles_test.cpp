@@ -323,7 +323,7 @@ TEST(SceneFileObstacles, ErrorsNameTheJsonPointer) {
     expectError(parse(sceneText("", "", R"(, "self_collision": 1)")), "/cloths/0/self_collision",
                 "true or false");
     expectError(parse(sceneText("", R"(, "collision": {"iterations": 0})")),
-                "/collision/iterations", "positive integer");
+                "/collision/iterations", "an integer in [1, 1000]");
     expectError(parse(sceneText("", R"(, "collision": {"iterations": 1.5})")),
                 "/collision/iterations", "integer");
     expectError(parse(sceneText("", R"(, "collision": {"extraction_speed": 0})")),

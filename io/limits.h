@@ -1,0 +1,43 @@
+#pragma once
+/// Bounds on what an input file may ask of Atelier, so that a hostile or mistaken file fails
+/// with an error naming the value instead of crashing, hanging or running away with memory.
+/// The defaults are far above every sample and documented in docs/file-formats.md; a caller
+/// may raise or lower them (the loaders take a `Limits`).
+
+#include <cstdint>
+
+namespace atelier::io {
+
+inline constexpr std::uint64_t MIB = 1024 * 1024;
+
+struct Limits {
+    /// Largest JSON file read (scenes, projects, fabric presets, measurements) [bytes].
+    std::uint64_t maxJsonBytes = 64 * MIB;
+    /// Largest mesh file read (OBJ cloths, obstacles, body meshes) [bytes].
+    std::uint64_t maxMeshBytes = 256 * MIB;
+    /// Deepest nesting of JSON arrays and objects inside each other.
+    int maxJsonDepth = 256;
+    /// Largest extent (bounding-box side) of a body mesh or an OBJ obstacle [m]; a body is
+    /// metres and Y up, so a larger one is a unit mistake or a broken file.
+    double maxBodyExtent = 3.0;
+    /// Largest coordinate of a generated obstacle shape (plane, sphere, box, capsule) and of
+    /// any placed cloth or obstacle, from the origin [m].
+    double maxSceneCoordinate = 1000.0;
+    /// Cloths and obstacles in one scene.
+    int maxCloths = 256;
+    int maxObstacles = 256;
+    /// Cloth vertices and triangles over the whole scene (every cloth together).
+    long long maxSceneVertices = 4'000'000;
+    long long maxSceneTriangles = 8'000'000;
+    /// Largest output frame rate of a scene [1/s].
+    double maxFrameRate = 1000.0;
+    /// Most output frames of a scene (duration × frame rate).
+    long long maxFrames = 100'000;
+    /// Most steps the nominal step asks for (scene duration / dt; project time limit / dt):
+    /// a run that could not end. Long runs meant to be stopped by hand stay within it.
+    long long maxSteps = 1'000'000'000;
+    /// Most triangles a project's garment may ask for (panel area over the particle distance).
+    long long maxGarmentTriangles = 4'000'000;
+};
+
+} // namespace atelier::io
