@@ -1,6 +1,7 @@
 #include "io/atomic_file.h"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -73,6 +74,31 @@ Error tooLarge(const std::filesystem::path& path, std::uint64_t size, std::uint6
                      std::to_string(maxBytes) + " bytes)"};
 }
 
+/// Removes `.NAME.tmp-PID-*` files in `dir` left by processes that no longer run (a write
+/// killed before its rename). Files of running processes, this one included, are kept.
+void removeStaleTempFiles(const std::filesystem::path& dir, const std::string& prefix) {
+    std::error_code ec;
+    for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+        const std::string name = entry.path().filename().string();
+        if (name.rfind(prefix, 0) != 0) {
+            continue;
+        }
+        const std::size_t dash = name.find('-', prefix.size());
+        if (dash == std::string::npos || dash == prefix.size() || dash - prefix.size() > 9) {
+            continue;
+        }
+        pid_t pid = 0;
+        bool digits = true;
+        for (std::size_t k = prefix.size(); k < dash; ++k) {
+            digits = digits && name[k] >= '0' && name[k] <= '9';
+            pid = digits ? pid * 10 + (name[k] - '0') : pid;
+        }
+        if (digits && pid > 0 && pid != ::getpid() && ::kill(pid, 0) != 0 && errno == ESRCH) {
+            std::filesystem::remove(entry.path(), ec);
+        }
+    }
+}
+
 } // namespace
 
 Result<void> writeFileAtomically(const std::filesystem::path& path, std::string_view contents) {
@@ -80,10 +106,11 @@ Result<void> writeFileAtomically(const std::filesystem::path& path, std::string_
         return Error{path.string(), "", "not a file path"};
     }
     const std::filesystem::path dir = path.parent_path().empty() ? "." : path.parent_path();
-    std::string name = path.filename().string();
-    name.insert(name.begin(), '.');
-    name.append(".tmp-XXXXXX");
-    std::string tmpl = (dir / name).string();
+    std::string prefix = path.filename().string();
+    prefix.insert(prefix.begin(), '.');
+    prefix.append(".tmp-");
+    removeStaleTempFiles(dir, prefix);
+    std::string tmpl = (dir / (prefix + std::to_string(::getpid()) + "-XXXXXX")).string();
     const int fd = ::mkstemp(tmpl.data());
     if (fd < 0) {
         return systemError(path, "cannot create a temporary file in " + dir.string());

@@ -1,6 +1,7 @@
 #include "io/report.h"
 
 #include "io/atomic_file.h"
+#include "io/json_text.h"
 
 #include "sim/simulation.h"
 
@@ -62,6 +63,7 @@ std::string formatReport(const sim::Simulation& simulation, const ReportFields& 
     j["cloths"] = std::move(cloths);
     // Collision figures (0 and [] without a collision stage).
     j["max_penetration_m"] = number(stats.maxPenetration);
+    j["contact_layer_crush_m"] = number(simulation.contactLayerCrush());
     long withObstacles = 0;
     j["intersecting_triangle_pairs"] = simulation.intersectingTrianglePairs(&withObstacles);
     j["intersecting_pairs_with_obstacles"] = withObstacles; // of which cloth–obstacle
@@ -89,7 +91,7 @@ std::string formatReport(const sim::Simulation& simulation, const ReportFields& 
             },
             value);
     }
-    return j.dump(2) + "\n";
+    return jsonText(j);
 }
 
 Result<void> writeReport(const std::filesystem::path& path, const sim::Simulation& simulation,

@@ -9,6 +9,7 @@
 #include <map>
 #include <string>
 #include <variant>
+#include <vector>
 
 namespace atelier::sim {
 class Simulation;
@@ -17,7 +18,8 @@ class Simulation;
 namespace atelier::io {
 
 /// A value of an extra report field.
-using ReportValue = std::variant<std::nullptr_t, bool, std::int64_t, double, std::string>;
+using ReportValue =
+    std::variant<std::nullptr_t, bool, std::int64_t, double, std::string, std::vector<std::string>>;
 /// Extra fields added at the top level of a report (they override built-in ones).
 using ReportFields = std::map<std::string, ReportValue>;
 
@@ -28,11 +30,14 @@ using ReportFields = std::map<std::string, ReportValue>;
 /// `active_stages` (list), `stage_seconds` (object: stage → [s]), `integrator`, `error` (string
 /// or null), `vertices`, `triangles`, `cloths` (list of names); collision figures, always
 /// present (0 or [] without a collision stage): `max_penetration_m` (RunStats::maxPenetration:
-/// deepest cloth vertex inside an obstacle beyond its thickness over the output frames [m]),
-/// `intersecting_triangle_pairs` (Simulation::intersectingTrianglePairs() at the final state,
-/// computed here), `collision_time_fraction` (stage_seconds["collision"] / wall_time_s, clamped
-/// to [0, 1]; 0 when the wall time is 0), `contacts` (active contacts after the last step),
-/// `obstacles` (list of names); then `extra`. Non-finite numbers are written as null.
+/// deepest cloth vertex inside an obstacle beyond the obstacle's own thickness over the output
+/// frames [m]), `contact_layer_crush_m` (Simulation::contactLayerCrush() at the final state:
+/// deepest cloth vertex inside the obstacle's plus the cloth's thickness, where a resting
+/// cloth sits [m]), `intersecting_triangle_pairs` (Simulation::intersectingTrianglePairs() at
+/// the final state, computed here), `collision_time_fraction` (stage_seconds["collision"] /
+/// wall_time_s, clamped to [0, 1]; 0 when the wall time is 0), `contacts` (active contacts
+/// after the last step), `obstacles` (list of names); then `extra`. Non-finite numbers are
+/// written as null; bytes that are not UTF-8 in strings (a file name) as U+FFFD.
 std::string formatReport(const sim::Simulation& simulation, const ReportFields& extra = {});
 
 /// Writes `formatReport` to `path` atomically.

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -830,6 +831,33 @@ std::optional<std::string> meshGarment(const Garment& garment, const MeshOptions
     resolveSeamPairs(pending, points, vertexOf, out);
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return std::nullopt;
+}
+
+MeshEstimate estimateGarmentMesh(const Garment& garment, double particleDistance) {
+    double area = 0;
+    double length = 0;
+    for (const Panel& panel : garment.panels) {
+        area += std::abs(loopArea(panel.outline));
+        for (const Loop& hole : panel.holes) {
+            area -= std::abs(loopArea(hole));
+        }
+        for (const Segment& s : panel.outline) {
+            length += arcLength(s);
+        }
+    }
+    const double h = particleDistance;
+    const double perVertex = std::sqrt(3.0) / 2 * h * h; // area per interior vertex [m²]
+    const double vertices = area / perVertex + length / h;
+    const double triangles = 2 * area / perVertex;
+    const auto count = [](double n) {
+        const double most = static_cast<double>(std::numeric_limits<long>::max() / 2);
+        return std::isfinite(n) && n >= 0 && n < most ? static_cast<long>(std::llround(n))
+                                                      : static_cast<long>(most);
+    };
+    if (!(h > 0) || !std::isfinite(h)) {
+        return {count(-1), count(-1)};
+    }
+    return {count(vertices), count(triangles)};
 }
 
 } // namespace atelier::patterns

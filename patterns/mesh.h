@@ -74,6 +74,19 @@ std::vector<GarmentIssue> validateGarment(const Garment& garment);
 std::optional<std::string> meshGarment(const Garment& garment, const MeshOptions& options,
                                        GarmentMesh& out);
 
+/// A mesh's size, estimated before meshing.
+struct MeshEstimate {
+    long vertices = 0;
+    long triangles = 0;
+};
+
+/// The size meshGarment gives at `particleDistance` [m], from the panels' areas A and outline
+/// lengths L without triangulating (microseconds): the mesher's triangles are near-equilateral
+/// with a mean edge ≈ h, so a panel holds about 2A/(√3h²) interior vertices, L/h boundary
+/// vertices and 4A/(√3h²) triangles. Within ±20% of the samples' meshes at 10 and 20 mm; a
+/// distance ≤ 0 or not finite gives the largest count.
+MeshEstimate estimateGarmentMesh(const Garment& garment, double particleDistance);
+
 /// Smallest interior angle over the triangles of a 2D mesh [deg].
 double minTriangleAngleDeg(const sim::MatX2& points, const sim::MatX3i& triangles);
 

@@ -801,13 +801,21 @@ long Simulation::intersectingTrianglePairs(long* withObstacles) const {
     if (withObstacles != nullptr) {
         *withObstacles = 0;
     }
-    return m_impl->collision
-               ? m_impl->collision->intersectingTrianglePairs(m_impl->x, withObstacles)
-               : 0;
+    return m_impl->collision ? m_impl->collision->intersectingTrianglePairs(
+                                   m_impl->x, m_impl->welds.groups(), withObstacles)
+                             : 0;
 }
 
 double Simulation::penetration() const {
     return m_impl->collision ? m_impl->collision->penetration(m_impl->x) : 0.0;
+}
+
+double Simulation::contactLayerCrush() const {
+    return m_impl->collision ? m_impl->collision->contactLayerCrush(m_impl->x) : 0.0;
+}
+
+bool Simulation::seamPairWelded(std::size_t k) const {
+    return m_impl->welds.welded(k);
 }
 
 const MatX3& Simulation::obstaclePositions(int k) const {

@@ -186,11 +186,18 @@ class Simulation {
     /// The collision stage, or null when the scene has no obstacles and no self-collision.
     const CollisionStage* collision() const;
     /// Exact count of intersecting triangle pairs now (cloth–cloth and cloth–obstacle;
-    /// triangles sharing a vertex excluded); 0 without a collision stage.
+    /// triangles sharing a vertex excluded, welded seam vertices being one vertex, seam
+    /// partners not yet welded two); 0 without a collision stage.
     /// `withObstacles`, if given, receives how many of them are cloth–obstacle pairs.
     long intersectingTrianglePairs(long* withObstacles = nullptr) const;
     /// Deepest penetration now (see RunStats::maxPenetration) [m].
     double penetration() const;
+    /// Deepest cloth vertex inside the contact layer now: as penetration() but counted from
+    /// the obstacle's thickness plus the cloth's, where a resting cloth sits [m]; 0 without
+    /// obstacles.
+    double contactLayerCrush() const;
+    /// Whether seam pair k (SceneSpec::seams) is welded now.
+    bool seamPairWelded(std::size_t k) const;
     /// World positions of obstacle k now (|V_k|×3).
     const MatX3& obstaclePositions(int k) const;
     /// The force models in the pipeline (for benchmarks and tests).

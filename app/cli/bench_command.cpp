@@ -139,6 +139,10 @@ void addDrape(CLI::App& bench) {
         ->check(CLI::NonNegativeNumber);
     cmd->add_option("--busy", o->busy, "Processes that each keep a core busy meanwhile")
         ->check(CLI::Range(0, 64));
+    cmd->add_option("--max-vertices", o->maxVertices,
+                    "Refuse a garment whose mesh is estimated larger than this")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
     cmd->add_option("--spin-us", o->spinUs,
                     "The engine threads' spin before sleeping [us] (default: the pool's)")
         ->check(CLI::NonNegativeNumber);

@@ -1,9 +1,12 @@
 #include "app/cli/bench_drape.h"
 
 #include "app/cli/commands.h"
+#include "app/cli/interrupt.h"
+#include "app/cli/preflight.h"
 
 #include "io/atomic_file.h"
 #include "io/body_file.h"
+#include "io/json_text.h"
 #include "io/project_file.h"
 
 #include "patterns/drape_session.h"
@@ -72,6 +75,11 @@ int runDrapeBench(const DrapeBenchOptions& o) {
         std::cerr << "error: could not start " << o.busy << " busy processes\n";
         return EXIT_RUN_FAILED;
     }
+    const InterruptGuard interrupts; // a signal stops the drape; its figures so far are written
+    if (auto problem = checkOutputs({{"project", o.project}}, {{"--out", o.out}})) {
+        std::cerr << "error: " << *problem << "\n";
+        return EXIT_BAD_INPUT;
+    }
     auto loaded = io::loadProject(o.project);
     if (!loaded.ok()) {
         std::cerr << "error: " << loaded.error().toString() << "\n";
@@ -86,6 +94,13 @@ int runDrapeBench(const DrapeBenchOptions& o) {
     }
     if (o.dt > 0) {
         project.drape.dt = o.dt;
+    }
+    const double h = project.drape.particleDistance;
+    if (auto problem = checkVertexLimit(
+            "the garment meshed at a particle distance of " + std::to_string(1000 * h) + " mm",
+            patterns::estimateGarmentMesh(project.garment, h).vertices, o.maxVertices)) {
+        std::cerr << "error: " << *problem << "\n";
+        return EXIT_BAD_INPUT;
     }
     if (o.threads > 0) {
         sim::setThreadCount(o.threads);
@@ -123,8 +138,8 @@ int runDrapeBench(const DrapeBenchOptions& o) {
     }
     std::vector<double> stepSeconds;
     const auto start = Clock::now();
-    patterns::DrapeStatus status;
-    for (;;) {
+    patterns::DrapeStatus status = patterns::DrapeStatus::Running;
+    while (!InterruptGuard::interrupted()) {
         const auto stepStart = Clock::now();
         status = session.step();
         stepSeconds.push_back(since(stepStart));
@@ -156,6 +171,7 @@ int runDrapeBench(const DrapeBenchOptions& o) {
     j["longest_read_s"] = longestRead;
     j["status"] =
         std::string(patterns::phaseName(f.phase)) + (f.timeLimitReached ? " (time limit)" : "");
+    j["interrupted"] = InterruptGuard::interrupted();
     j["sim_time_s"] = f.time;
     j["wall_time_s"] = wall;
     j["sim_seconds_per_wall_second"] = wall > 0 ? f.time / wall : 0.0;
@@ -167,12 +183,17 @@ int runDrapeBench(const DrapeBenchOptions& o) {
     j["seam_gap_max_m"] = f.seamGapMax;
     j["intersecting_triangle_pairs"] = session.simulation()->intersectingTrianglePairs();
     j["largest_forced_weld_m"] = session.simulation()->stats().largestForcedWeld;
-    const std::string text = j.dump(2) + "\n";
+    const std::string text = io::jsonText(j);
     if (o.out.empty()) {
         std::cout << text;
     } else if (auto written = io::writeFileAtomically(o.out, text); !written.ok()) {
         std::cerr << "error: " << written.error().toString() << "\n";
         return EXIT_RUN_FAILED;
+    }
+    if (InterruptGuard::interrupted()) {
+        std::cerr << "bench drape: interrupted (" << InterruptGuard::signalName()
+                  << ") at t = " << f.time << " s; the figures so far are written\n";
+        return EXIT_CANCELLED;
     }
     return status == patterns::DrapeStatus::Failed ? EXIT_RUN_FAILED : EXIT_OK;
 }

@@ -5,6 +5,8 @@
 /// viewport does and with other processes keeping cores busy, as on a desktop.
 /// Plain C++ (no CLI11): the parsing is in bench_command.cpp.
 
+#include "app/cli/preflight.h"
+
 #include <string>
 
 namespace atelier::app {
@@ -19,6 +21,7 @@ struct DrapeBenchOptions {
     double readerHz = 0;            ///< snapshots read by another thread per second (0: none)
     int busy = 0;                   ///< processes spinning on a core each during the drape
     int spinUs = -1;                ///< the pool's spin before sleeping [µs] (< 0: default)
+    long maxVertices = DEFAULT_MAX_VERTICES; ///< refuse meshes estimated larger
 };
 
 /// Runs the benchmark; returns an exit code (commands.h) and writes the JSON figures.

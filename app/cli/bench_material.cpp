@@ -3,6 +3,7 @@
 #include "app/cli/commands.h"
 
 #include "io/atomic_file.h"
+#include "io/json_text.h"
 
 #include "sim/forces/fem.h"
 #include "sim/forces/springs.h"
@@ -422,7 +423,7 @@ int runMaterialBench(const MaterialBenchOptions& options) {
     j["residual"] = r.residual;
     j["converged"] = r.converged;
     j["error"] = r.error.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.error);
-    const std::string text = j.dump(2) + "\n";
+    const std::string text = io::jsonText(j);
 
     char line[256];
     std::snprintf(line, sizeof line,

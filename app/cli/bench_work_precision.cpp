@@ -1,6 +1,8 @@
 #include "app/cli/bench_work_precision.h"
 
 #include "app/cli/commands.h"
+#include "app/cli/interrupt.h"
+#include "app/cli/preflight.h"
 
 #include "io/atomic_file.h"
 #include "io/scene_file.h"
@@ -35,8 +37,9 @@ using Clock = std::chrono::steady_clock;
 struct RunOutcome {
     WorkPrecisionRow row;
     sim::MatX3 positions;
-    bool completed = false; ///< reached the end time with a finite state
-    bool timedOut = false;  ///< stopped at the wall-time cap
+    bool completed = false;   ///< reached the end time with a finite state
+    bool timedOut = false;    ///< stopped at the wall-time cap
+    bool interrupted = false; ///< stopped by SIGINT or SIGTERM
     std::string error;
 };
 
@@ -67,6 +70,10 @@ RunOutcome runScene(const sim::SceneSpec& scene, double duration, double maxRunS
             diverged = true;
             break;
         }
+        if (InterruptGuard::interrupted()) {
+            out.interrupted = true;
+            break;
+        }
         if (std::chrono::duration<double>(Clock::now() - start).count() > maxRunSeconds) {
             timedOut = simulation.time() < duration - 1e-12 * std::max(1.0, duration);
             break;
@@ -82,7 +89,9 @@ RunOutcome runScene(const sim::SceneSpec& scene, double duration, double maxRunS
                     out.positions.allFinite();
     out.row.stable = out.completed && (!fixedStep || stats.rejectedSteps == 0);
     out.timedOut = timedOut;
-    if (diverged) {
+    if (out.interrupted) {
+        out.error = std::string("interrupted (") + InterruptGuard::signalName() + ")";
+    } else if (diverged) {
         out.error =
             "diverged: a step was rejected at t = " + std::to_string(simulation.time()) + " s";
     } else if (timedOut) {
@@ -313,9 +322,42 @@ std::string workPrecisionSvg(const std::vector<WorkPrecisionRow>& rows, const st
     return s.str();
 }
 
+/// The sweep's CSV: header comments (scene, reference run, notes, columns), then one row per
+/// run.
+std::string workPrecisionCsv(const WorkPrecisionOptions& o, double duration, double referenceMaxDt,
+                             const WorkPrecisionRow& reference,
+                             const std::vector<std::string>& notes,
+                             const std::vector<WorkPrecisionRow>& rows) {
+    std::ostringstream csv;
+    csv << "# atelier-cli bench work-precision " << o.scene << "\n";
+    csv << "# duration_s=" << formatNumber(duration) << " threads=" << sim::threadCount() << "\n";
+    csv << "# reference: rk45 (Cash-Karp) tolerance=" << formatNumber(o.referenceTolerance)
+        << " m max_dt=" << formatNumber(referenceMaxDt)
+        << " s; wall_s=" << formatNumber(reference.wallSeconds)
+        << " force_evaluations=" << reference.forceEvaluations << "\n";
+    for (const std::string& note : notes) {
+        csv << "# " << note << "\n";
+    }
+    csv << "# setting: fixed step [s] (euler, midpoint, rk4, implicit-euler) or tolerance [m] "
+           "(rk45); errors: |x - x_ref| over vertices at the end time; stable: finished, finite "
+           "and (fixed step) no rejected step\n";
+    csv << "integrator,setting,wall_s,force_evaluations,rms_error_m,max_error_m,stable\n";
+    for (const WorkPrecisionRow& r : rows) {
+        csv << r.integrator << "," << formatNumber(r.setting) << "," << formatNumber(r.wallSeconds)
+            << "," << r.forceEvaluations << "," << formatNumber(r.rmsError) << ","
+            << formatNumber(r.maxError) << "," << (r.stable ? "true" : "false") << "\n";
+    }
+    return csv.str();
+}
+
 int runWorkPrecision(const WorkPrecisionOptions& o) {
+    const InterruptGuard interrupts; // a signal stops the sweep; the runs so far are written
     if (o.out.empty()) {
         std::cerr << "error: bench work-precision: --out is required\n";
+        return EXIT_BAD_INPUT;
+    }
+    if (auto problem = checkOutputs({{"scene", o.scene}}, {{"--out", o.out}, {"--plot", o.plot}})) {
+        std::cerr << "error: " << *problem << "\n";
         return EXIT_BAD_INPUT;
     }
     std::vector<sim::IntegratorKind> kinds;
@@ -363,6 +405,11 @@ int runWorkPrecision(const WorkPrecisionOptions& o) {
               << " s\n";
     const RunOutcome reference =
         runScene(refScene, duration, std::numeric_limits<double>::infinity());
+    if (reference.interrupted) {
+        std::cerr << "bench work-precision: " << reference.error
+                  << " during the reference run; nothing measured, nothing written\n";
+        return EXIT_CANCELLED;
+    }
     if (!reference.completed) {
         std::cerr << "error: " << o.scene << ": the reference run failed: " << reference.error
                   << "\n";
@@ -373,7 +420,11 @@ int runWorkPrecision(const WorkPrecisionOptions& o) {
 
     std::vector<WorkPrecisionRow> rows;
     std::vector<std::string> notes; // settings skipped or not measured, for the CSV header
+    bool interrupted = false;
     for (sim::IntegratorKind kind : kinds) {
+        if (interrupted) {
+            break;
+        }
         if (kind != sim::IntegratorKind::Rk45) {
             for (int k = 0; FIRST_DT * std::ldexp(1.0, -k) >= o.minDt * (1 - 1e-9); ++k) {
                 const double dt = FIRST_DT * std::ldexp(1.0, -k);
@@ -394,6 +445,14 @@ int runWorkPrecision(const WorkPrecisionOptions& o) {
                 scene.integrator.maxDt = std::max(base.integrator.maxDt, setting);
             }
             RunOutcome run = runScene(scene, duration, o.maxRunSeconds);
+            if (run.interrupted) {
+                std::cerr << "bench work-precision: " << run.error << "; writing the "
+                          << rows.size() << " runs measured\n";
+                notes.push_back(run.row.integrator + " " + formatNumber(setting) + ": " +
+                                run.error + "; the sweep stops here");
+                interrupted = true;
+                break;
+            }
             if (run.completed) {
                 const Eigen::VectorXd d = (run.positions - reference.positions).rowwise().norm();
                 run.row.rmsError = std::sqrt(d.squaredNorm() / static_cast<double>(d.size()));
@@ -417,26 +476,9 @@ int runWorkPrecision(const WorkPrecisionOptions& o) {
         }
     }
 
-    std::ostringstream csv;
-    csv << "# atelier-cli bench work-precision " << o.scene << "\n";
-    csv << "# duration_s=" << formatNumber(duration) << " threads=" << sim::threadCount() << "\n";
-    csv << "# reference: rk45 (Cash-Karp) tolerance=" << formatNumber(o.referenceTolerance)
-        << " m max_dt=" << formatNumber(refScene.integrator.maxDt)
-        << " s; wall_s=" << formatNumber(reference.row.wallSeconds)
-        << " force_evaluations=" << reference.row.forceEvaluations << "\n";
-    for (const std::string& note : notes) {
-        csv << "# " << note << "\n";
-    }
-    csv << "# setting: fixed step [s] (euler, midpoint, rk4, implicit-euler) or tolerance [m] "
-           "(rk45); errors: |x - x_ref| over vertices at the end time; stable: finished, finite "
-           "and (fixed step) no rejected step\n";
-    csv << "integrator,setting,wall_s,force_evaluations,rms_error_m,max_error_m,stable\n";
-    for (const WorkPrecisionRow& r : rows) {
-        csv << r.integrator << "," << formatNumber(r.setting) << "," << formatNumber(r.wallSeconds)
-            << "," << r.forceEvaluations << "," << formatNumber(r.rmsError) << ","
-            << formatNumber(r.maxError) << "," << (r.stable ? "true" : "false") << "\n";
-    }
-    if (auto written = io::writeFileAtomically(o.out, csv.str()); !written.ok()) {
+    const std::string csv =
+        workPrecisionCsv(o, duration, refScene.integrator.maxDt, reference.row, notes, rows);
+    if (auto written = io::writeFileAtomically(o.out, csv); !written.ok()) {
         std::cerr << "error: " << written.error().toString() << "\n";
         return EXIT_RUN_FAILED;
     }
@@ -449,7 +491,7 @@ int runWorkPrecision(const WorkPrecisionOptions& o) {
             return EXIT_RUN_FAILED;
         }
     }
-    return EXIT_OK;
+    return interrupted ? EXIT_CANCELLED : EXIT_OK;
 }
 
 } // namespace atelier::app

@@ -1,8 +1,11 @@
 /// `atelier-cli body`: writes the parametric mannequin for a set of measurements.
 #include "app/cli/commands.h"
+#include "app/cli/interrupt.h"
+#include "app/cli/preflight.h"
 
 #include "io/atomic_file.h"
 #include "io/body_file.h"
+#include "io/json_text.h"
 #include "io/obj.h"
 
 #include "patterns/body_measure.h"
@@ -32,6 +35,14 @@ nlohmann::ordered_json vec(const sim::Vec3& v) {
 }
 
 int runBody(const BodyOptions& options) {
+    // A signal while the body is made (seconds; it cannot stop midway) stops the command once
+    // it is made: the body is written, marked interrupted, and the exit code is 130.
+    const InterruptGuard interrupts;
+    if (auto problem = checkOutputs({{"--measurements", options.measurements}},
+                                    {{"--out", options.out}, {"--report", options.report}})) {
+        std::cerr << "error: " << *problem << "\n";
+        return EXIT_BAD_INPUT;
+    }
     patterns::BodySource source;
     source.base = options.base;
     if (!options.measurements.empty()) {
@@ -62,6 +73,11 @@ int runBody(const BodyOptions& options) {
                      std::string(name).c_str(), m.requested.*member, m.measured.*member);
     }
     int code = EXIT_OK;
+    if (InterruptGuard::interrupted()) {
+        std::cerr << "body: interrupted (" << InterruptGuard::signalName()
+                  << "); writing the body made\n";
+        code = EXIT_CANCELLED;
+    }
     if (!options.out.empty()) {
         io::ObjWriteOptions obj;
         obj.comment = "Atelier mannequin (" + source.base + "), metres, Y up, facing +z";
@@ -75,6 +91,7 @@ int runBody(const BodyOptions& options) {
     if (!options.report.empty()) {
         nlohmann::ordered_json r;
         r["base"] = source.base;
+        r["interrupted"] = InterruptGuard::interrupted();
         r["vertices"] = m.body.vertices.rows();
         r["triangles"] = m.body.triangles.rows();
         r["watertight"] = topo.watertight();
@@ -105,7 +122,7 @@ int runBody(const BodyOptions& options) {
             slots.push_back(slot);
         }
         r["slots"] = slots;
-        auto written = io::writeFileAtomically(options.report, r.dump(2) + "\n");
+        auto written = io::writeFileAtomically(options.report, io::jsonText(r));
         if (!written.ok()) {
             std::cerr << "error: " << written.error().toString() << "\n";
             code = EXIT_RUN_FAILED;

@@ -4,6 +4,7 @@
 /// (`DRAPED.body.obj`) and a report.
 
 #include "app/cli/commands.h"
+#include "app/cli/preflight.h"
 #include "app/cli/run_loop.h"
 
 #include "io/body_file.h"
@@ -18,12 +19,15 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
 namespace atelier::app {
 
@@ -37,7 +41,43 @@ struct DrapeOptions {
     double timeLimit = -1;          ///< override of the project's time limit [s]; < 0 = keep
     double particleDistanceMm = -1; ///< override of the project's particle distance [mm]
     std::string framesDir;          ///< write the garment at every frame here (OBJ)
+    long maxVertices = DEFAULT_MAX_VERTICES; ///< refuse meshes estimated larger
 };
+
+/// `DRAPED.obj` → `DRAPED.body.obj`.
+std::filesystem::path bodyPath(const std::string& out) {
+    std::filesystem::path path = out;
+    return path.replace_extension(".body.obj");
+}
+
+/// The checks before any work (exit 2 with the message): outputs against the inputs (the
+/// project and its body mesh) and each other, and the estimated mesh size.
+std::optional<std::string> checkBeforeWork(const DrapeOptions& options,
+                                           const patterns::Project& project) {
+    std::vector<NamedPath> inputs = {{"project", options.project}};
+    if (!project.body.meshPath.empty()) {
+        inputs.push_back(
+            {"the project's body mesh",
+             std::filesystem::absolute(options.project).parent_path() / project.body.meshPath});
+    }
+    std::vector<NamedPath> outputs = {{"--out", options.out}, {"--report", options.report}};
+    if (!options.out.empty()) {
+        outputs.push_back({"--out (its body)", bodyPath(options.out)});
+    }
+    if (auto problem = checkOutputs(inputs, outputs)) {
+        return problem;
+    }
+    inputs.insert(inputs.end(), outputs.begin(), outputs.end());
+    if (auto problem = checkOutputFolder({"--frames-dir", options.framesDir}, inputs)) {
+        return problem;
+    }
+    const double h = project.drape.particleDistance;
+    char what[96];
+    std::snprintf(what, sizeof what, "the garment meshed at a particle distance of %g mm",
+                  1000 * h);
+    return checkVertexLimit(what, patterns::estimateGarmentMesh(project.garment, h).vertices,
+                            options.maxVertices);
+}
 
 /// The draped garment as one OBJ: triangles offset per panel, pattern coordinates as UVs, one
 /// group per panel.
@@ -76,7 +116,8 @@ patterns::BodyProvider projectBodies(const std::string& projectFile) {
 io::ReportFields drapeReportFields(const DrapeOptions& options,
                                    const patterns::DrapeSession& session,
                                    const patterns::DrapeFigures& f, RunEnd end, int code,
-                                   double wallSeconds, double totalSeconds) {
+                                   const std::vector<std::string>& warnings, double wallSeconds,
+                                   double totalSeconds) {
     const sim::RunStats& stats = session.simulation()->stats();
     const std::string status = end == RunEnd::Cancelled ? "cancelled"
                                : end == RunEnd::Failed  ? "failed"
@@ -88,6 +129,10 @@ io::ReportFields drapeReportFields(const DrapeOptions& options,
     return {
         {"project", options.project},
         {"status", status},
+        {"interrupted", end == RunEnd::Cancelled},
+        {"signal", end == RunEnd::Cancelled
+                       ? io::ReportValue(std::string(InterruptGuard::signalName()))
+                       : io::ReportValue(nullptr)},
         {"phase", std::string(patterns::phaseName(f.phase))},
         {"exit_code", static_cast<std::int64_t>(code)},
         {"threads", static_cast<std::int64_t>(sim::threadCount())},
@@ -109,21 +154,103 @@ io::ReportFields drapeReportFields(const DrapeOptions& options,
         {"time_to_rest_s", orNull(f.rested, wallSeconds)},
         {"drape_wall_time_s", wallSeconds},
         {"rested", f.rested},
-        {"sim_time_to_rest_s", f.time},
+        {"sim_time_to_rest_s", orNull(f.rested, f.restTime)},
+        {"drape_time_s", f.time}, // simulated time reached, however the drape ended
         {"kinetic_energy_per_vertex_j", f.kineticEnergyPerVertex},
         {"start_penetration_m", f.startPenetration},
-        {"warnings", static_cast<std::int64_t>(session.warnings().size())},
+        {"warnings", static_cast<std::int64_t>(warnings.size())},
+        {"warning_messages", warnings},
         {"total_wall_time_s", totalSeconds},
     };
 }
 
-int runDrape(const DrapeOptions& options) {
-    const auto start = std::chrono::steady_clock::now();
-    RunLoop loop("drape", 0, options.framesDir); // from here on, Ctrl-C stops the drape
+/// The warnings of a prepared drape: meshing (seam ease) and a start inside the body.
+std::vector<std::string> preparedWarnings(const patterns::DrapeSession& session) {
+    std::vector<std::string> out = session.warnings();
+    if (const double depth = session.figures().startPenetration; depth > 0) {
+        char text[96];
+        std::snprintf(text, sizeof text, "the placed garment starts %.4f m inside the body", depth);
+        out.emplace_back(text);
+    }
+    return out;
+}
+
+/// The warnings of sewing: seams welded by force more than 5 mm apart, and, once sewing is
+/// over, seam pairs still not welded (each weld put off because it would carry cloth through
+/// cloth).
+std::vector<std::string> sewingWarnings(const patterns::DrapeSession& session,
+                                        const patterns::DrapeFigures& f) {
+    std::vector<std::string> out;
+    char text[320];
+    std::string seams; // the seams welded more than 5 mm apart when sewing ended
+    for (const patterns::ForcedWeld& w : f.forcedWelds) {
+        if (w.widest > 0.005) {
+            std::snprintf(text, sizeof text, "%s%s %.1f mm (%d pairs)", seams.empty() ? "" : ", ",
+                          w.seam.c_str(), 1000 * w.widest, w.pairs);
+            seams += text;
+        }
+    }
+    if (!seams.empty()) {
+        std::snprintf(text, sizeof text, "%.2f s", session.project().drape.sewingTime);
+        out.push_back("sewing did not close every seam in " + std::string(text) +
+                      "; welded at its end, widest pair per seam: " + seams +
+                      " (a longer sewing_time_s, panels placed closer, or more ease where the "
+                      "garment is tight)");
+    }
+    // The open pairs' gaps, grouped by seam as forcedWelds() groups the forced ones.
+    const sim::Simulation& simulation = *session.simulation();
+    if (f.sewnAt >= 0) {
+        const sim::MatX3& x = simulation.positions();
+        const auto& pairs = session.assembled().scene.seams;
+        std::vector<double> open(pairs.size(), 0.0);
+        for (std::size_t k = 0; k < pairs.size(); ++k) {
+            if (!simulation.seamPairWelded(k)) {
+                open[k] = std::max((x.row(pairs[k].a) - x.row(pairs[k].b)).norm(), 1e-12);
+            }
+        }
+        std::string list;
+        for (const patterns::ForcedWeld& w :
+             patterns::forcedWelds(session.project().garment, session.assembled(), open)) {
+            std::snprintf(text, sizeof text, "%s%s: %d pairs, widest %.1f mm",
+                          list.empty() ? "" : ", ", w.seam.c_str(), w.pairs, 1000 * w.widest);
+            list += text;
+        }
+        if (!list.empty()) {
+            out.push_back("seam pairs not welded after sewing (each weld would have carried "
+                          "cloth through cloth): " +
+                          list);
+        }
+    }
+    return out;
+}
+
+/// Writes the draped garment and the body beside it; returns the exit code.
+int writeDrapedMeshes(const DrapeOptions& options, const patterns::DrapeSession& session,
+                      int code) {
+    const sim::Simulation& simulation = *session.simulation();
+    GarmentObj obj = garmentObj(session.project().garment, session.mesh(), session.assembled());
+    obj.options.comment = "atelier-cli drape " + options.project +
+                          "\nt = " + std::to_string(simulation.time()) + " s";
+    auto written = io::writeObj(options.out, simulation.positions(), obj.triangles, obj.options);
+    if (written.ok()) {
+        io::ObjWriteOptions bodyOptions;
+        bodyOptions.comment = "body of atelier-cli drape " + options.project;
+        bodyOptions.groups.push_back(
+            io::ObjGroup{"body", 0, static_cast<int>(session.body().triangles.rows())});
+        written = io::writeObj(bodyPath(options.out), session.body().vertices,
+                               session.body().triangles, bodyOptions);
+    }
+    return written.ok() ? code : RunLoop::writeFailed(written.error(), code);
+}
+
+/// Loads the project with the command line's overrides, and checks it before any work; exit
+/// code 2 in `code` when it cannot go on.
+std::optional<patterns::Project> loadDrapeProject(const DrapeOptions& options, int& code) {
+    code = EXIT_BAD_INPUT;
     auto loaded = io::loadProject(options.project);
     if (!loaded.ok()) {
         std::cerr << "error: " << loaded.error().toString() << "\n";
-        return EXIT_BAD_INPUT;
+        return std::nullopt;
     }
     patterns::Project project = std::move(loaded).value();
     if (options.timeLimit > 0) {
@@ -132,35 +259,47 @@ int runDrape(const DrapeOptions& options) {
     if (options.particleDistanceMm > 0) {
         project.drape.particleDistance = options.particleDistanceMm / 1000.0;
     }
+    if (auto problem = checkBeforeWork(options, project)) {
+        std::cerr << "error: " << *problem << "\n";
+        return std::nullopt;
+    }
+    code = EXIT_OK;
+    return project;
+}
+
+int runDrape(const DrapeOptions& options) {
+    const auto start = std::chrono::steady_clock::now();
+    RunLoop loop("drape", 0, options.framesDir); // from here on, a signal stops the drape
+    int code = EXIT_OK;
+    std::optional<patterns::Project> project = loadDrapeProject(options, code);
+    if (!project) {
+        return code;
+    }
     if (options.threads > 0) {
         sim::setThreadCount(options.threads);
     }
-    loop.setEndTime(project.drape.timeLimit);
+    loop.setEndTime(project->drape.timeLimit);
     if (!loop.prepare()) {
         return EXIT_BAD_INPUT;
     }
 
     patterns::DrapeSession session(projectBodies(options.project));
-    session.setProject(std::move(project));
+    session.setProject(std::move(*project));
     if (auto prepared = session.prepare(); !prepared.ok()) {
         const Error& e = prepared.error();
         std::cerr << "error: " << (e.file.empty() ? options.project + ": " : "") << e.toString()
                   << "\n";
         return EXIT_BAD_INPUT;
     }
-    for (const std::string& w : session.warnings()) {
+    std::vector<std::string> warnings = preparedWarnings(session);
+    for (const std::string& w : warnings) {
         std::cerr << "warning: " << options.project << ": " << w << "\n";
     }
     const patterns::GarmentMesh& mesh = session.mesh();
     std::fprintf(stderr, "drape: %zu panels, %ld triangles (min angle %.1f deg) in %.2f s\n",
                  mesh.panels.size(), mesh.triangleCount, mesh.minAngleDeg, mesh.seconds);
-    if (session.figures().startPenetration > 0) {
-        std::fprintf(stderr, "warning: the placed garment starts %.4f m inside the body\n",
-                     session.figures().startPenetration);
-    }
 
-    const patterns::Garment& garment = session.project().garment;
-    const GarmentObj frameObj = garmentObj(garment, mesh, session.assembled());
+    const GarmentObj frameObj = garmentObj(session.project().garment, mesh, session.assembled());
     session.onFrame([&](long frame, double t, double ke) {
         const sim::RunStats& stats = session.simulation()->stats();
         char figures[160];
@@ -187,12 +326,12 @@ int runDrape(const DrapeOptions& options) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - driveStart).count();
 
     const sim::Simulation& simulation = *session.simulation();
-    const sim::MatX3& x = simulation.positions();
-    const bool finite = simulation.stats().finite && x.allFinite();
+    const bool finite = simulation.stats().finite && simulation.positions().allFinite();
     const patterns::DrapeFigures f = session.figures();
-    int code = loop.exitCode(end == RunEnd::Done && !finite ? RunEnd::Failed : end);
+    code = loop.exitCode(end == RunEnd::Done && !finite ? RunEnd::Failed : end);
     if (end == RunEnd::Cancelled) {
-        std::fprintf(stderr, "drape: cancelled at t = %.2f s; writing the drape so far\n", f.time);
+        std::fprintf(stderr, "drape: interrupted (%s) at t = %.2f s; writing the drape so far\n",
+                     InterruptGuard::signalName(), f.time);
     } else if (end == RunEnd::Failed || !finite) {
         std::cerr << "error: " << options.project << ": drape failed at t = " << f.time << " s"
                   << (f.error.empty() ? "" : ": " + f.error) << "\n";
@@ -200,21 +339,9 @@ int runDrape(const DrapeOptions& options) {
         std::fprintf(stderr, "drape: not at rest after the time limit (%.2f s simulated)\n",
                      f.time);
     }
-    std::string seams; // the seams welded more than 5 mm apart when sewing ended
-    for (const patterns::ForcedWeld& w : f.forcedWelds) {
-        if (w.widest > 0.005) {
-            char part[160];
-            std::snprintf(part, sizeof part, "%s%s %.1f mm (%d pairs)", seams.empty() ? "" : ", ",
-                          w.seam.c_str(), 1000 * w.widest, w.pairs);
-            seams += part;
-        }
-    }
-    if (!seams.empty()) {
-        std::fprintf(stderr,
-                     "warning: sewing did not close every seam in %.2f s; welded at its end, "
-                     "widest pair per seam: %s (a longer sewing_time_s, panels placed closer, "
-                     "or more ease where the garment is tight)\n",
-                     session.project().drape.sewingTime, seams.c_str());
+    for (std::string& w : sewingWarnings(session, f)) {
+        std::cerr << "warning: " << options.project << ": " << w << "\n";
+        warnings.push_back(std::move(w));
     }
     std::fprintf(stderr,
                  "drape: %s at t = %.2f s in %.1f s wall; seam gap max %.2e m, area ratio "
@@ -223,23 +350,7 @@ int runDrape(const DrapeOptions& options) {
 
     if (!options.out.empty()) {
         if (finite) {
-            GarmentObj obj = garmentObj(garment, mesh, session.assembled());
-            obj.options.comment = "atelier-cli drape " + options.project +
-                                  "\nt = " + std::to_string(simulation.time()) + " s";
-            auto written = io::writeObj(options.out, x, obj.triangles, obj.options);
-            if (written.ok()) {
-                std::filesystem::path bodyPath = options.out;
-                bodyPath.replace_extension(".body.obj");
-                io::ObjWriteOptions bodyOptions;
-                bodyOptions.comment = "body of atelier-cli drape " + options.project;
-                bodyOptions.groups.push_back(
-                    io::ObjGroup{"body", 0, static_cast<int>(session.body().triangles.rows())});
-                written = io::writeObj(bodyPath, session.body().vertices, session.body().triangles,
-                                       bodyOptions);
-            }
-            if (!written.ok()) {
-                code = RunLoop::writeFailed(written.error(), code);
-            }
+            code = writeDrapedMeshes(options, session, code);
         } else {
             std::cerr << "drape: the state is not finite; " << options.out << " is not written\n";
         }
@@ -249,7 +360,7 @@ int runDrape(const DrapeOptions& options) {
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         auto written = io::writeReport(
             options.report, simulation,
-            drapeReportFields(options, session, f, end, code, wallSeconds, totalSeconds));
+            drapeReportFields(options, session, f, end, code, warnings, wallSeconds, totalSeconds));
         if (!written.ok()) {
             code = RunLoop::writeFailed(written.error(), code);
         }
@@ -278,6 +389,10 @@ void addDrapeCommand(CLI::App& app) {
         ->check(CLI::PositiveNumber);
     cmd->add_option("--frames-dir", options->framesDir,
                     "Write the garment at every output frame to DIR/frame_NNNNN.obj");
+    cmd->add_option("--max-vertices", options->maxVertices,
+                    "Refuse a garment whose mesh is estimated larger than this")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
     cmd->callback([options] {
         const int code = runDrape(*options);
         if (code != EXIT_OK) {

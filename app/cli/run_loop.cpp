@@ -4,25 +4,10 @@
 
 #include <unistd.h>
 
-#include <atomic>
-#include <csignal>
 #include <cstdio>
 #include <iostream>
 
 namespace atelier::app {
-
-namespace {
-
-std::atomic<bool> g_interrupted{false};
-
-/// The first Ctrl-C stops the run after the current step; a second one ends the program at
-/// once (the default action), for a preparation or a write that takes too long.
-extern "C" void onInterrupt(int /*signal*/) {
-    g_interrupted.store(true);
-    std::signal(SIGINT, SIG_DFL);
-}
-
-} // namespace
 
 std::string_view runEndName(RunEnd end) {
     switch (end) {
@@ -38,13 +23,9 @@ std::string_view runEndName(RunEnd end) {
 
 RunLoop::RunLoop(std::string command, double endTime, std::string framesDir)
     : m_command(std::move(command)), m_endTime(endTime), m_framesDir(std::move(framesDir)),
-      m_tty(::isatty(STDERR_FILENO) != 0) {
-    g_interrupted.store(false);
-    m_previousHandler = std::signal(SIGINT, onInterrupt);
-}
+      m_tty(::isatty(STDERR_FILENO) != 0) {}
 
 RunLoop::~RunLoop() {
-    std::signal(SIGINT, m_previousHandler);
     if (m_lineOpen) {
         std::cerr << "\n";
     }
@@ -66,7 +47,7 @@ bool RunLoop::prepare() {
 RunEnd RunLoop::run(const std::function<StepState()>& step) {
     RunEnd end = RunEnd::Done;
     for (;;) {
-        if (g_interrupted.load()) {
+        if (InterruptGuard::interrupted()) {
             end = RunEnd::Cancelled;
             break;
         }

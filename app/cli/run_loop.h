@@ -1,7 +1,10 @@
 #pragma once
 /// The run loop shared by `atelier-cli drape` and `atelier-cli simulate`: steps until the run
-/// ends, fails or Ctrl-C is pressed (between steps: what was computed is still written), a
-/// progress line, output frames as DIR/frame_NNNNN.obj, and the exit codes of commands.h.
+/// ends, fails or is interrupted (SIGINT or SIGTERM, between steps: what was computed is still
+/// written), a progress line, output frames as DIR/frame_NNNNN.obj, and the exit codes of
+/// commands.h.
+
+#include "app/cli/interrupt.h"
 
 #include "sim/core/result.h"
 
@@ -21,8 +24,8 @@ class RunLoop {
   public:
     /// `command` starts the progress line; `endTime` is the simulated time the run goes to at
     /// most [s] (for the progress marks when stderr is not a terminal); `framesDir` may be
-    /// empty (no frames written). SIGINT is caught from here on (Ctrl-C while the run is being
-    /// prepared stops it before its first step) until the loop is destroyed.
+    /// empty (no frames written). SIGINT and SIGTERM are caught from here on (a signal while
+    /// the run is being prepared stops it before its first step) until the loop is destroyed.
     RunLoop(std::string command, double endTime, std::string framesDir);
     ~RunLoop();
     RunLoop(const RunLoop&) = delete;
@@ -32,8 +35,8 @@ class RunLoop {
     /// Creates the frames folder if there is one; prints the error and returns false if it
     /// cannot.
     bool prepare();
-    /// Calls step() until it returns Done or Failed, or Ctrl-C has been pressed (checked
-    /// before every step).
+    /// Calls step() until it returns Done or Failed, or a signal has come (checked before
+    /// every step).
     RunEnd run(const std::function<StepState()>& step);
 
     /// At an output frame: the progress line (`figures` after the time), and, with a frames
@@ -53,7 +56,7 @@ class RunLoop {
   private:
     void progress(double time, const std::string& figures);
 
-    void (*m_previousHandler)(int) = nullptr;
+    InterruptGuard m_interrupts;
     std::string m_command;
     double m_endTime;
     std::string m_framesDir;

@@ -3,6 +3,7 @@
 /// group per obstacle) and a JSON report.
 
 #include "app/cli/commands.h"
+#include "app/cli/preflight.h"
 #include "app/cli/run_loop.h"
 
 #include "io/obj.h"
@@ -20,7 +21,9 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
 namespace atelier::app {
 
@@ -32,6 +35,7 @@ struct SimulateOptions {
     std::string report;
     int threads = 0; ///< 0 = the engine's default (all cores)
     std::string framesDir;
+    long maxVertices = DEFAULT_MAX_VERTICES; ///< refuse scenes with more cloth vertices
 };
 
 /// The whole scene as one mesh: triangles offset per cloth, rest coordinates as UVs, one group
@@ -119,12 +123,54 @@ std::filesystem::path obstaclesPath(const std::filesystem::path& out) {
     return path.replace_extension(".obstacles.obj");
 }
 
+/// The output paths against the scene and each other, before any work.
+std::optional<std::string> checkSimulateOutputs(const SimulateOptions& options) {
+    std::vector<NamedPath> files = {{"scene", options.scene}};
+    const std::vector<NamedPath> outputs = {
+        {"--out", options.out},
+        {"--out (its obstacles)",
+         options.out.empty() ? std::filesystem::path() : obstaclesPath(options.out)},
+        {"--report", options.report}};
+    if (auto problem = checkOutputs(files, outputs)) {
+        return problem;
+    }
+    files.insert(files.end(), outputs.begin(), outputs.end());
+    return checkOutputFolder({"--frames-dir", options.framesDir}, files);
+}
+
+/// Writes the final cloth mesh and the obstacles beside it; returns the exit code.
+int writeFinalMeshes(const SimulateOptions& options, const sim::Simulation& simulation,
+                     const CombinedMesh& mesh, const ObstacleMesh* obstacles, int code) {
+    io::ObjWriteOptions objOptions = mesh.options;
+    objOptions.comment = "atelier-cli simulate " + options.scene +
+                         "\nt = " + std::to_string(simulation.time()) + " s";
+    auto written = io::writeObj(options.out, simulation.positions(), mesh.triangles, objOptions);
+    if (written.ok() && obstacles != nullptr) {
+        written =
+            writeObstacles(obstaclesPath(options.out), simulation, *obstacles, objOptions.comment);
+    }
+    return written.ok() ? code : RunLoop::writeFailed(written.error(), code);
+}
+
 int runSimulate(const SimulateOptions& options) {
     const auto start = std::chrono::steady_clock::now();
-    RunLoop loop("simulate", 0, options.framesDir); // from here on, Ctrl-C stops the run
+    RunLoop loop("simulate", 0, options.framesDir); // from here on, a signal stops the run
+    if (auto problem = checkSimulateOutputs(options)) {
+        std::cerr << "error: " << *problem << "\n";
+        return EXIT_BAD_INPUT;
+    }
     auto loaded = io::loadScene(options.scene);
     if (!loaded.ok()) {
         std::cerr << "error: " << loaded.error().toString() << "\n";
+        return EXIT_BAD_INPUT;
+    }
+    long vertices = 0;
+    for (const sim::ClothSpec& cloth : loaded.value().cloths) {
+        vertices += cloth.mesh.vertexCount();
+    }
+    if (auto problem = checkVertexLimit(options.scene + ": the scene's cloths", vertices,
+                                        options.maxVertices)) {
+        std::cerr << "error: " << *problem << "\n";
         return EXIT_BAD_INPUT;
     }
     if (options.threads > 0) {
@@ -192,8 +238,8 @@ int runSimulate(const SimulateOptions& options) {
     const bool finite = stats.finite && simulation->positions().allFinite();
     code = std::max(code, loop.exitCode(end == RunEnd::Done && !finite ? RunEnd::Failed : end));
     if (end == RunEnd::Cancelled) {
-        std::cerr << "simulate: cancelled at t = " << simulation->time()
-                  << " s; writing the state so far\n";
+        std::cerr << "simulate: interrupted (" << InterruptGuard::signalName()
+                  << ") at t = " << simulation->time() << " s; writing the state so far\n";
     } else if (end == RunEnd::Failed || !finite) {
         const std::string why = !simulation->error().empty() ? simulation->error() : stats.error;
         std::cerr << "error: " << options.scene
@@ -203,18 +249,8 @@ int runSimulate(const SimulateOptions& options) {
 
     if (!options.out.empty()) {
         if (finite) {
-            io::ObjWriteOptions objOptions = mesh.options;
-            objOptions.comment = "atelier-cli simulate " + options.scene +
-                                 "\nt = " + std::to_string(simulation->time()) + " s";
-            auto written =
-                io::writeObj(options.out, simulation->positions(), mesh.triangles, objOptions);
-            if (written.ok() && withObstacles) {
-                written = writeObstacles(obstaclesPath(options.out), *simulation, obstacles,
-                                         objOptions.comment);
-            }
-            if (!written.ok()) {
-                code = RunLoop::writeFailed(written.error(), code);
-            }
+            code = writeFinalMeshes(options, *simulation, mesh,
+                                    withObstacles ? &obstacles : nullptr, code);
         } else {
             std::cerr << "simulate: the state is not finite; " << options.out
                       << " is not written\n";
@@ -230,6 +266,10 @@ int runSimulate(const SimulateOptions& options) {
         const io::ReportFields extra = {
             {"scene", options.scene},
             {"status", std::string(statusName)},
+            {"interrupted", end == RunEnd::Cancelled},
+            {"signal", end == RunEnd::Cancelled
+                           ? io::ReportValue(std::string(InterruptGuard::signalName()))
+                           : io::ReportValue(nullptr)},
             {"exit_code", static_cast<std::int64_t>(code)},
             {"threads", static_cast<std::int64_t>(sim::threadCount())},
             {"frames_written", static_cast<std::int64_t>(loop.framesWritten())},
@@ -260,6 +300,10 @@ void addSimulateCommand(CLI::App& app) {
     cmd->add_option("--frames-dir", options->framesDir,
                     "Also write every output frame as DIR/frame_NNNNN.obj (moving obstacles: "
                     "DIR/frame_NNNNN.obstacles.obj; static ones: DIR/obstacles.obj)");
+    cmd->add_option("--max-vertices", options->maxVertices,
+                    "Refuse a scene whose cloths have more vertices than this")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
     cmd->callback([options] {
         const int code = runSimulate(*options);
         if (code != EXIT_OK) {

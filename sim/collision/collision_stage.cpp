@@ -162,9 +162,15 @@ double CollisionStage::penetration(const MatX3& x) {
     return penetrationDepth(m_obstacles, x, m_depthScratch);
 }
 
-long CollisionStage::intersectingTrianglePairs(const MatX3& x, long* clothObstacle) {
-    return countIntersectingTrianglePairs(m_mesh, m_clothBvh, m_obstacles, x, m_scratch.pairs,
-                                          clothObstacle);
+double CollisionStage::contactLayerCrush(const MatX3& x) {
+    return penetrationDepth(m_obstacles, x, m_depthScratch, &m_mesh.thickness);
+}
+
+long CollisionStage::intersectingTrianglePairs(const MatX3& x,
+                                               const std::vector<std::vector<int>>& welded,
+                                               long* clothObstacle) {
+    return countIntersectingTrianglePairs(m_mesh, m_clothBvh, m_obstacles, x, welded,
+                                          m_scratch.pairs, clothObstacle);
 }
 
 bool CollisionStage::routeAround(const Vec3& p, const Vec3& q, double clearance, Vec3& via) const {

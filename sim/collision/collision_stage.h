@@ -84,11 +84,17 @@ class CollisionStage {
     /// max(0, thickness − signed distance) [m]. Exact up to floating point (closest points,
     /// angle-weighted pseudo-normals).
     double penetration(const MatX3& x);
+    /// Deepest cloth vertex inside the contact layer of an obstacle: max over vertices and
+    /// obstacles of max(0, obstacle thickness + cloth thickness − signed distance) [m], at
+    /// positions x and the obstacles' positions of the last update. A cloth resting on the
+    /// layer gives ≈ 0; penetration(x) is this figure without the cloth's thickness.
+    double contactLayerCrush(const MatX3& x);
     /// Exact count of intersecting triangle pairs at positions x and the obstacles' positions of
-    /// the last update: cloth–cloth
-    /// (pairs sharing a vertex excluded) and cloth–obstacle.
-    /// `clothObstacle`, if given, receives the cloth–obstacle part of the count.
-    long intersectingTrianglePairs(const MatX3& x, long* clothObstacle = nullptr);
+    /// the last update, cloth–cloth (pairs sharing a vertex or a welded group excluded: see
+    /// countIntersectingTrianglePairs) and cloth–obstacle. `clothObstacle`, if given, receives
+    /// the cloth–obstacle part of the count.
+    long intersectingTrianglePairs(const MatX3& x, const std::vector<std::vector<int>>& welded,
+                                   long* clothObstacle = nullptr);
 
     /// Seam routing: whether the chord p→q passes through a closed obstacle, judged at its
     /// quarter points; if so, `via` is the deepest of them moved along the obstacle's outward

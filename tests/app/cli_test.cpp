@@ -1,48 +1,18 @@
 /// Runs the built atelier-cli (ATELIER_CLI) on tiny scenes and checks exit codes and outputs.
 
+#include "app/cli_run.h"
+
 #include "io/temp_dir.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <sys/wait.h>
-
-#include <cstdlib>
-
 namespace atelier {
 namespace {
 
-const char* const TINY_SCENE = R"({
-  "format": "atelier-scene",
-  "version": 1,
-  "cloths": [{
-    "name": "tiny",
-    "mesh": {"type": "rectangle", "width": 0.2, "height": 0.2, "cells": [3, 3]},
-    "placement": {"origin": [0, 1, 0], "u_axis": [1, 0, 0], "v_axis": [0, 0, -1]},
-    "material": "cotton"
-  }],
-  "pins": [{"cloth": "tiny", "edge": "top"}],
-  "integrator": {"type": "implicit-euler", "dt": 0.01, "max_dt": 0.01},
-  "duration": 0.05,
-  "frame_rate": 100
-})";
-
-struct CliRun {
-    int exitCode = -1;
-    std::string stderrText;
-};
-
-/// Runs `prefix "ATELIER_CLI" args` in the shell, stderr to a file.
-CliRun runCli(const test::TempDir& dir, const std::string& args, const std::string& prefix = "") {
-    const auto errPath = dir / "stderr.txt";
-    const std::string command =
-        prefix + "\"" + ATELIER_CLI + "\" " + args + " 2> \"" + errPath.string() + "\"";
-    const int status = std::system(command.c_str());
-    CliRun run;
-    run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    run.stderrText = test::readText(errPath);
-    return run;
-}
+using test::CliRun;
+using test::runCli;
+using test::TINY_SCENE;
 
 TEST(Cli, SimulateWritesMeshAndReport) {
     test::TempDir dir;
@@ -117,6 +87,8 @@ nlohmann::json expectInterruptedRunWritesItsState(const test::TempDir& dir, cons
     EXPECT_TRUE(std::filesystem::exists(out)) << run.stderrText;
     const auto r = nlohmann::json::parse(test::readText(report));
     EXPECT_EQ(r["status"], "cancelled");
+    EXPECT_EQ(r["interrupted"], true);
+    EXPECT_EQ(r["signal"], "SIGINT");
     EXPECT_EQ(r["exit_code"], 130);
     return r;
 }

@@ -3,6 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 namespace atelier::io {
 namespace {
 
@@ -41,6 +44,34 @@ TEST(AtomicFile, FailureNamesTheFileAndKeepsNothing) {
     EXPECT_EQ(written.error().file, path.string());
     EXPECT_FALSE(written.error().message.empty());
     EXPECT_EQ(fileCount(dir.path()), 0U);
+}
+
+TEST(AtomicFile, AFailedRenameLeavesNoTemporary) {
+    test::TempDir dir;
+    std::filesystem::create_directory(dir / "taken");
+    ASSERT_FALSE(writeFileAtomically(dir / "taken", "x").ok()); // a folder is in the way
+    EXPECT_EQ(fileCount(dir.path()), 1U);
+}
+
+TEST(AtomicFile, RemovesTemporariesOfKilledWritersOnly) {
+    test::TempDir dir;
+    const pid_t gone = ::fork(); // a process that has ended: its pid names no process
+    if (gone == 0) {
+        ::_exit(0);
+    }
+    ASSERT_GT(gone, 0);
+    ::waitpid(gone, nullptr, 0);
+    const std::string dead = ".out.obj.tmp-" + std::to_string(gone) + "-abcdef";
+    const std::string alive = ".out.obj.tmp-" + std::to_string(::getppid()) + "-abcdef";
+    const std::string other = ".other.obj.tmp-" + std::to_string(gone) + "-abcdef";
+    for (const std::string& name : {dead, alive, other}) {
+        dir.write(name, "half a mesh");
+    }
+    ASSERT_TRUE(writeFileAtomically(dir / "out.obj", "mesh").ok());
+    EXPECT_FALSE(std::filesystem::exists(dir / dead));
+    EXPECT_TRUE(std::filesystem::exists(dir / alive)); // its writer may still be at work
+    EXPECT_TRUE(std::filesystem::exists(dir / other)); // another file's
+    EXPECT_EQ(fileCount(dir.path()), 3U);
 }
 
 TEST(AtomicFile, ReadFileRoundTrip) {

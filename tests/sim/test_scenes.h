@@ -41,13 +41,7 @@ inline sim::SceneSpec smallSheet(sim::StretchModel model, int cells = 4, double 
 /// Exact triangle–triangle intersections at the simulation's current positions: all of them,
 /// and in `withObstacles` (if given) those between cloth and obstacles.
 inline long intersections(const sim::Simulation& simulation, long* withObstacles = nullptr) {
-    long obstacles = -1;
-    const long all = const_cast<sim::CollisionStage*>(simulation.collision())
-                         ->intersectingTrianglePairs(simulation.positions(), &obstacles);
-    if (withObstacles != nullptr) {
-        *withObstacles = obstacles;
-    }
-    return all;
+    return simulation.intersectingTrianglePairs(withObstacles);
 }
 
 } // namespace atelier::test

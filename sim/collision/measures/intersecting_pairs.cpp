@@ -7,8 +7,18 @@ namespace atelier::sim {
 
 long countIntersectingTrianglePairs(const CollisionMesh& mesh, SurfaceBvh& clothBvh,
                                     std::vector<CollisionObstacle>& obstacles, const MatX3& x,
+                                    const std::vector<std::vector<int>>& welded,
                                     std::vector<std::pair<int, int>>& pairs, long* clothObstacle) {
     const MatX3i& t = mesh.triangles;
+    std::vector<int> one(static_cast<std::size_t>(x.rows())); // per vertex: its welded group's
+    for (std::size_t v = 0; v < one.size(); ++v) {
+        one[v] = static_cast<int>(v);
+    }
+    for (const std::vector<int>& group : welded) {
+        for (int v : group) {
+            one[static_cast<std::size_t>(v)] = group.front();
+        }
+    }
     long count = 0;
     clothBvh.refit(x, nullptr, 0.0);
     pairs.clear();
@@ -19,7 +29,8 @@ long countIntersectingTrianglePairs(const CollisionMesh& mesh, SurfaceBvh& cloth
         bool shared = false;
         for (int i = 0; i < 3; ++i) {
             for (int j = 0; j < 3; ++j) {
-                shared = shared || mesh.same(t(a, i), t(b, j));
+                shared = shared || one[static_cast<std::size_t>(t(a, i))] ==
+                                       one[static_cast<std::size_t>(t(b, j))];
             }
         }
         if (!shared && trianglesIntersect(row(x, t(a, 0)), row(x, t(a, 1)), row(x, t(a, 2)),

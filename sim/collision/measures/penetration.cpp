@@ -12,9 +12,11 @@
 namespace atelier::sim {
 
 double penetrationDepth(std::vector<CollisionObstacle>& obstacles, const MatX3& x,
-                        std::vector<double>& depth) {
+                        std::vector<double>& depth, const VecX* clothThickness) {
     double worst = 0;
     const std::size_t n = static_cast<std::size_t>(x.rows());
+    const double clothMax =
+        clothThickness != nullptr && clothThickness->size() > 0 ? clothThickness->maxCoeff() : 0.0;
     for (CollisionObstacle& o : obstacles) {
         const double th = o.spec->thickness;
         if (o.fittedMargin < 0 && !o.moves) {
@@ -29,14 +31,16 @@ double penetrationDepth(std::vector<CollisionObstacle>& obstacles, const MatX3& 
         parallelFor(nv, [&](std::int64_t pp) {
             const int p = static_cast<int>(pp);
             const Vec3 xp = row(x, p);
-            if (box.squaredDistance(xp) > 0) {
+            // The box holds the obstacle grown by th: a vertex within th + c of it is within c.
+            if (box.squaredDistance(xp) > clothMax * clothMax) {
                 return;
             }
+            const double layer = th + (clothThickness != nullptr ? (*clothThickness)(p) : 0.0);
             double sd;
             if (o.spec->closed) {
-                sd = vertexSignedDistance(o, p, xp, th);
+                sd = vertexSignedDistance(o, p, xp, layer);
             } else {
-                const auto [tri, cp] = o.bvh.closestTriangle(o.x1, xp, th);
+                const auto [tri, cp] = o.bvh.closestTriangle(o.x1, xp, layer);
                 if (tri < 0) {
                     return;
                 }
@@ -47,7 +51,7 @@ double penetrationDepth(std::vector<CollisionObstacle>& obstacles, const MatX3& 
                 const double along = nf.dot(xp - cp.point);
                 sd = side == 0 ? cp.distance : (along * side >= 0 ? cp.distance : -cp.distance);
             }
-            depth[static_cast<std::size_t>(p)] = th - sd;
+            depth[static_cast<std::size_t>(p)] = layer - sd;
         });
         for (double d : depth) {
             worst = std::max(worst, d);

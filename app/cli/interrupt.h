@@ -1,0 +1,30 @@
+#pragma once
+/// Ctrl-C (SIGINT) and SIGTERM while a command runs: the first signal asks the command to stop
+/// after its current step, write what it has (marked interrupted) and exit 130; a second one
+/// ends the program at once (the default action), for a preparation or a write that takes too
+/// long.
+
+namespace atelier::app {
+
+/// Catches SIGINT and SIGTERM from construction to destruction (then the previous handlers
+/// are back). One at a time; a new guard clears an earlier interruption.
+class InterruptGuard {
+  public:
+    InterruptGuard();
+    ~InterruptGuard();
+    InterruptGuard(const InterruptGuard&) = delete;
+    InterruptGuard& operator=(const InterruptGuard&) = delete;
+
+    /// Whether a signal has come since the guard was made.
+    static bool interrupted();
+    /// The signal that came (SIGINT or SIGTERM), or 0.
+    static int signal();
+    /// "SIGINT", "SIGTERM" or "" for the report and the messages.
+    static const char* signalName();
+
+  private:
+    void (*m_previousInt)(int) = nullptr;
+    void (*m_previousTerm)(int) = nullptr;
+};
+
+} // namespace atelier::app
