@@ -263,8 +263,8 @@ Result<void> completeProject(patterns::Project& project, const std::string& file
     return {};
 }
 
-/// The drape within the limits: steps (time limit over the step) and triangles (the panels'
-/// area over the area of an equilateral triangle at the particle distance).
+/// The drape within the limits: steps (time limit over the step) and triangles (estimated
+/// from the panels' areas and outlines, patterns::estimateGarmentMesh).
 Result<void> checkDrapeSize(const patterns::Project& project, const std::string& file,
                             const Limits& limits) {
     const patterns::DrapeSettings& d = project.drape;
@@ -275,15 +275,12 @@ Result<void> checkDrapeSize(const patterns::Project& project, const std::string&
                      "time_limit_s / dt_s is " + text(steps) + " steps, more than the limit of " +
                          std::to_string(limits.maxSteps)};
     }
-    double area = 0;
-    for (const patterns::Panel& panel : project.garment.panels) {
-        area += std::abs(patterns::loopArea(panel.outline));
-    }
-    const double triangles = area / (std::sqrt(3.0) / 4 * d.particleDistance * d.particleDistance);
-    if (!(triangles <= static_cast<double>(limits.maxGarmentTriangles))) {
+    const long triangles =
+        patterns::estimateGarmentMesh(project.garment, d.particleDistance).triangles;
+    if (triangles > limits.maxGarmentTriangles) {
         return Error{file, "/simulation/particle_distance_mm",
-                     "the panels' " + text(area) + " m² at this particle distance make about " +
-                         text(std::round(triangles)) + " triangles, more than the limit of " +
+                     "the panels at this particle distance make about " +
+                         std::to_string(triangles) + " triangles, more than the limit of " +
                          std::to_string(limits.maxGarmentTriangles)};
     }
     return {};
