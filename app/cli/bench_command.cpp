@@ -5,6 +5,7 @@
 #include "app/cli/bench_material.h"
 #include "app/cli/bench_work_precision.h"
 #include "app/cli/commands.h"
+#include "app/cli/limits_option.h"
 
 #include "sim/simulation.h"
 
@@ -50,6 +51,7 @@ void addWorkPrecision(CLI::App& bench) {
     cmd->add_option("--max-steps", o->maxSteps, "Skip fixed steps that need more steps than this")
         ->capture_default_str()
         ->check(CLI::PositiveNumber);
+    addLimitOption(cmd, &o->limits);
     cmd->add_option("--max-run-seconds", o->maxRunSeconds,
                     "Stop a run after this wall time; it counts as unstable [s]")
         ->capture_default_str()
@@ -143,6 +145,7 @@ void addDrape(CLI::App& bench) {
                     "Refuse a garment whose mesh is estimated larger than this")
         ->capture_default_str()
         ->check(CLI::PositiveNumber);
+    addLimitOption(cmd, &o->limits);
     cmd->add_option("--spin-us", o->spinUs,
                     "The engine threads' spin before sleeping [us] (default: the pool's)")
         ->check(CLI::NonNegativeNumber);

@@ -2,6 +2,7 @@
 
 #include "app/cli/commands.h"
 #include "app/cli/interrupt.h"
+#include "app/cli/limits_option.h"
 #include "app/cli/preflight.h"
 
 #include "io/atomic_file.h"
@@ -80,9 +81,13 @@ int runDrapeBench(const DrapeBenchOptions& o) {
         std::cerr << "error: " << *problem << "\n";
         return EXIT_BAD_INPUT;
     }
-    auto loaded = io::loadProject(o.project);
+    const std::optional<io::Limits> limits = limitsOrReport(o.limits);
+    if (!limits) {
+        return EXIT_BAD_INPUT;
+    }
+    auto loaded = io::loadProject(o.project, *limits);
     if (!loaded.ok()) {
-        std::cerr << "error: " << loaded.error().toString() << "\n";
+        std::cerr << inputErrorText(loaded.error());
         return EXIT_BAD_INPUT;
     }
     patterns::Project project = std::move(loaded).value();
@@ -107,8 +112,9 @@ int runDrapeBench(const DrapeBenchOptions& o) {
     }
     sim::setSpinMicroseconds(o.spinUs);
     const std::filesystem::path dir = std::filesystem::absolute(o.project).parent_path();
-    patterns::DrapeSession session(
-        [&](const patterns::BodySource& source) { return io::loadBody(source, dir, o.project); });
+    patterns::DrapeSession session([&](const patterns::BodySource& source) {
+        return io::loadBody(source, dir, o.project, *limits);
+    });
     session.setProject(std::move(project));
     if (auto prepared = session.prepare(); !prepared.ok()) {
         std::cerr << "error: " << o.project << ": " << prepared.error().toString() << "\n";

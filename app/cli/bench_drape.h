@@ -8,6 +8,7 @@
 #include "app/cli/preflight.h"
 
 #include <string>
+#include <vector>
 
 namespace atelier::app {
 
@@ -22,6 +23,7 @@ struct DrapeBenchOptions {
     int busy = 0;                   ///< processes spinning on a core each during the drape
     int spinUs = -1;                ///< the pool's spin before sleeping [µs] (< 0: default)
     long maxVertices = DEFAULT_MAX_VERTICES; ///< refuse meshes estimated larger
+    std::vector<std::string> limits;         ///< --limit NAME=VALUE
 };
 
 /// Runs the benchmark; returns an exit code (commands.h) and writes the JSON figures.

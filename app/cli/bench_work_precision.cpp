@@ -2,6 +2,7 @@
 
 #include "app/cli/commands.h"
 #include "app/cli/interrupt.h"
+#include "app/cli/limits_option.h"
 #include "app/cli/preflight.h"
 
 #include "io/atomic_file.h"
@@ -130,7 +131,8 @@ std::string xmlEscape(const std::string& s) {
             out += "&quot;";
             break;
         default:
-            out += c;
+            // Control characters are not allowed in XML 1.0, even escaped.
+            out += static_cast<unsigned char>(c) < 0x20 ? ' ' : c;
         }
     }
     return out;
@@ -378,9 +380,15 @@ int runWorkPrecision(const WorkPrecisionOptions& o) {
         std::cerr << "error: bench work-precision: step, tolerance and limits must be positive\n";
         return EXIT_BAD_INPUT;
     }
-    auto loaded = io::loadScene(o.scene);
+    const std::optional<io::Limits> limits = limitsOrReport(o.limits);
+    if (!limits) {
+        return EXIT_BAD_INPUT;
+    }
+    io::SceneLoadOptions load;
+    load.limits = *limits;
+    auto loaded = io::loadScene(o.scene, load);
     if (!loaded.ok()) {
-        std::cerr << "error: " << loaded.error().toString() << "\n";
+        std::cerr << inputErrorText(loaded.error());
         return EXIT_BAD_INPUT;
     }
     const sim::SceneSpec base = std::move(loaded).value();

@@ -32,7 +32,8 @@ struct WorkPrecisionOptions {
     /// A run still going after this wall time [s] is stopped and reported unstable with NaN
     /// errors (and named in a CSV comment as not measured).
     double maxRunSeconds = 120;
-    int threads = 0; ///< engine threads; 0 = the engine's default
+    int threads = 0;                 ///< engine threads; 0 = the engine's default
+    std::vector<std::string> limits; ///< --limit NAME=VALUE
 };
 
 /// One run of the sweep: a CSV row.

@@ -1,6 +1,7 @@
 /// `atelier-cli body`: writes the parametric mannequin for a set of measurements.
 #include "app/cli/commands.h"
 #include "app/cli/interrupt.h"
+#include "app/cli/limits_option.h"
 #include "app/cli/preflight.h"
 
 #include "io/atomic_file.h"
@@ -28,6 +29,7 @@ struct BodyOptions {
     std::string base = "female";
     std::string out;
     std::string report;
+    std::vector<std::string> limits; ///< --limit NAME=VALUE
 };
 
 nlohmann::ordered_json vec(const sim::Vec3& v) {
@@ -46,9 +48,13 @@ int runBody(const BodyOptions& options) {
     patterns::BodySource source;
     source.base = options.base;
     if (!options.measurements.empty()) {
-        auto read = io::readMeasurementsFile(options.measurements);
+        const std::optional<io::Limits> limits = limitsOrReport(options.limits);
+        if (!limits) {
+            return EXIT_BAD_INPUT;
+        }
+        auto read = io::readMeasurementsFile(options.measurements, *limits);
         if (!read.ok()) {
-            std::cerr << "error: " << read.error().toString() << "\n";
+            std::cerr << inputErrorText(read.error());
             return EXIT_BAD_INPUT;
         }
         source = read.value();
@@ -145,6 +151,7 @@ void addBodyCommand(CLI::App& app) {
     cmd->add_option("--out,-o", options->out, "Body mesh (OBJ)");
     cmd->add_option("--report,-r", options->report,
                     "Report (JSON): requested and measured measurements, topology, slots");
+    addLimitOption(cmd, &options->limits);
     cmd->callback([options] {
         const int code = runBody(*options);
         if (code != EXIT_OK) {

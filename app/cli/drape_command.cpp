@@ -4,6 +4,7 @@
 /// (`DRAPED.body.obj`) and a report.
 
 #include "app/cli/commands.h"
+#include "app/cli/limits_option.h"
 #include "app/cli/preflight.h"
 #include "app/cli/run_loop.h"
 
@@ -42,6 +43,7 @@ struct DrapeOptions {
     double particleDistanceMm = -1; ///< override of the project's particle distance [mm]
     std::string framesDir;          ///< write the garment at every frame here (OBJ)
     long maxVertices = DEFAULT_MAX_VERTICES; ///< refuse meshes estimated larger
+    std::vector<std::string> limits;         ///< --limit NAME=VALUE
 };
 
 /// `DRAPED.obj` → `DRAPED.body.obj`.
@@ -105,10 +107,10 @@ GarmentObj garmentObj(const patterns::Garment& garment, const patterns::GarmentM
 }
 
 /// The drape session's body provider: the project's mannequin or body mesh (io/).
-patterns::BodyProvider projectBodies(const std::string& projectFile) {
+patterns::BodyProvider projectBodies(const std::string& projectFile, const io::Limits& limits) {
     const std::filesystem::path dir = std::filesystem::absolute(projectFile).parent_path();
-    return [dir, projectFile](const patterns::BodySource& source) {
-        return io::loadBody(source, dir, projectFile);
+    return [dir, projectFile, limits](const patterns::BodySource& source) {
+        return io::loadBody(source, dir, projectFile, limits);
     };
 }
 
@@ -245,11 +247,12 @@ int writeDrapedMeshes(const DrapeOptions& options, const patterns::DrapeSession&
 
 /// Loads the project with the command line's overrides, and checks it before any work; exit
 /// code 2 in `code` when it cannot go on.
-std::optional<patterns::Project> loadDrapeProject(const DrapeOptions& options, int& code) {
+std::optional<patterns::Project> loadDrapeProject(const DrapeOptions& options,
+                                                  const io::Limits& limits, int& code) {
     code = EXIT_BAD_INPUT;
-    auto loaded = io::loadProject(options.project);
+    auto loaded = io::loadProject(options.project, limits);
     if (!loaded.ok()) {
-        std::cerr << "error: " << loaded.error().toString() << "\n";
+        std::cerr << inputErrorText(loaded.error());
         return std::nullopt;
     }
     patterns::Project project = std::move(loaded).value();
@@ -270,8 +273,12 @@ std::optional<patterns::Project> loadDrapeProject(const DrapeOptions& options, i
 int runDrape(const DrapeOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     RunLoop loop("drape", 0, options.framesDir); // from here on, a signal stops the drape
+    const std::optional<io::Limits> limits = limitsOrReport(options.limits);
+    if (!limits) {
+        return EXIT_BAD_INPUT;
+    }
     int code = EXIT_OK;
-    std::optional<patterns::Project> project = loadDrapeProject(options, code);
+    std::optional<patterns::Project> project = loadDrapeProject(options, *limits, code);
     if (!project) {
         return code;
     }
@@ -283,7 +290,7 @@ int runDrape(const DrapeOptions& options) {
         return EXIT_BAD_INPUT;
     }
 
-    patterns::DrapeSession session(projectBodies(options.project));
+    patterns::DrapeSession session(projectBodies(options.project, *limits));
     session.setProject(std::move(*project));
     if (auto prepared = session.prepare(); !prepared.ok()) {
         const Error& e = prepared.error();
@@ -393,6 +400,7 @@ void addDrapeCommand(CLI::App& app) {
                     "Refuse a garment whose mesh is estimated larger than this")
         ->capture_default_str()
         ->check(CLI::PositiveNumber);
+    addLimitOption(cmd, &options->limits);
     cmd->callback([options] {
         const int code = runDrape(*options);
         if (code != EXIT_OK) {

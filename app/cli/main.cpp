@@ -1,6 +1,7 @@
 /// atelier-cli: headless Atelier. Subcommands are registered from app/cli/*_command.cpp.
 
 #include "app/cli/commands.h"
+#include "app/cli/limits_option.h"
 
 #include <CLI/CLI.hpp>
 
@@ -20,6 +21,7 @@ int run(int argc, char** argv) {
     atelier::app::addBenchCommand(app);
     atelier::app::addDrapeCommand(app);
     atelier::app::addBodyCommand(app);
+    atelier::app::addLimitsCommand(app);
 
     try {
         app.parse(argc, argv);

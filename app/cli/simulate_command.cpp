@@ -3,6 +3,7 @@
 /// group per obstacle) and a JSON report.
 
 #include "app/cli/commands.h"
+#include "app/cli/limits_option.h"
 #include "app/cli/preflight.h"
 #include "app/cli/run_loop.h"
 
@@ -36,6 +37,7 @@ struct SimulateOptions {
     int threads = 0; ///< 0 = the engine's default (all cores)
     std::string framesDir;
     long maxVertices = DEFAULT_MAX_VERTICES; ///< refuse scenes with more cloth vertices
+    std::vector<std::string> limits;         ///< --limit NAME=VALUE
 };
 
 /// The whole scene as one mesh: triangles offset per cloth, rest coordinates as UVs, one group
@@ -159,9 +161,15 @@ int runSimulate(const SimulateOptions& options) {
         std::cerr << "error: " << *problem << "\n";
         return EXIT_BAD_INPUT;
     }
-    auto loaded = io::loadScene(options.scene);
+    const std::optional<io::Limits> limits = limitsOrReport(options.limits);
+    if (!limits) {
+        return EXIT_BAD_INPUT;
+    }
+    io::SceneLoadOptions load;
+    load.limits = *limits;
+    auto loaded = io::loadScene(options.scene, load);
     if (!loaded.ok()) {
-        std::cerr << "error: " << loaded.error().toString() << "\n";
+        std::cerr << inputErrorText(loaded.error());
         return EXIT_BAD_INPUT;
     }
     long vertices = 0;
@@ -304,6 +312,7 @@ void addSimulateCommand(CLI::App& app) {
                     "Refuse a scene whose cloths have more vertices than this")
         ->capture_default_str()
         ->check(CLI::PositiveNumber);
+    addLimitOption(cmd, &options->limits);
     cmd->callback([options] {
         const int code = runSimulate(*options);
         if (code != EXIT_OK) {

@@ -191,6 +191,36 @@ TEST(CliLimits, AMeshTooLargeIsRefusedBeforeMeshing) {
         << run.stderrText;
 }
 
+TEST(CliLimits, TheInputLimitsAreListedAndChangedByName) {
+    test::TempDir dir;
+    const auto scene = dir.write("tiny.json", TINY_SCENE); // 0.05 s at 100 frames/s: 5 frames
+    CliRun run = runCli(dir, "limits > " + inQuotes(dir / "limits.txt"));
+    EXPECT_EQ(run.exitCode, 0);
+    const std::string listed = test::readText(dir / "limits.txt");
+    for (const char* name : {"json-bytes", "json-depth", "cloths", "frames", "garment-triangles"}) {
+        EXPECT_NE(listed.find(name), std::string::npos) << name;
+    }
+    // Lowered below what the scene asks: refused, naming the limit and how to change it.
+    run = runCli(dir, "simulate " + inQuotes(scene) + " --limit frames=4 --out " +
+                          inQuotes(dir / "a.obj"));
+    EXPECT_EQ(run.exitCode, 2);
+    EXPECT_NE(run.stderrText.find("more than the limit of 4"), std::string::npos) << run.stderrText;
+    EXPECT_NE(run.stderrText.find("--limit NAME=VALUE"), std::string::npos) << run.stderrText;
+    EXPECT_FALSE(std::filesystem::exists(dir / "a.obj"));
+    // Raised back: it runs.
+    run =
+        runCli(dir, "simulate " + inQuotes(scene) +
+                        " --limit frames=5 --limit json-depth=8 --out " + inQuotes(dir / "a.obj"));
+    EXPECT_EQ(run.exitCode, 0) << run.stderrText;
+    // Unknown names and bad values.
+    for (const char* bad : {"frame=5", "frames", "frames=0", "frames=2.5", "body-extent-m=nan"}) {
+        run = runCli(dir, "simulate " + inQuotes(scene) + " --limit " + bad);
+        EXPECT_EQ(run.exitCode, 2) << bad;
+        EXPECT_NE(run.stderrText.find("error: --limit: \"" + std::string(bad)), std::string::npos)
+            << run.stderrText;
+    }
+}
+
 TEST(CliReports, ANameThatIsNotUtf8KeepsItsReport) {
     test::TempDir dir;
     const auto scene = dir.write("tiny\xff.json", TINY_SCENE);
