@@ -114,9 +114,38 @@ std::string formatNumber(double value) {
     return buf;
 }
 
+/// Length of the valid UTF-8 sequence starting at s[i], or 0 when it is not one.
+std::size_t utf8Length(const std::string& s, std::size_t i) {
+    const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(s[k]); };
+    const unsigned char c = byte(i);
+    const std::size_t n = c < 0x80           ? 1
+                          : (c >> 5) == 0x6  ? 2
+                          : (c >> 4) == 0xE  ? 3
+                          : (c >> 3) == 0x1E ? 4
+                                             : 0;
+    if (n == 0 || i + n > s.size()) {
+        return 0;
+    }
+    for (std::size_t k = 1; k < n; ++k) {
+        if ((byte(i + k) >> 6) != 0x2) {
+            return 0;
+        }
+    }
+    return n;
+}
+
+/// Text for an SVG element: markup escaped, control characters (not allowed in XML 1.0, even
+/// escaped) as spaces, bytes that are not UTF-8 as U+FFFD.
 std::string xmlEscape(const std::string& s) {
     std::string out;
-    for (char c : s) {
+    for (std::size_t i = 0; i < s.size();) {
+        const std::size_t n = utf8Length(s, i);
+        if (n != 1) {
+            out += n == 0 ? std::string("\xEF\xBF\xBD") : s.substr(i, n);
+            i += std::max<std::size_t>(n, 1);
+            continue;
+        }
+        const char c = s[i++];
         switch (c) {
         case '&':
             out += "&amp;";
@@ -131,7 +160,6 @@ std::string xmlEscape(const std::string& s) {
             out += "&quot;";
             break;
         default:
-            // Control characters are not allowed in XML 1.0, even escaped.
             out += static_cast<unsigned char>(c) < 0x20 ? ' ' : c;
         }
     }

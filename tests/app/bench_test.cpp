@@ -242,4 +242,21 @@ TEST(BenchWorkPrecision, SweepsEveryIntegratorAndPlots) {
     }
 }
 
+TEST(BenchWorkPrecision, APlotTitleIsValidXmlWhateverTheSceneName) {
+    // The title names the scene: markup escaped, a control character (invalid in XML even
+    // escaped) and a byte that is not UTF-8 replaced.
+    const TempDir dir;
+    const auto scene = dir.write("a<b&\x01\xff.json", TINY_SCENE);
+    const auto svg = dir / "wp.svg";
+    const int code = runCli("bench work-precision \"" + scene.string() + "\" --out \"" +
+                                (dir / "wp.csv").string() + "\" --plot \"" + svg.string() +
+                                "\" --duration 0.02 --integrators rk45 --min-tolerance 1e-3",
+                            dir / "log");
+    ASSERT_EQ(code, 0) << readText(dir / "log");
+    const std::string plot = readText(svg);
+    EXPECT_NE(plot.find("a&lt;b&amp; \xEF\xBF\xBD.json"), std::string::npos) << plot.substr(0, 600);
+    EXPECT_EQ(plot.find('\x01'), std::string::npos);
+    EXPECT_EQ(plot.find('\xff'), std::string::npos);
+}
+
 } // namespace atelier::test
