@@ -187,6 +187,37 @@ TEST_P(SampleGarmentCoarseOpen, DISABLED_SewsAndDrapesToRestOnTheDefaultBody) {
 
 INSTANTIATE_TEST_SUITE_P(Garments, SampleGarmentCoarseOpen, ::testing::Values("tshirt"));
 
+// Whatever the drape, the report tells the truth about its seams: a seam left open at rest is a
+// warning that names it with its gap (the 20 mm tshirt's right shoulder above, while it stays
+// open).
+TEST(SampleReport, ASeamLeftOpenIsAWarningNamingIt) {
+    test::TempDir dir;
+    const fs::path project = fs::path(ATELIER_SOURCE_DIR) / "assets/garments/tshirt.atelier";
+    const fs::path report = dir / "report.json";
+    const std::string command = std::string("\"") + ATELIER_CLI + "\" drape \"" + project.string() +
+                                "\" --particle-distance 20 --threads 1 --out \"" +
+                                (dir / "t.obj").string() + "\" --report \"" + report.string() +
+                                "\" 2> \"" + (dir / "stderr.txt").string() + "\"";
+    const int status = std::system(command.c_str());
+    ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0)
+        << test::readText(dir / "stderr.txt");
+    const auto r = nlohmann::json::parse(test::readText(report));
+    const auto& messages = r["warning_messages"];
+    EXPECT_EQ(r["warnings"].get<long>(), static_cast<long>(messages.size()));
+    const long open = r["seam_pairs"].get<long>() - r["welded_seam_pairs"].get<long>();
+    std::string all;
+    for (const auto& m : messages) {
+        all += m.get<std::string>() + "\n";
+    }
+    if (open > 0) {
+        EXPECT_NE(all.find("seam pairs not welded after sewing"), std::string::npos) << all;
+        EXPECT_NE(all.find(std::to_string(open) + " pairs"), std::string::npos) << all;
+        EXPECT_GT(r["seam_gap_max_m"].get<double>(), 0.0);
+    } else {
+        EXPECT_EQ(all.find("not welded"), std::string::npos) << all;
+    }
+}
+
 // At the project's own 10 mm (16–25k triangles), as `atelier-cli drape` runs them.
 class SampleGarment : public ::testing::TestWithParam<std::string> {};
 
