@@ -408,18 +408,11 @@ int runWorkPrecision(const WorkPrecisionOptions& o) {
         std::cerr << "error: bench work-precision: step, tolerance and limits must be positive\n";
         return EXIT_BAD_INPUT;
     }
-    const std::optional<io::Limits> limits = limitsOrReport(o.limits);
-    if (!limits) {
+    std::optional<sim::SceneSpec> loaded = loadSceneOrReport(o.scene, o.limits);
+    if (!loaded) {
         return EXIT_BAD_INPUT;
     }
-    io::SceneLoadOptions load;
-    load.limits = *limits;
-    auto loaded = io::loadScene(o.scene, load);
-    if (!loaded.ok()) {
-        std::cerr << inputErrorText(loaded.error());
-        return EXIT_BAD_INPUT;
-    }
-    const sim::SceneSpec base = std::move(loaded).value();
+    const sim::SceneSpec base = std::move(*loaded);
     const double duration = o.duration > 0 ? o.duration : base.duration;
     if (!(duration > 0)) {
         std::cerr << "error: bench work-precision: the duration must be positive\n";

@@ -1,5 +1,7 @@
 #include "app/cli/limits_option.h"
 
+#include "io/scene_file.h"
+
 #include <CLI/CLI.hpp>
 
 #include <cmath>
@@ -114,6 +116,22 @@ std::string inputErrorText(const Error& error) {
         text += "(`atelier-cli limits` lists the limits; --limit NAME=VALUE changes one)\n";
     }
     return text;
+}
+
+std::optional<sim::SceneSpec> loadSceneOrReport(const std::string& path,
+                                                const std::vector<std::string>& rawLimits) {
+    const std::optional<io::Limits> limits = limitsOrReport(rawLimits);
+    if (!limits) {
+        return std::nullopt;
+    }
+    io::SceneLoadOptions load;
+    load.limits = *limits;
+    auto loaded = io::loadScene(path, load);
+    if (!loaded.ok()) {
+        std::fputs(inputErrorText(loaded.error()).c_str(), stderr);
+        return std::nullopt;
+    }
+    return std::move(loaded).value();
 }
 
 void addLimitsCommand(CLI::App& app) {

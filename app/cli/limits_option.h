@@ -5,6 +5,7 @@
 #include "io/limits.h"
 
 #include "sim/core/result.h"
+#include "sim/scene.h"
 
 #include <optional>
 #include <string>
@@ -29,6 +30,10 @@ std::optional<io::Limits> limitsOrReport(const std::vector<std::string>& raw);
 /// An input error as printed: "error: " + the error, and, when it is a limit that refused the
 /// input, how to see and change the limits.
 std::string inputErrorText(const Error& error);
+
+/// Loads a scene held to the user's `--limit` values; nullopt after printing the error.
+std::optional<sim::SceneSpec> loadSceneOrReport(const std::string& path,
+                                                const std::vector<std::string>& rawLimits);
 
 /// `atelier-cli limits`: each limit's name, default and what it bounds.
 void addLimitsCommand(CLI::App& app);

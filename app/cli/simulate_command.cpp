@@ -161,19 +161,12 @@ int runSimulate(const SimulateOptions& options) {
         std::cerr << "error: " << *problem << "\n";
         return EXIT_BAD_INPUT;
     }
-    const std::optional<io::Limits> limits = limitsOrReport(options.limits);
-    if (!limits) {
-        return EXIT_BAD_INPUT;
-    }
-    io::SceneLoadOptions load;
-    load.limits = *limits;
-    auto loaded = io::loadScene(options.scene, load);
-    if (!loaded.ok()) {
-        std::cerr << inputErrorText(loaded.error());
+    std::optional<sim::SceneSpec> loaded = loadSceneOrReport(options.scene, options.limits);
+    if (!loaded) {
         return EXIT_BAD_INPUT;
     }
     long vertices = 0;
-    for (const sim::ClothSpec& cloth : loaded.value().cloths) {
+    for (const sim::ClothSpec& cloth : loaded->cloths) {
         vertices += cloth.mesh.vertexCount();
     }
     if (auto problem = checkVertexLimit(options.scene + ": the scene's cloths", vertices,
@@ -184,8 +177,8 @@ int runSimulate(const SimulateOptions& options) {
     if (options.threads > 0) {
         sim::setThreadCount(options.threads);
     }
-    const double duration = loaded.value().duration;
-    auto simulation = std::make_unique<sim::Simulation>(std::move(loaded).value());
+    const double duration = loaded->duration;
+    auto simulation = std::make_unique<sim::Simulation>(std::move(*loaded));
     const CombinedMesh mesh = combinedMesh(*simulation);
     // Obstacles are written only when the collision stage holds their positions (it exists
     // whenever the scene has obstacles and passed validation).
