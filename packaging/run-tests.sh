@@ -4,7 +4,8 @@
 #   1. Release with -Werror: unit tier + slow tier (long stability/accuracy scenes);
 #   2. AddressSanitizer + UndefinedBehaviorSanitizer: the unit tier and the benchmark smoke run
 #      again (the slow tier's long scenes take 10-50x longer under the sanitizers, beyond CI's
-#      time; run it with ATELIER_ASAN_CTEST_ARGS="-L slow" when needed);
+#      time; run it with ATELIER_ASAN_CTEST_ARGS="-L slow" when needed), then the fuzz tier: a
+#      bounded run of tests/fuzz/atelier_fuzz (its time budget: docs/testing.md#fuzzing);
 #   3. ThreadSanitizer: the threads tier (a reader thread copying snapshots while a drape runs
 #      on the engine's threads).
 set -euo pipefail
@@ -27,10 +28,12 @@ ctest --preset ci -j "$JOBS"
 echo "== AddressSanitizer + UndefinedBehaviorSanitizer build"
 cmake --preset asan
 cmake --build --preset asan -j "$JOBS"
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 echo "== Tests (ASan + UBSan)"
-ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1} \
-UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1} \
-  ctest --preset asan -j "$JOBS" ${ATELIER_ASAN_CTEST_ARGS:--L "unit|bench"}
+ctest --preset asan -j "$JOBS" ${ATELIER_ASAN_CTEST_ARGS:--L "unit|bench"}
+echo "== Fuzzing (ASan + UBSan): mutated scenes, projects and meshes, a bounded run"
+ctest --preset asan -L fuzz
 
 echo "== ThreadSanitizer build (the threads tier only)"
 cmake --preset tsan
