@@ -228,6 +228,16 @@ double ObjectReader::nonNegative(std::string_view key, double fallback) {
     return d;
 }
 
+double ObjectReader::nonNegativeAtMost(std::string_view key, double fallback, double max,
+                                       std::string_view what) {
+    const double d = nonNegative(key, fallback);
+    if (d > max) {
+        fail(key, "must be at most " + json(max).dump() + " (" + std::string(what) + "; found " +
+                      json(d).dump() + ")");
+    }
+    return d;
+}
+
 std::optional<long long> ObjectReader::optionalInteger(std::string_view key) {
     const json* v = find(key);
     if (v == nullptr) {

@@ -79,6 +79,9 @@ class ObjectReader {
     double positive(std::string_view key, double fallback);
     /// A finite number >= 0.
     double nonNegative(std::string_view key, double fallback);
+    /// A finite number in [0, max] (`what`: the limit, named in the message).
+    double nonNegativeAtMost(std::string_view key, double fallback, double max,
+                             std::string_view what);
     std::optional<long long> optionalInteger(std::string_view key);
     long long integer(std::string_view key);
     long long integer(std::string_view key, long long fallback);

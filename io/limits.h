@@ -10,6 +10,9 @@ namespace atelier::io {
 
 inline constexpr std::uint64_t MIB = 1024 * 1024;
 
+/// How a message names the thickness limit (its `--limit` name).
+inline constexpr const char* THICKNESS_LIMIT = "the limit thickness-m";
+
 struct Limits {
     /// Largest JSON file read (scenes, projects, fabric presets, measurements) [bytes].
     std::uint64_t maxJsonBytes = 64 * MIB;
@@ -22,7 +25,11 @@ struct Limits {
     double maxBodyExtent = 3.0;
     /// Largest coordinate of a generated obstacle shape (plane, sphere, box, capsule) and of
     /// any placed cloth or obstacle, from the origin [m].
-    double maxSceneCoordinate = 1000.0;
+    double maxSceneCoordinate = 100.0;
+    /// Thickest contact layer of a cloth or an obstacle (scene `thickness`, project
+    /// `cloth_thickness_mm` and `body_thickness_mm`) [m]: fabrics are millimetres thick, and a
+    /// layer metres thick makes every primitive a contact candidate of every other.
+    double maxThickness = 0.05;
     /// Cloths and obstacles in one scene.
     int maxCloths = 256;
     int maxObstacles = 256;

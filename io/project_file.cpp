@@ -283,6 +283,14 @@ Result<void> checkDrapeSize(const patterns::Project& project, const std::string&
                          std::to_string(triangles) + " triangles, more than the limit of " +
                          std::to_string(limits.maxGarmentTriangles)};
     }
+    for (const auto& [key, value] : {std::pair{"cloth_thickness_mm", d.clothThickness},
+                                     std::pair{"body_thickness_mm", d.bodyThickness}}) {
+        if (value > limits.maxThickness) {
+            return Error{file, std::string("/simulation/") + key,
+                         "must be at most " + text(1000 * limits.maxThickness) + " mm (" +
+                             THICKNESS_LIMIT + "; found " + text(1000 * value) + ")"};
+        }
+    }
     return {};
 }
 

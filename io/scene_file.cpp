@@ -391,7 +391,8 @@ class SceneParser {
         if (cloth.plasticity && !(cloth.material.plasticYieldAngle > 0)) {
             r.fail("plasticity", "plasticity needs a material with plastic_yield_angle_rad > 0");
         }
-        cloth.thickness = r.nonNegative("thickness", cloth.thickness);
+        cloth.thickness = r.nonNegativeAtMost("thickness", cloth.thickness, m_limits.maxThickness,
+                                              THICKNESS_LIMIT);
         cloth.selfCollision = r.boolean("self_collision", cloth.selfCollision);
         if (const json* folds = r.find("folds")) {
             // Per-edge rest fold angles: [{"vertices": [a, b], "angle_deg": 90}, ...].
@@ -599,6 +600,7 @@ class SceneParser {
             if (!drive.times.empty() && !(t > drive.times.back())) {
                 throw JsonError{p + "/0", "key times must increase"};
             }
+            detail::checkCoordinates(x.transpose(), m_limits, p, "the key's position");
             drive.times.push_back(t);
             drive.positions.push_back(x);
         }

@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <cmath>
 
 namespace atelier::io::detail {
 
@@ -139,6 +140,15 @@ class ObstacleReader {
                 const double length = sh.positive("length");
                 const int segments =
                     boundedInteger(sh, "segments", 32, MIN_CAPSULE_SEGMENTS, MAX_CAPSULE_SEGMENTS);
+                // The cylinder is cut into rows about as tall as the ring's edges are long.
+                const double rows = length / (2 * M_PI * radius / segments);
+                if (!(rows * segments <= static_cast<double>(m_limits.maxSceneVertices))) {
+                    sh.fail("radius",
+                            "a capsule this thin for its length (" + json(length / radius).dump() +
+                                " radii) would have about " + json(rows * segments).dump() +
+                                " vertices, more than the limit of " +
+                                std::to_string(m_limits.maxSceneVertices));
+                }
                 sim::makeCapsuleMesh(radius, length, segments, obstacle.vertices,
                                      obstacle.triangles);
             } else if (type == "obj") {
@@ -181,7 +191,8 @@ class ObstacleReader {
                             "counter-clockwise seen from outside");
         }
 
-        obstacle.thickness = r.nonNegative("thickness", obstacle.thickness);
+        obstacle.thickness = r.nonNegativeAtMost("thickness", obstacle.thickness,
+                                                 m_limits.maxThickness, THICKNESS_LIMIT);
         obstacle.staticFriction = r.nonNegative("static_friction", obstacle.staticFriction);
         obstacle.kineticFriction = r.nonNegative("kinetic_friction", obstacle.kineticFriction);
 

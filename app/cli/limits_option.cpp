@@ -40,6 +40,8 @@ const std::vector<LimitEntry>& entries() {
               &io::Limits::maxBodyExtent),
         entry("scene-coordinate-m", "farthest cloth or obstacle point from the origin [m]",
               &io::Limits::maxSceneCoordinate),
+        entry("thickness-m", "thickest contact layer of a cloth or obstacle [m]",
+              &io::Limits::maxThickness),
         entry("cloths", "cloths in a scene", &io::Limits::maxCloths),
         entry("obstacles", "obstacles in a scene", &io::Limits::maxObstacles),
         entry("scene-vertices", "vertices of a scene's cloths and obstacles",

@@ -39,6 +39,19 @@ std::string errorOf(const Result<patterns::Project>& result) {
     return result.ok() ? std::string("(no error)") : result.error().toString();
 }
 
+TEST(HostileProject, ContactThicknessIsBounded) {
+    std::string text = projectV1("");
+    text.insert(text.size() - 1, R"(, "simulation": {"cloth_thickness_mm": 1e18})");
+    EXPECT_EQ(errorOf(parseProject(text, "p.atelier")),
+              "p.atelier: /simulation/cloth_thickness_mm: must be at most 50.0 mm (the limit "
+              "thickness-m; found 1e+18)");
+    text = projectV1("");
+    text.insert(text.size() - 1, R"(, "simulation": {"body_thickness_mm": 60})");
+    EXPECT_EQ(errorOf(parseProject(text, "p.atelier")),
+              "p.atelier: /simulation/body_thickness_mm: must be at most 50.0 mm (the limit "
+              "thickness-m; found 60.0)");
+}
+
 TEST(HostileGarment, PanelsBeyondGarmentScaleAreRefused) {
     // 1e300 mm aborted the mesher with std::length_error; 1e9 mm meshed for ever.
     EXPECT_EQ(errorOf(parseProject(projectV1("", "1e300"), "p.atelier")),

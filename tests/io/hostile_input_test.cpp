@@ -112,6 +112,24 @@ TEST(HostileScene, FrameRateFramesAndStepsAreBounded) {
               "limit of 1000000000");
 }
 
+TEST(HostileScene, ContactThicknessIsBounded) {
+    // Metres of contact layer made every primitive a contact candidate of every other: found by
+    // the fuzzer as a hang (cloth) and bad_alloc (obstacle).
+    EXPECT_EQ(errorOf(parseScene(sceneText("", GRID + R"(, "thickness": 1e9)"), "s.json", ".")),
+              "s.json: /cloths/0/thickness: must be at most 0.05 (the limit thickness-m; found "
+              "1000000000.0)");
+    EXPECT_EQ(errorOf(parseScene(sceneText(R"(, "obstacles": [{"name": "floor",
+            "shape": {"type": "plane", "size": 4}, "thickness": 1.003}])"),
+                                 "s.json", ".")),
+              "s.json: /obstacles/0/thickness: must be at most 0.05 (the limit thickness-m; found "
+              "1.003)");
+    EXPECT_TRUE(parseScene(sceneText("", GRID + R"(, "thickness": 0.05)"), "s.json", ".").ok());
+    SceneLoadOptions raised;
+    raised.limits.maxThickness = 2.0;
+    EXPECT_TRUE(
+        parseScene(sceneText("", GRID + R"(, "thickness": 1.5)"), "s.json", ".", raised).ok());
+}
+
 TEST(HostileScene, ClothCountAndSceneSizeAreBounded) {
     std::string cloths;
     for (int i = 0; i < 400; ++i) {
@@ -137,7 +155,7 @@ TEST(HostileScene, CoordinatesAndBodyMeshesAreBounded) {
                                     "radius": 1e300}}])"),
                                  "s.json", ".")),
               "s.json: /obstacles/0/shape: the shape's vertices reach 1e+300 m from the origin, "
-              "more than the 1000.0 m a scene spans");
+              "more than the 100.0 m a scene spans");
     const test::TempDir dir;
     dir.write("big.obj", "v 0 0 0\nv 5 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n"
                          "f 2 3 4\n");
