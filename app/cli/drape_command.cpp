@@ -1,7 +1,7 @@
 /// `atelier-cli drape PROJECT.atelier --out DRAPED.obj --report REPORT.json`: mesh the
 /// garment's panels, place them around the body, sew and drape until rest; write the draped
 /// garment (one group per panel, UVs = pattern coordinates [m], normals), the body beside it
-/// (`DRAPED.body.obj`) and a report.
+/// (`DRAPED.body.obj`), a report and, with `--thumbnail`, a picture of the drape.
 
 #include "app/cli/commands.h"
 #include "app/cli/drape.h"
