@@ -5,7 +5,7 @@ set -euo pipefail
 
 PACKAGES=(
   cmake g++ ninja-build pkg-config ccache git clang-format
-  libeigen3-dev nlohmann-json3-dev libassimp-dev libcli11-dev
+  libeigen3-dev nlohmann-json3-dev libassimp-dev libcli11-dev zlib1g-dev
   qt6-base-dev libqt6opengl6-dev libepoxy-dev libegl-mesa0 libgl1-mesa-dri xvfb xauth
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev
   libgtest-dev libgmock-dev libbenchmark-dev

@@ -27,8 +27,13 @@ void addSimulateCommand(CLI::App& app);
 /// `atelier-cli bench material --model M --mesh T --out M.json` (app/cli/bench_command.cpp).
 void addBenchCommand(CLI::App& app);
 
-/// `atelier-cli drape PROJECT.atelier --out OUT.obj --report REPORT.json` (drape_command.cpp).
+/// `atelier-cli drape PROJECT.atelier --out OUT.obj --report REPORT.json [--thumbnail T.png]`
+/// (drape_command.cpp).
 void addDrapeCommand(CLI::App& app);
+
+/// `atelier-cli render INPUT --out PICTURE.png [--size WxH] [--view V|all] [--overlay
+/// wireframe] [--background COLOUR]` (render_command.cpp).
+void addRenderCommand(CLI::App& app);
 
 /// `atelier-cli body [--measurements M.json | --base B] --out BODY.obj` (body_command.cpp).
 void addBodyCommand(CLI::App& app);

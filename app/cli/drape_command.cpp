@@ -1,11 +1,12 @@
 /// `atelier-cli drape PROJECT.atelier --out DRAPED.obj --report REPORT.json`: mesh the
 /// garment's panels, place them around the body, sew and drape until rest; write the draped
 /// garment (one group per panel, UVs = pattern coordinates [m], normals), the body beside it
-/// (`DRAPED.body.obj`) and a report.
+/// (`DRAPED.body.obj`), a report and, with `--thumbnail`, a picture of the drape.
 
 #include "app/cli/commands.h"
+#include "app/cli/drape.h"
 #include "app/cli/limits_option.h"
-#include "app/cli/preflight.h"
+#include "app/cli/picture.h"
 #include "app/cli/run_loop.h"
 
 #include "io/body_file.h"
@@ -32,61 +33,10 @@
 
 namespace atelier::app {
 
-namespace {
-
-struct DrapeOptions {
-    std::string project;
-    std::string out;
-    std::string report;
-    int threads = 0;
-    double timeLimit = -1;          ///< override of the project's time limit [s]; < 0 = keep
-    double particleDistanceMm = -1; ///< override of the project's particle distance [mm]
-    std::string framesDir;          ///< write the garment at every frame here (OBJ)
-    long maxVertices = DEFAULT_MAX_VERTICES; ///< refuse meshes estimated larger
-    std::vector<std::string> limits;         ///< --limit NAME=VALUE
-};
-
-/// `DRAPED.obj` → `DRAPED.body.obj`.
-std::filesystem::path bodyPath(const std::string& out) {
+std::filesystem::path drapedBodyPath(const std::filesystem::path& out) {
     std::filesystem::path path = out;
     return path.replace_extension(".body.obj");
 }
-
-/// The checks before any work (exit 2 with the message): outputs against the inputs (the
-/// project and its body mesh) and each other, and the estimated mesh size.
-std::optional<std::string> checkBeforeWork(const DrapeOptions& options,
-                                           const patterns::Project& project) {
-    std::vector<NamedPath> inputs = {{"project", options.project}};
-    if (!project.body.meshPath.empty()) {
-        inputs.push_back(
-            {"the project's body mesh",
-             std::filesystem::absolute(options.project).parent_path() / project.body.meshPath});
-    }
-    std::vector<NamedPath> outputs = {{"--out", options.out}, {"--report", options.report}};
-    if (!options.out.empty()) {
-        outputs.push_back({"--out (its body)", bodyPath(options.out)});
-    }
-    if (auto problem = checkOutputs(inputs, outputs)) {
-        return problem;
-    }
-    inputs.insert(inputs.end(), outputs.begin(), outputs.end());
-    if (auto problem = checkOutputFolder({"--frames-dir", options.framesDir}, inputs)) {
-        return problem;
-    }
-    const double h = project.drape.particleDistance;
-    char what[96];
-    std::snprintf(what, sizeof what, "the garment meshed at a particle distance of %g mm",
-                  1000 * h);
-    return checkVertexLimit(what, patterns::estimateGarmentMesh(project.garment, h).vertices,
-                            options.maxVertices);
-}
-
-/// The draped garment as one OBJ: triangles offset per panel, pattern coordinates as UVs, one
-/// group per panel.
-struct GarmentObj {
-    sim::MatX3i triangles;
-    io::ObjWriteOptions options;
-};
 
 GarmentObj garmentObj(const patterns::Garment& garment, const patterns::GarmentMesh& mesh,
                       const patterns::AssembledGarment& assembled) {
@@ -104,6 +54,39 @@ GarmentObj garmentObj(const patterns::Garment& garment, const patterns::GarmentM
         t += count;
     }
     return out;
+}
+
+namespace {
+
+/// The checks before any work (exit 2 with the message): outputs against the inputs (the
+/// project and its body mesh) and each other, and the estimated mesh size.
+std::optional<std::string> checkBeforeWork(const DrapeOptions& options,
+                                           const patterns::Project& project) {
+    std::vector<NamedPath> inputs = {{"project", options.project}};
+    if (!project.body.meshPath.empty()) {
+        inputs.push_back(
+            {"the project's body mesh",
+             std::filesystem::absolute(options.project).parent_path() / project.body.meshPath});
+    }
+    std::vector<NamedPath> outputs = {
+        {"--out", options.out}, {"--report", options.report}, {"--thumbnail", options.thumbnail}};
+    outputs.insert(outputs.end(), options.laterOutputs.begin(), options.laterOutputs.end());
+    if (!options.out.empty()) {
+        outputs.push_back({"--out (its body)", drapedBodyPath(options.out)});
+    }
+    if (auto problem = checkOutputs(inputs, outputs)) {
+        return problem;
+    }
+    inputs.insert(inputs.end(), outputs.begin(), outputs.end());
+    if (auto problem = checkOutputFolder({"--frames-dir", options.framesDir}, inputs)) {
+        return problem;
+    }
+    const double h = project.drape.particleDistance;
+    char what[96];
+    std::snprintf(what, sizeof what, "the garment meshed at a particle distance of %g mm",
+                  1000 * h);
+    return checkVertexLimit(what, patterns::estimateGarmentMesh(project.garment, h).vertices,
+                            options.maxVertices);
 }
 
 /// The drape session's body provider: the project's mannequin or body mesh (io/).
@@ -239,7 +222,7 @@ int writeDrapedMeshes(const DrapeOptions& options, const patterns::DrapeSession&
         bodyOptions.comment = "body of atelier-cli drape " + options.project;
         bodyOptions.groups.push_back(
             io::ObjGroup{"body", 0, static_cast<int>(session.body().triangles.rows())});
-        written = io::writeObj(bodyPath(options.out), session.body().vertices,
+        written = io::writeObj(drapedBodyPath(options.out), session.body().vertices,
                                session.body().triangles, bodyOptions);
     }
     return written.ok() ? code : RunLoop::writeFailed(written.error(), code);
@@ -270,7 +253,9 @@ std::optional<patterns::Project> loadDrapeProject(const DrapeOptions& options,
     return project;
 }
 
-int runDrape(const DrapeOptions& options) {
+} // namespace
+
+int runDrape(const DrapeOptions& options, const DrapeFinished& finished) {
     const auto start = std::chrono::steady_clock::now();
     RunLoop loop("drape", 0, options.framesDir); // from here on, a signal stops the drape
     const std::optional<io::Limits> limits = limitsOrReport(options.limits);
@@ -362,6 +347,12 @@ int runDrape(const DrapeOptions& options) {
             std::cerr << "drape: the state is not finite; " << options.out << " is not written\n";
         }
     }
+    if (finite && !options.thumbnail.empty()) {
+        code = writeThumbnail(sessionScene(session), options.thumbnail, code);
+    }
+    if (finite && finished) {
+        code = finished(session, code);
+    }
     if (!options.report.empty()) {
         const double totalSeconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -375,8 +366,6 @@ int runDrape(const DrapeOptions& options) {
     return code;
 }
 
-} // namespace
-
 void addDrapeCommand(CLI::App& app) {
     auto options = std::make_shared<DrapeOptions>();
     CLI::App* cmd = app.add_subcommand(
@@ -386,6 +375,8 @@ void addDrapeCommand(CLI::App& app) {
                     "Draped garment (OBJ: one group per panel, UV = pattern [m], normals); the "
                     "body goes to OUT.body.obj");
     cmd->add_option("--report,-r", options->report, "Drape report (JSON)");
+    cmd->add_option("--thumbnail", options->thumbnail,
+                    "A 256x256 three-quarter picture of the drape (PNG)");
     cmd->add_option("--threads,-j", options->threads, "Engine threads (default: all cores)")
         ->check(CLI::PositiveNumber);
     cmd->add_option("--time-limit", options->timeLimit,

@@ -20,6 +20,7 @@ int run(int argc, char** argv) {
     // ---- Further subcommands: register them here. ----
     atelier::app::addBenchCommand(app);
     atelier::app::addDrapeCommand(app);
+    atelier::app::addRenderCommand(app);
     atelier::app::addBodyCommand(app);
     atelier::app::addLimitsCommand(app);
 

@@ -20,17 +20,11 @@ namespace atelier {
 namespace {
 
 using test::CliRun;
+using test::inQuotes;
 using test::runCli;
 using test::TINY_SCENE;
 
 const std::string SKIRT = std::string(ATELIER_SOURCE_DIR) + "/assets/garments/skirt.atelier";
-
-std::string inQuotes(const std::filesystem::path& p) {
-    std::string text = p.string();
-    text.insert(text.begin(), '"');
-    text.push_back('"');
-    return text;
-}
 
 /// `timeout` sending `signal` after `seconds`.
 std::string after(double seconds, const char* signal) {

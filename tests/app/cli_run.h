@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <string>
 
 namespace atelier::test {
@@ -24,6 +25,14 @@ inline const char* const TINY_SCENE = R"({
   "duration": 0.05,
   "frame_rate": 100
 })";
+
+/// `p` in double quotes, for a shell command line (the test folders hold no quotes).
+inline std::string inQuotes(const std::filesystem::path& p) {
+    std::string text = p.string();
+    text.insert(text.begin(), '"');
+    text.push_back('"');
+    return text;
+}
 
 struct CliRun {
     int exitCode = -1;

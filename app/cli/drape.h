@@ -1,0 +1,55 @@
+#pragma once
+/// Draping a project from the command line (drape_command.cpp): `atelier-cli drape`, and the
+/// drape behind `atelier-cli render PROJECT.atelier`.
+
+#include "app/cli/preflight.h"
+
+#include "io/obj.h"
+
+#include "patterns/drape_session.h"
+
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace atelier::app {
+
+struct DrapeOptions {
+    std::string project;
+    std::string out;
+    std::string report;
+    std::string thumbnail; ///< a 256×256 three-quarter PNG of the drape, or empty
+    int threads = 0;
+    double timeLimit = -1;          ///< override of the project's time limit [s]; < 0 = keep
+    double particleDistanceMm = -1; ///< override of the project's particle distance [mm]
+    std::string framesDir;          ///< write the garment at every frame here (OBJ)
+    long maxVertices = DEFAULT_MAX_VERTICES; ///< refuse meshes estimated larger
+    std::vector<std::string> limits;         ///< --limit NAME=VALUE
+    /// Further files written once the drape ends (a caller's pictures), checked with the
+    /// other outputs before any work.
+    std::vector<NamedPath> laterOutputs;
+};
+
+/// Called once the drape has ended with a finite state, after its files are written: what the
+/// caller does with it; returns the exit code to go on with (given the drape's `code`).
+using DrapeFinished = std::function<int(const patterns::DrapeSession& session, int code)>;
+
+/// Drapes `options.project` (meshes, places, sews, drapes until rest or the time limit, as
+/// `atelier-cli drape`), prints progress and problems on stderr, writes the outputs asked for
+/// and returns the exit code (commands.h).
+int runDrape(const DrapeOptions& options, const DrapeFinished& finished = {});
+
+/// `DRAPED.obj` → `DRAPED.body.obj`: where `drape --out DRAPED.obj` writes the body.
+std::filesystem::path drapedBodyPath(const std::filesystem::path& out);
+
+/// The draped garment as one OBJ: triangles offset per panel, pattern coordinates as UVs, one
+/// group per panel.
+struct GarmentObj {
+    sim::MatX3i triangles;
+    io::ObjWriteOptions options;
+};
+GarmentObj garmentObj(const patterns::Garment& garment, const patterns::GarmentMesh& mesh,
+                      const patterns::AssembledGarment& assembled);
+
+} // namespace atelier::app

@@ -1,0 +1,445 @@
+/// The OpenGL side of the renderer: the one file that includes GL (through libepoxy).
+
+#include "ui/render/renderer.h"
+
+#include "ui/render/shaders.h"
+
+#include "sim/mesh/vertex_normals.h"
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace atelier::render {
+
+namespace {
+
+Error glError(const std::string& message) {
+    return Error{"", "", "OpenGL: " + message};
+}
+
+/// Compiles and links a program; the error carries the driver's log.
+Result<GLuint> buildProgram(const char* vertexSource, const char* fragmentSource) {
+    const GLuint program = glCreateProgram();
+    std::string log;
+    for (const auto& [type, source] : {std::pair{GL_VERTEX_SHADER, vertexSource},
+                                       std::pair{GL_FRAGMENT_SHADER, fragmentSource}}) {
+        const GLuint shader = glCreateShader(type);
+        glShaderSource(shader, 1, &source, nullptr);
+        glCompileShader(shader);
+        GLint ok = GL_FALSE;
+        glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+        if (ok != GL_TRUE) {
+            char text[2048] = {};
+            glGetShaderInfoLog(shader, sizeof text, nullptr, text);
+            log += text;
+        }
+        glAttachShader(program, shader);
+        glDeleteShader(shader); // freed with the program
+    }
+    glLinkProgram(program);
+    GLint linked = GL_FALSE;
+    glGetProgramiv(program, GL_LINK_STATUS, &linked);
+    if (!log.empty() || linked != GL_TRUE) {
+        char text[2048] = {};
+        glGetProgramInfoLog(program, sizeof text, nullptr, text);
+        glDeleteProgram(program);
+        return glError("shader program failed: " + log + text);
+    }
+    return program;
+}
+
+std::uint8_t toByte(float value) {
+    return static_cast<std::uint8_t>(std::lround(std::clamp(value, 0.0f, 1.0f) * 255.0f));
+}
+
+void appendColour(std::vector<std::uint8_t>& out, const Colour& c) {
+    out.insert(out.end(), {toByte(c.r), toByte(c.g), toByte(c.b), toByte(c.a)});
+}
+
+/// Checks a mesh's arrays before upload; the message names the problem.
+std::optional<std::string> meshProblem(const DrawMesh& mesh) {
+    const auto n = mesh.positions.rows();
+    if (!mesh.positions.allFinite()) {
+        return "a vertex position is not finite";
+    }
+    if (mesh.triangles.size() > 0 &&
+        (mesh.triangles.minCoeff() < 0 || mesh.triangles.maxCoeff() >= n)) {
+        return "a triangle index is out of range [0, " + std::to_string(n) + ")";
+    }
+    if (mesh.normals.rows() != 0 && mesh.normals.rows() != n) {
+        return "normals: " + std::to_string(mesh.normals.rows()) + " for " + std::to_string(n) +
+               " vertices";
+    }
+    if (!mesh.vertexColours.empty() && std::ssize(mesh.vertexColours) != n) {
+        return "vertex colours: " + std::to_string(mesh.vertexColours.size()) + " for " +
+               std::to_string(n) + " vertices";
+    }
+    if (!mesh.triangleColours.empty() &&
+        std::ssize(mesh.triangleColours) != mesh.triangles.rows()) {
+        return "triangle colours: " + std::to_string(mesh.triangleColours.size()) + " for " +
+               std::to_string(mesh.triangles.rows()) + " triangles";
+    }
+    return std::nullopt;
+}
+
+/// One mesh on the GPU.
+struct GpuMesh {
+    MeshKind kind = MeshKind::Garment;
+    GLuint vao = 0;
+    std::array<GLuint, 4> buffers{}; ///< positions, normals, colours, indices
+    GLuint triangleColourBuffer = 0; ///< texture buffer contents, or 0
+    GLuint triangleColourTexture = 0;
+    GLsizei indexCount = 0;
+
+    void release() {
+        glDeleteTextures(1, &triangleColourTexture);
+        glDeleteBuffers(1, &triangleColourBuffer);
+        glDeleteBuffers(static_cast<GLsizei>(buffers.size()), buffers.data());
+        glDeleteVertexArrays(1, &vao);
+    }
+};
+
+template <class T> void uploadBuffer(GLenum target, GLuint buffer, const std::vector<T>& data) {
+    glBindBuffer(target, buffer);
+    glBufferData(target, static_cast<GLsizeiptr>(data.size() * sizeof(T)), data.data(),
+                 GL_STATIC_DRAW);
+}
+
+GpuMesh upload(const DrawMesh& mesh) {
+    GpuMesh gpu;
+    gpu.kind = mesh.kind;
+    const auto n = static_cast<std::size_t>(mesh.positions.rows());
+    sim::MatX3 normals = mesh.normals;
+    if (normals.rows() == 0) {
+        sim::vertexNormals(mesh.positions, mesh.triangles, normals);
+    }
+    std::vector<float> positions(n * 3);
+    std::vector<float> normalData(n * 3);
+    for (std::size_t i = 0; i < n * 3; ++i) {
+        positions[i] = static_cast<float>(mesh.positions.data()[i]);
+        normalData[i] = static_cast<float>(normals.data()[i]);
+    }
+    std::vector<std::uint8_t> colours;
+    colours.reserve(n * 4);
+    for (std::size_t i = 0; i < n; ++i) {
+        appendColour(colours, mesh.vertexColours.empty() ? mesh.colour : mesh.vertexColours[i]);
+    }
+    std::vector<GLuint> indices(mesh.triangles.data(),
+                                mesh.triangles.data() + mesh.triangles.size());
+    gpu.indexCount = static_cast<GLsizei>(indices.size());
+
+    glGenVertexArrays(1, &gpu.vao);
+    glBindVertexArray(gpu.vao);
+    glGenBuffers(static_cast<GLsizei>(gpu.buffers.size()), gpu.buffers.data());
+    uploadBuffer(GL_ARRAY_BUFFER, gpu.buffers[0], positions);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+    uploadBuffer(GL_ARRAY_BUFFER, gpu.buffers[1], normalData);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+    uploadBuffer(GL_ARRAY_BUFFER, gpu.buffers[2], colours);
+    glVertexAttribPointer(2, 4, GL_UNSIGNED_BYTE, GL_TRUE, 0, nullptr);
+    for (GLuint a = 0; a < 3; ++a) {
+        glEnableVertexAttribArray(a);
+    }
+    uploadBuffer(GL_ELEMENT_ARRAY_BUFFER, gpu.buffers[3], indices);
+    glBindVertexArray(0);
+
+    if (!mesh.triangleColours.empty()) {
+        std::vector<std::uint8_t> perTriangle;
+        perTriangle.reserve(mesh.triangleColours.size() * 4);
+        for (const Colour& c : mesh.triangleColours) {
+            appendColour(perTriangle, c);
+        }
+        glGenBuffers(1, &gpu.triangleColourBuffer);
+        uploadBuffer(GL_TEXTURE_BUFFER, gpu.triangleColourBuffer, perTriangle);
+        glGenTextures(1, &gpu.triangleColourTexture);
+        glBindTexture(GL_TEXTURE_BUFFER, gpu.triangleColourTexture);
+        glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA8, gpu.triangleColourBuffer);
+        glBindTexture(GL_TEXTURE_BUFFER, 0);
+    }
+    return gpu;
+}
+
+/// A multisampled framebuffer and the single-sampled one it resolves into.
+struct Targets {
+    int width = 0;
+    int height = 0;
+    int samples = 0;
+    std::array<GLuint, 2> framebuffers{};  ///< multisampled, resolved
+    std::array<GLuint, 3> renderbuffers{}; ///< colour (MSAA), depth (MSAA), colour (resolved)
+
+    void release() {
+        glDeleteFramebuffers(2, framebuffers.data());
+        glDeleteRenderbuffers(3, renderbuffers.data());
+        *this = Targets{};
+    }
+};
+
+} // namespace
+
+struct Renderer::Impl {
+    GLuint meshProgram = 0;
+    GLuint groundProgram = 0;
+    GLuint groundVao = 0;
+    GLuint groundBuffer = 0;
+    std::vector<GpuMesh> meshes;
+    Eigen::AlignedBox3d bounds;
+    Eigen::AlignedBox3d footprint; ///< the vertices in the lowest 10% of the content's height
+    Targets targets;
+
+    ~Impl() {
+        for (GpuMesh& m : meshes) {
+            m.release();
+        }
+        targets.release();
+        glDeleteBuffers(1, &groundBuffer);
+        glDeleteVertexArrays(1, &groundVao);
+        glDeleteProgram(meshProgram);
+        glDeleteProgram(groundProgram);
+    }
+
+    Result<void> prepareTargets(int width, int height, int samples);
+    void drawMeshes(const Camera& camera, bool wire);
+    void drawGround(const Camera& camera);
+    io::RgbaImage readPixels() const;
+};
+
+Renderer::Renderer(std::unique_ptr<Impl> impl) : m_impl(std::move(impl)) {}
+Renderer::~Renderer() = default;
+
+Result<std::unique_ptr<Renderer>> Renderer::create() {
+    if (!epoxy_is_desktop_gl() || epoxy_gl_version() < 33) {
+        return glError("the current context is not desktop OpenGL 3.3 or newer");
+    }
+    auto impl = std::make_unique<Impl>();
+    auto mesh = buildProgram(shaders::MESH_VERTEX, shaders::MESH_FRAGMENT);
+    if (!mesh.ok()) {
+        return mesh.error();
+    }
+    impl->meshProgram = mesh.value();
+    auto ground = buildProgram(shaders::GROUND_VERTEX, shaders::GROUND_FRAGMENT);
+    if (!ground.ok()) {
+        return ground.error();
+    }
+    impl->groundProgram = ground.value();
+    const std::vector<float> corners = {-1, -1, 1, -1, -1, 1, 1, 1};
+    glGenVertexArrays(1, &impl->groundVao);
+    glBindVertexArray(impl->groundVao);
+    glGenBuffers(1, &impl->groundBuffer);
+    uploadBuffer(GL_ARRAY_BUFFER, impl->groundBuffer, corners);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, nullptr);
+    glEnableVertexAttribArray(0);
+    glBindVertexArray(0);
+    return std::unique_ptr<Renderer>(new Renderer(std::move(impl)));
+}
+
+std::string Renderer::description() const {
+    const auto text = [](GLenum name) {
+        const auto* s = reinterpret_cast<const char*>(glGetString(name));
+        return std::string(s != nullptr ? s : "?");
+    };
+    return "OpenGL " + text(GL_VERSION) + ", " + text(GL_RENDERER);
+}
+
+Result<void> Renderer::setScene(const Scene& scene) {
+    for (std::size_t k = 0; k < scene.meshes.size(); ++k) {
+        if (auto problem = meshProblem(scene.meshes[k])) {
+            return Error{"", "mesh " + std::to_string(k), *problem};
+        }
+    }
+    for (GpuMesh& m : m_impl->meshes) {
+        m.release();
+    }
+    m_impl->meshes.clear();
+    for (const DrawMesh& mesh : scene.meshes) {
+        m_impl->meshes.push_back(upload(mesh));
+    }
+    m_impl->bounds = sceneBounds(scene);
+    m_impl->footprint = Eigen::AlignedBox3d();
+    const double floorBand = m_impl->bounds.min().y() + 0.1 * m_impl->bounds.sizes().y();
+    for (const DrawMesh& mesh : scene.meshes) {
+        for (Eigen::Index i = 0; i < mesh.positions.rows(); ++i) {
+            if (mesh.positions(i, 1) <= floorBand) {
+                m_impl->footprint.extend(mesh.positions.row(i).transpose());
+            }
+        }
+    }
+    return {};
+}
+
+Result<void> Renderer::Impl::prepareTargets(int width, int height, int samples) {
+    if (targets.width == width && targets.height == height && targets.samples == samples) {
+        return {};
+    }
+    targets.release();
+    GLint maxSize = 0;
+    glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &maxSize);
+    if (width < 1 || height < 1 || width > maxSize || height > maxSize) {
+        return glError("picture size " + std::to_string(width) + "x" + std::to_string(height) +
+                       " out of range [1, " + std::to_string(maxSize) + "]");
+    }
+    glGenFramebuffers(2, targets.framebuffers.data());
+    glGenRenderbuffers(3, targets.renderbuffers.data());
+    const GLenum formats[3] = {GL_RGBA8, GL_DEPTH_COMPONENT24, GL_RGBA8};
+    const GLenum attachments[3] = {GL_COLOR_ATTACHMENT0, GL_DEPTH_ATTACHMENT, GL_COLOR_ATTACHMENT0};
+    for (int k = 0; k < 3; ++k) {
+        glBindRenderbuffer(GL_RENDERBUFFER, targets.renderbuffers[k]);
+        glRenderbufferStorageMultisample(GL_RENDERBUFFER, k < 2 ? samples : 0, formats[k], width,
+                                         height);
+        glBindFramebuffer(GL_FRAMEBUFFER, targets.framebuffers[k < 2 ? 0 : 1]);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, attachments[k], GL_RENDERBUFFER,
+                                  targets.renderbuffers[k]);
+    }
+    for (const GLuint fb : targets.framebuffers) {
+        glBindFramebuffer(GL_FRAMEBUFFER, fb);
+        if (const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+            status != GL_FRAMEBUFFER_COMPLETE) {
+            char hex[16];
+            std::snprintf(hex, sizeof hex, "0x%04x", status);
+            targets.release();
+            return glError(std::string("offscreen framebuffer incomplete (") + hex + ")");
+        }
+    }
+    targets.width = width;
+    targets.height = height;
+    targets.samples = samples;
+    return {};
+}
+
+void Renderer::Impl::drawMeshes(const Camera& camera, bool wire) {
+    glUseProgram(meshProgram);
+    const auto at = [&](const char* name) { return glGetUniformLocation(meshProgram, name); };
+    glUniformMatrix4fv(at("uView"), 1, GL_FALSE, camera.view.data());
+    glUniformMatrix4fv(at("uProjection"), 1, GL_FALSE, camera.projection.data());
+    const Eigen::Matrix3f rotation = camera.view.topLeftCorner<3, 3>();
+    glUniformMatrix3fv(at("uViewRotation"), 1, GL_FALSE, rotation.data());
+    glUniform1i(at("uTriangleColours"), 0);
+    glUniform1i(at("uWire"), wire ? 1 : 0);
+    glUniform4f(at("uWireColour"), 0.0f, 0.0f, 0.0f, 0.35f);
+    for (const GpuMesh& m : meshes) {
+        if (wire && m.kind != MeshKind::Garment) {
+            continue;
+        }
+        glUniform1i(at("uGarment"), m.kind == MeshKind::Garment ? 1 : 0);
+        glUniform1i(at("uTriangleColoured"), m.triangleColourTexture != 0 ? 1 : 0);
+        glActiveTexture(GL_TEXTURE0);
+        glBindTexture(GL_TEXTURE_BUFFER, m.triangleColourTexture);
+        glBindVertexArray(m.vao);
+        glDrawElements(GL_TRIANGLES, m.indexCount, GL_UNSIGNED_INT, nullptr);
+    }
+    glBindVertexArray(0);
+}
+
+/// A soft dark ellipse on the floor under the content's footprint, drawn over what is already
+/// there.
+void Renderer::Impl::drawGround(const Camera& camera) {
+    const Eigen::Vector3d size = footprint.sizes();
+    const Eigen::Vector3d centre = footprint.center();
+    const double reach = 0.25 * std::max(size.x(), size.z()) + 0.04 * bounds.sizes().y();
+    glUseProgram(groundProgram);
+    const auto at = [&](const char* name) { return glGetUniformLocation(groundProgram, name); };
+    const Eigen::Matrix4f viewProjection = camera.projection * camera.view;
+    glUniformMatrix4fv(at("uViewProjection"), 1, GL_FALSE, viewProjection.data());
+    glUniform3f(at("uCentre"), static_cast<float>(centre.x()),
+                static_cast<float>(bounds.min().y() - 1e-3 * bounds.sizes().norm()),
+                static_cast<float>(centre.z()));
+    glUniform2f(at("uHalfSize"), static_cast<float>(0.5 * size.x() + reach),
+                static_cast<float>(0.5 * size.z() + reach));
+    glUniform1f(at("uStrength"), 0.5f);
+    glBindVertexArray(groundVao);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glBindVertexArray(0);
+}
+
+io::RgbaImage Renderer::Impl::readPixels() const {
+    io::RgbaImage image(targets.width, targets.height);
+    std::vector<std::uint8_t> raw(image.pixels.size());
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, targets.framebuffers[1]);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, targets.width, targets.height, GL_RGBA, GL_UNSIGNED_BYTE, raw.data());
+    const std::size_t stride = std::size_t(targets.width) * 4;
+    for (int y = 0; y < targets.height; ++y) {
+        // GL's rows go bottom up; the framebuffer holds premultiplied colour.
+        const std::uint8_t* from = raw.data() + std::size_t(targets.height - 1 - y) * stride;
+        std::uint8_t* to = image.at(0, y);
+        for (std::size_t i = 0; i < stride; i += 4) {
+            const int alpha = from[i + 3];
+            for (std::size_t k = 0; k < 3; ++k) {
+                to[i + k] = alpha == 255 || alpha == 0
+                                ? from[i + k]
+                                : static_cast<std::uint8_t>(
+                                      std::min(255, (from[i + k] * 255 + alpha / 2) / alpha));
+            }
+            to[i + 3] = from[i + 3];
+        }
+    }
+    return image;
+}
+
+Result<io::RgbaImage> Renderer::render(const RenderOptions& options) {
+    const double aspect = static_cast<double>(std::max(options.width, 1)) /
+                          static_cast<double>(std::max(options.height, 1));
+    return render(options, frameView(options.view, m_impl->bounds, aspect));
+}
+
+Result<io::RgbaImage> Renderer::render(const RenderOptions& options, const Camera& camera) {
+    GLint maxSamples = 1;
+    glGetIntegerv(GL_MAX_SAMPLES, &maxSamples);
+    const int samples = std::clamp(options.samples, 1, std::max(maxSamples, 1));
+    if (auto prepared = m_impl->prepareTargets(options.width, options.height, samples);
+        !prepared.ok()) {
+        return prepared.error();
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, m_impl->targets.framebuffers[0]);
+    glViewport(0, 0, options.width, options.height);
+    const Colour& bg = options.background; // cleared premultiplied, as blending leaves it
+    glClearColor(bg.r * bg.a, bg.g * bg.a, bg.b * bg.a, bg.a);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LEQUAL);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    if (samples > 1) {
+        glEnable(GL_MULTISAMPLE);
+    }
+    glEnable(GL_POLYGON_OFFSET_FILL); // the wireframe's lines win the depth test
+    glPolygonOffset(1.0f, 1.0f);
+    m_impl->drawMeshes(camera, false);
+    glDisable(GL_POLYGON_OFFSET_FILL);
+
+    glEnable(GL_BLEND);
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    glDepthMask(GL_FALSE);
+    if (options.groundShadow && !m_impl->bounds.isEmpty()) {
+        m_impl->drawGround(camera);
+    }
+    if (options.wireframe) {
+        glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+        m_impl->drawMeshes(camera, true);
+        glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    }
+    glDepthMask(GL_TRUE);
+    glDisable(GL_BLEND);
+
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, m_impl->targets.framebuffers[0]);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m_impl->targets.framebuffers[1]);
+    glBlitFramebuffer(0, 0, options.width, options.height, 0, 0, options.width, options.height,
+                      GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    io::RgbaImage image = m_impl->readPixels();
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    if (const GLenum error = glGetError(); error != GL_NO_ERROR) {
+        char hex[16];
+        std::snprintf(hex, sizeof hex, "0x%04x", error);
+        return glError(std::string("drawing failed (GL error ") + hex + ")");
+    }
+    return image;
+}
+
+} // namespace atelier::render

@@ -1,0 +1,115 @@
+#pragma once
+/// GLSL 3.30 sources of the renderer (renderer.cpp). Colours are sRGB in and out; lighting
+/// happens in linear space. Lights are fixed to the camera (view space, directions towards
+/// the light): every view of a garment is lit alike, as in a photo studio.
+
+namespace atelier::render::shaders {
+
+inline constexpr const char* MESH_VERTEX = R"(#version 330 core
+layout(location = 0) in vec3 aPosition;
+layout(location = 1) in vec3 aNormal;
+layout(location = 2) in vec4 aColour;
+uniform mat4 uView;
+uniform mat4 uProjection;
+out vec3 vWorldNormal;
+out vec3 vViewPosition;
+out vec4 vColour;
+void main() {
+    vec4 p = uView * vec4(aPosition, 1.0);
+    vViewPosition = p.xyz;
+    vWorldNormal = aNormal;
+    vColour = aColour;
+    gl_Position = uProjection * p;
+}
+)";
+
+inline constexpr const char* MESH_FRAGMENT = R"(#version 330 core
+in vec3 vWorldNormal;
+in vec3 vViewPosition;
+in vec4 vColour;
+uniform mat3 uViewRotation;
+uniform bool uTriangleColoured;
+uniform samplerBuffer uTriangleColours;
+uniform bool uGarment;
+uniform bool uWire;
+uniform vec4 uWireColour;
+out vec4 outColour;
+
+const vec3 KEY_DIR = vec3(-0.52, 0.62, 0.59);
+const vec3 KEY = vec3(1.0, 0.96, 0.90) * 1.5;
+const vec3 FILL_DIR = vec3(0.83, 0.17, 0.53);
+const vec3 FILL = vec3(0.80, 0.87, 1.0) * 0.40;
+const vec3 RIM_DIR = vec3(0.20, 0.50, -0.84);
+const vec3 RIM = vec3(1.0) * 0.50;
+const vec3 SKY = vec3(0.30, 0.32, 0.36);
+const vec3 GROUND = vec3(0.14, 0.12, 0.11);
+
+vec3 light(vec3 albedo, vec3 n, vec3 v, vec3 l, vec3 colour) {
+    float cosine = dot(n, l);
+    // Cloth scatters light a little past the terminator ("wrap" lighting); a body does not.
+    float diffuse = uGarment ? max((cosine + 0.3) / 1.3, 0.0) : max(cosine, 0.0);
+    float shininess = uGarment ? 12.0 : 40.0;
+    float strength = uGarment ? 0.04 : 0.18;
+    vec3 h = normalize(l + v);
+    float specular = cosine > 0.0 ? strength * pow(max(dot(n, h), 0.0), shininess) : 0.0;
+    return colour * (albedo * diffuse + vec3(specular));
+}
+
+void main() {
+    if (uWire) {
+        outColour = uWireColour;
+        return;
+    }
+    vec4 base = uTriangleColoured ? texelFetch(uTriangleColours, gl_PrimitiveID) : vColour;
+    vec3 albedo = pow(base.rgb, vec3(2.2));
+    vec3 nWorld = normalize(vWorldNormal);
+    if (!gl_FrontFacing) {
+        nWorld = -nWorld;
+        if (uGarment) {
+            // The back (inside) of the cloth: paler and darker than its front.
+            albedo = mix(albedo, vec3(0.5), 0.5) * 0.35;
+        }
+    }
+    vec3 n = normalize(uViewRotation * nWorld);
+    vec3 v = normalize(-vViewPosition);
+    vec3 colour = albedo * mix(GROUND, SKY, 0.5 + 0.5 * nWorld.y);
+    colour += light(albedo, n, v, normalize(KEY_DIR), KEY);
+    colour += light(albedo, n, v, normalize(FILL_DIR), FILL);
+    colour += light(albedo, n, v, normalize(RIM_DIR), RIM);
+    if (uGarment) {
+        colour += albedo * 0.3 * pow(1.0 - max(dot(n, v), 0.0), 3.0); // fabric sheen at grazing
+    }
+    // Highlights roll off softly above 0.8 instead of clipping; scaling the whole colour by
+    // its largest component keeps the hue and saturation of brightly lit cloth.
+    float peak = max(max(colour.r, colour.g), max(colour.b, 1e-6));
+    if (peak > 0.8) {
+        colour *= (0.8 + 0.2 * (1.0 - exp(-(peak - 0.8) / 0.2))) / peak;
+    }
+    outColour = vec4(pow(colour, vec3(1.0 / 2.2)), 1.0);
+}
+)";
+
+inline constexpr const char* GROUND_VERTEX = R"(#version 330 core
+layout(location = 0) in vec2 aCorner;
+uniform mat4 uViewProjection;
+uniform vec3 uCentre;
+uniform vec2 uHalfSize;
+out vec2 vLocal;
+void main() {
+    vLocal = aCorner;
+    vec3 p = uCentre + vec3(aCorner.x * uHalfSize.x, 0.0, aCorner.y * uHalfSize.y);
+    gl_Position = uViewProjection * vec4(p, 1.0);
+}
+)";
+
+inline constexpr const char* GROUND_FRAGMENT = R"(#version 330 core
+in vec2 vLocal;
+uniform float uStrength;
+out vec4 outColour;
+void main() {
+    float d = length(vLocal);
+    outColour = vec4(0.0, 0.0, 0.0, uStrength * (1.0 - smoothstep(0.1, 1.0, d)));
+}
+)";
+
+} // namespace atelier::render::shaders
