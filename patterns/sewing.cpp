@@ -29,10 +29,9 @@ void Sewing::begin(sim::Simulation& simulation, const DrapeSettings& settings, d
     }
     m_deadline = deadline;
     m_active = !sewn;
-    m_holdsGravity = deadline > 0;
     simulation.setSewingDeadline(deadline);
-    simulation.setGravity(!m_holdsGravity);
-    if (m_holdsGravity) {
+    simulation.setGravity(!holdsGravity());
+    if (holdsGravity()) {
         simulation.setFrictionScale(settings.sewingFrictionScale);
     } else {
         simulation.setSeamRouting(false); // nothing left to route
@@ -71,7 +70,6 @@ Sewing::End Sewing::afterStep(sim::Simulation& simulation) {
 
 void Sewing::end(sim::Simulation& simulation) {
     m_active = false;
-    m_holdsGravity = false;
     simulation.setSewingDeadline(-1);
     simulation.setGravity(true);
     simulation.setFrictionScale(1.0);

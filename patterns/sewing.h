@@ -35,13 +35,12 @@ class Sewing {
     /// The phase lasts (it began and has not ended).
     bool active() const { return m_active; }
     /// Gravity is held: the phase lasts with a deadline still ahead.
-    bool holdsGravity() const { return m_holdsGravity; }
+    bool holdsGravity() const { return m_active && m_deadline > 0; }
 
   private:
     void end(sim::Simulation& simulation);
 
     bool m_active = false;
-    bool m_holdsGravity = false;
     double m_deadline = -1;    ///< simulation time at which the phase ends (or ended) [s]
     double m_growthStart = -1; ///< simulation time at which the pull starts growing [s]
     double m_growth = 1;       ///< the pull's growth at the deadline [-]

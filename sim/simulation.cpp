@@ -222,8 +222,7 @@ void Simulation::Impl::routeSeams() {
     if (seamElastics == nullptr || !collision || !(scene.seamRouteClearance > 0)) {
         return;
     }
-    const bool sewing = seamRouting;
-    if (!sewing && !seamsRouted) {
+    if (!seamRouting && !seamsRouted) {
         return; // after sewing: nothing to route, nothing left to clear
     }
     const double before = seamElastics->energy(x);
@@ -231,7 +230,7 @@ void Simulation::Impl::routeSeams() {
     for (std::size_t k = 0; k < scene.seams.size(); ++k) {
         const SeamPair& p = scene.seams[k];
         Vec3 via;
-        const bool route = sewing && pairOpen(k) &&
+        const bool route = seamRouting && pairOpen(k) &&
                            collision->routeAround(x.row(p.a).transpose(), x.row(p.b).transpose(),
                                                   scene.seamRouteClearance, via);
         seamElastics->setVia(k, route ? &via : nullptr);
