@@ -9,6 +9,7 @@ PACKAGES=(
   qt6-base-dev libqt6opengl6-dev libepoxy-dev libegl-mesa0 libgl1-mesa-dri xvfb xauth
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  dpkg-dev python3-yaml slurm-wlm munge
 )
 
 missing=()

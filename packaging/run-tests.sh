@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs dependencies, checks the formatting, builds Atelier three times and runs the whole
 # test suite:
-#   1. Release with -Werror: unit tier + slow tier (long stability/accuracy scenes);
+#   1. Release with -Werror: unit tier + slow tier (long stability/accuracy scenes), then the
+#      Debian package built, installed and smoke-tested;
 #   2. AddressSanitizer + UndefinedBehaviorSanitizer: the unit tier and the benchmark smoke run
 #      again (the slow tier's long scenes take 10-50x longer under the sanitizers, beyond CI's
 #      time; run it with ATELIER_ASAN_CTEST_ARGS="-L slow" when needed), then the fuzz tier: a
@@ -24,6 +25,8 @@ cmake --preset ci
 cmake --build --preset ci -j "$JOBS"
 echo "== Tests (Release): unit and slow tiers"
 ctest --preset ci -j "$JOBS"
+echo "== Debian package: build, install with apt, smoke-test, remove"
+bash packaging/deb/build-and-check.sh build/ci
 
 echo "== AddressSanitizer + UndefinedBehaviorSanitizer build"
 cmake --preset asan

@@ -38,4 +38,10 @@ void addRenderCommand(CLI::App& app);
 /// `atelier-cli body [--measurements M.json | --base B] --out BODY.obj` (body_command.cpp).
 void addBodyCommand(CLI::App& app);
 
+/// `atelier-cli batch MANIFEST.json --out DIR [--shard I/N]` (batch_command.cpp).
+void addBatchCommand(CLI::App& app);
+
+/// `atelier-cli batch-summary DIR [--manifest M]` (batch_summary.cpp).
+void addBatchSummaryCommand(CLI::App& app);
+
 } // namespace atelier::app

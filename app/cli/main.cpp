@@ -22,6 +22,8 @@ int run(int argc, char** argv) {
     atelier::app::addDrapeCommand(app);
     atelier::app::addRenderCommand(app);
     atelier::app::addBodyCommand(app);
+    atelier::app::addBatchCommand(app);
+    atelier::app::addBatchSummaryCommand(app);
     atelier::app::addLimitsCommand(app);
 
     try {
