@@ -1,6 +1,7 @@
-# Installation and the Debian package (CPack): `cpack -G DEB` in a build folder writes
-# atelier-cli_VERSION_ARCH.deb. packaging/deb/build-and-check.sh builds, installs and smoke-tests
-# it (CI runs it). The desktop application joins this package when it exists (issue 23).
+# Installation and the Debian packages (CPack): `cpack -G DEB` in a build folder writes
+# atelier-cli_VERSION_ARCH.deb (the command line, the samples and presets: no Qt, for batch
+# machines) and atelier_VERSION_ARCH.deb (the desktop application, which depends on it).
+# packaging/deb/build-and-check.sh builds, installs and smoke-tests both (CI runs it).
 set(CMAKE_INSTALL_DOCDIR share/doc/atelier-cli)
 include(GNUInstallDirs)
 
@@ -32,14 +33,31 @@ install(FILES "${PROJECT_SOURCE_DIR}/packaging/deb/atelier-mime.xml"
 install(FILES "${PROJECT_SOURCE_DIR}/README.md" "${PROJECT_SOURCE_DIR}/packaging/deb/copyright"
         DESTINATION ${CMAKE_INSTALL_DOCDIR} COMPONENT cli)
 
+# The desktop application: the program, its desktop entry (opening .atelier files) and icon.
+install(TARGETS atelier RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT gui)
+install(FILES "${PROJECT_SOURCE_DIR}/packaging/deb/atelier.desktop"
+        DESTINATION ${CMAKE_INSTALL_DATADIR}/applications COMPONENT gui)
+install(FILES "${PROJECT_SOURCE_DIR}/packaging/deb/atelier.svg"
+        DESTINATION ${CMAKE_INSTALL_DATADIR}/icons/hicolor/scalable/apps COMPONENT gui)
+install(FILES "${PROJECT_SOURCE_DIR}/packaging/deb/copyright"
+        DESTINATION ${CMAKE_INSTALL_DATADIR}/doc/atelier COMPONENT gui)
+
 set(CPACK_GENERATOR DEB)
-set(CPACK_PACKAGE_NAME atelier-cli)
+set(CPACK_PACKAGE_NAME atelier)
+set(CPACK_DEB_COMPONENT_INSTALL ON)
+set(CPACK_COMPONENTS_ALL cli gui)
+set(CPACK_DEBIAN_CLI_PACKAGE_NAME atelier-cli)
+set(CPACK_DEBIAN_GUI_PACKAGE_NAME atelier)
 set(CPACK_PACKAGE_VENDOR "Atelier")
 set(CPACK_PACKAGE_CONTACT "Atelier developers <atelier@localhost>")
-set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "garment design: cloth simulation, draping and pictures, headless")
-set(CPACK_PACKAGE_DESCRIPTION "Atelier drapes sewing patterns on a body with a cloth simulation \
-engine and writes the draped garment as a mesh, a report and pictures (headless OpenGL through \
-EGL). This package holds the command line, atelier-cli, the sample garments and fabric presets.")
+set(CPACK_COMPONENT_CLI_DESCRIPTION "garment design: cloth simulation, draping and pictures, headless
+Atelier drapes sewing patterns on a body with a cloth simulation engine and writes the draped
+garment as a mesh, a report and pictures (headless OpenGL through EGL). This package holds the
+command line, atelier-cli, with batch scripts for Slurm and Kubernetes, the sample garments and
+the fabric presets.")
+set(CPACK_COMPONENT_GUI_DESCRIPTION "garment design: the desktop application
+Atelier's window: the garment's pattern and its drape side by side, the drape running on a
+worker thread while the 3D view follows it.")
 set(CPACK_PACKAGE_INSTALL_DIRECTORY atelier)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION graphics)
@@ -48,8 +66,10 @@ set(CPACK_DEBIAN_PACKAGE_LICENSE "GPL-3+")
 # Shared libraries the program links to, as dpkg-shlibdeps finds them, and the EGL/OpenGL
 # drivers libepoxy opens at run time (not visible to dpkg-shlibdeps).
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-set(CPACK_DEBIAN_PACKAGE_DEPENDS "libegl1, libegl-mesa0, libgl1-mesa-dri, libopengl0")
-set(CPACK_DEBIAN_PACKAGE_SUGGESTS "slurm-client")
+set(CPACK_DEBIAN_CLI_PACKAGE_DEPENDS "libegl1, libegl-mesa0, libgl1-mesa-dri, libopengl0")
+set(CPACK_DEBIAN_CLI_PACKAGE_SUGGESTS "slurm-client")
+set(CPACK_DEBIAN_GUI_PACKAGE_DEPENDS "atelier-cli (= ${PROJECT_VERSION}), libegl1, libegl-mesa0, libgl1-mesa-dri, libopengl0")
+set(CPACK_DEBIAN_GUI_PACKAGE_SECTION graphics)
 set(CPACK_STRIP_FILES ON)
 set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
 include(CPack)

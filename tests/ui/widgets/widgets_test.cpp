@@ -1,0 +1,127 @@
+// The desktop application's widgets without a display (QT_QPA_PLATFORM=offscreen): the drape
+// controller on its worker thread, the pattern view, the viewport's picture.
+#include "ui/render/headless_context.h"
+#include "ui/widgets/drape_controller.h"
+#include "ui/widgets/main_window.h"
+#include "ui/widgets/pattern_view.h"
+#include "ui/widgets/viewport.h"
+
+#include <QApplication>
+#include <QElapsedTimer>
+#include <QSignalSpy>
+#include <gtest/gtest.h>
+
+namespace atelier::ui {
+namespace {
+
+const QString GARMENTS = QStringLiteral(ATELIER_SOURCE_DIR "/assets/garments");
+
+/// Runs the event loop until `done` or `seconds` have passed; returns done().
+template <class Done> bool waitFor(Done done, double seconds) {
+    QElapsedTimer clock;
+    clock.start();
+    while (!done()) {
+        if (clock.elapsed() > seconds * 1000) {
+            return false;
+        }
+        QCoreApplication::processEvents(QEventLoop::AllEvents, 20);
+    }
+    return true;
+}
+
+TEST(DrapeController, OpensStartsPausesAndResets) {
+    DrapeController drape;
+    QSignalSpy opened(&drape, &DrapeController::opened);
+    drape.open(GARMENTS + "/skirt.atelier");
+    ASSERT_TRUE(waitFor([&] { return opened.count() == 1; }, 120));
+    const auto scene = drape.staticScene();
+    ASSERT_TRUE(scene);
+    EXPECT_EQ(scene->panelNames.size(), 2U);
+    EXPECT_GT(scene->garmentTriangles.rows(), 500);
+    EXPECT_EQ(scene->startPositions.rows(), scene->patternUvs.rows());
+    EXPECT_GT(scene->bodyTriangles.rows(), 10000);
+    EXPECT_EQ(drape.progress().phase, patterns::DrapePhase::Placing);
+    sim::Snapshot s;
+    EXPECT_FALSE(drape.snapshot(s)) << "nothing stepped yet";
+
+    drape.start();
+    ASSERT_TRUE(waitFor([&] { return drape.progress().steps >= 5; }, 120));
+    drape.pause();
+    ASSERT_TRUE(waitFor([&] { return !drape.running(); }, 5));
+    QCoreApplication::processEvents();
+    const long steps = drape.progress().steps;
+    // Paused: a step already under way may finish, no more after it.
+    waitFor([] { return false; }, 0.5);
+    EXPECT_LE(drape.progress().steps, steps + 1);
+    ASSERT_TRUE(drape.snapshot(s));
+    EXPECT_EQ(s.clothPositions.rows(), scene->startPositions.rows());
+    EXPECT_TRUE(s.clothPositions.allFinite());
+    EXPECT_GT(s.time, 0);
+
+    drape.reset();
+    ASSERT_TRUE(waitFor([&] { return opened.count() == 2; }, 120));
+    EXPECT_EQ(drape.progress().phase, patterns::DrapePhase::Placing);
+    EXPECT_FALSE(drape.snapshot(s)) << "the reset garment is back where it was placed";
+}
+
+TEST(DrapeController, AProjectThatCannotBeReadIsAnErrorNamingIt) {
+    DrapeController drape;
+    QSignalSpy failed(&drape, &DrapeController::failed);
+    drape.open(QStringLiteral("/nonexistent/shirt.atelier"));
+    ASSERT_TRUE(waitFor([&] { return failed.count() == 1; }, 30));
+    EXPECT_TRUE(failed.front().front().toString().contains("shirt.atelier"))
+        << failed.front().front().toString().toStdString();
+    EXPECT_FALSE(drape.staticScene());
+}
+
+TEST(PatternView, DrawsEveryPanel) {
+    MainWindow window(GARMENTS);
+    QSignalSpy ready(&window, &MainWindow::projectReady);
+    window.openProject(GARMENTS + "/tshirt.atelier");
+    ASSERT_TRUE(waitFor([&] { return ready.count() == 1; }, 120));
+    EXPECT_EQ(window.patternView().panelCount(),
+              static_cast<int>(window.drape().staticScene()->garment.panels.size()));
+    EXPECT_GE(window.patternView().panelCount(), 4);
+}
+
+TEST(Viewport, DrawsTheGarmentOnItsBody) {
+    {
+        auto context = render::HeadlessContext::create();
+        if (!context.ok()) {
+            GTEST_SKIP() << "no EGL context here: " << context.error().toString();
+        }
+    }
+    MainWindow window(GARMENTS);
+    window.resize(900, 600);
+    window.show();
+    QSignalSpy ready(&window, &MainWindow::projectReady);
+    window.openProject(GARMENTS + "/skirt.atelier");
+    ASSERT_TRUE(waitFor([&] { return ready.count() == 1; }, 120));
+    ASSERT_TRUE(waitFor([&] { return !window.viewport().picture().isNull(); }, 30))
+        << window.viewport().rendererError().toStdString();
+    const QImage picture = window.viewport().picture().convertToFormat(QImage::Format_RGB32);
+    // The skirt's front panel (reddish, render::panelColour(0)), and the background.
+    int garment = 0;
+    int background = 0;
+    for (int y = 0; y < picture.height(); ++y) {
+        for (int x = 0; x < picture.width(); ++x) {
+            const QColor c = picture.pixelColor(x, y);
+            garment += c.red() > c.green() + 40 && c.red() > c.blue() + 40 ? 1 : 0;
+            background += std::abs(c.red() - 237) < 3 && std::abs(c.blue() - 240) < 3 ? 1 : 0;
+        }
+    }
+    const double total = double(picture.width()) * picture.height();
+    EXPECT_GT(garment / total, 0.01) << "the red front panel covers some of the view";
+    EXPECT_GT(background / total, 0.3);
+    EXPECT_LT(background / total, 0.98);
+}
+
+} // namespace
+} // namespace atelier::ui
+
+int main(int argc, char** argv) {
+    qputenv("QT_QPA_PLATFORM", "offscreen");
+    QApplication app(argc, argv);
+    ::testing::InitGoogleTest(&argc, argv);
+    return RUN_ALL_TESTS();
+}

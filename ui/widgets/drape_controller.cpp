@@ -1,0 +1,195 @@
+#include "ui/widgets/drape_controller.h"
+
+#include "io/body_file.h"
+#include "io/project_file.h"
+
+#include <QMetaObject>
+
+namespace atelier::ui {
+
+DrapeController::DrapeController(QObject* parent) : QObject(parent) {
+    m_session = std::make_unique<patterns::DrapeSession>(
+        [this](const patterns::BodySource& source) -> Result<patterns::Body> {
+            return io::loadBody(source, m_projectFile.parent_path(), m_projectFile);
+        });
+    m_session->setPublishing(true);
+    m_worker = std::thread([this] { loop(); });
+}
+
+DrapeController::~DrapeController() {
+    {
+        const std::lock_guard lock(m_mutex);
+        m_quit = true;
+    }
+    m_running.store(false);
+    m_wake.notify_all();
+    m_worker.join();
+}
+
+void DrapeController::post(std::function<void()> command) {
+    {
+        const std::lock_guard lock(m_mutex);
+        m_commands.push_back(std::move(command));
+    }
+    m_wake.notify_all();
+}
+
+void DrapeController::open(const QString& path) {
+    m_running.store(false);
+    post([this, path] { openOnWorker(path); });
+}
+
+void DrapeController::start() {
+    post([this] {
+        if (m_session->phase() != patterns::DrapePhase::Empty && !m_session->finished()) {
+            m_running.store(true);
+        }
+    });
+}
+
+void DrapeController::pause() {
+    m_running.store(false);
+}
+
+void DrapeController::reset() {
+    m_running.store(false);
+    post([this] {
+        if (!m_project.garment.panels.empty()) {
+            m_session->setProject(m_project);
+            prepareOnWorker();
+        }
+    });
+}
+
+bool DrapeController::snapshot(sim::Snapshot& out) {
+    if (!m_stepped.load()) {
+        return false;
+    }
+    return m_session->snapshots().read(out);
+}
+
+DrapeProgress DrapeController::progress() {
+    DrapeProgress p;
+    sim::Snapshot s;
+    if (snapshot(s)) {
+        p.time = s.time;
+        p.steps = s.steps;
+        p.wallTime = s.wallTime;
+        p.kineticEnergy = s.kineticEnergy;
+        p.contacts = s.contacts;
+    }
+    p.phase = static_cast<patterns::DrapePhase>(m_phase.load());
+    p.running = m_running.load();
+    return p;
+}
+
+QString DrapeController::path() const {
+    const std::lock_guard lock(m_mutex);
+    return m_path;
+}
+
+std::shared_ptr<const StaticScene> DrapeController::staticScene() const {
+    const std::lock_guard lock(m_mutex);
+    return m_static;
+}
+
+void DrapeController::openOnWorker(const QString& path) {
+    const std::filesystem::path file = path.toStdString();
+    auto project = io::loadProject(file);
+    if (!project.ok()) {
+        const QString message = QString::fromStdString(project.error().toString());
+        QMetaObject::invokeMethod(this, [this, message] { emit failed(message); });
+        return;
+    }
+    m_projectFile = std::filesystem::absolute(file);
+    m_project = std::move(project.value());
+    m_session->setProject(m_project);
+    {
+        const std::lock_guard lock(m_mutex);
+        m_path = path;
+    }
+    prepareOnWorker();
+}
+
+void DrapeController::prepareOnWorker() {
+    m_stepped.store(false);
+    if (auto prepared = m_session->prepare(); !prepared.ok()) {
+        m_phase.store(static_cast<int>(patterns::DrapePhase::Failed));
+        const QString message = QString::fromStdString(prepared.error().toString());
+        QMetaObject::invokeMethod(this, [this, message] { emit failed(message); });
+        return;
+    }
+    m_session->takeEvents();
+    auto scene = std::make_shared<StaticScene>();
+    const patterns::GarmentMesh& mesh = m_session->mesh();
+    const patterns::AssembledGarment& assembled = m_session->assembled();
+    const patterns::Garment& garment = m_session->project().garment;
+    scene->garmentTriangles.resize(mesh.triangleCount, 3);
+    scene->patternUvs.resize(assembled.panelOffsets.back(), 2);
+    int t = 0;
+    for (std::size_t p = 0; p < mesh.panels.size(); ++p) {
+        const patterns::PanelMesh& pm = mesh.panels[p];
+        const int offset = assembled.panelOffsets[p];
+        const int count = static_cast<int>(pm.triangles.rows());
+        scene->garmentTriangles.middleRows(t, count) = pm.triangles.array() + offset;
+        scene->patternUvs.middleRows(offset, pm.pattern.rows()) = pm.pattern;
+        scene->panelTriangles.emplace_back(t, count);
+        scene->panelNames.push_back(garment.panels[p].name);
+        t += count;
+    }
+    scene->startPositions = m_session->positions();
+    scene->bodyPositions = m_session->body().vertices;
+    scene->bodyTriangles = m_session->body().triangles;
+    scene->garment = garment;
+    m_phase.store(static_cast<int>(m_session->phase()));
+    QString path;
+    {
+        const std::lock_guard lock(m_mutex);
+        m_static = std::move(scene);
+        path = m_path;
+    }
+    QMetaObject::invokeMethod(this, [this, path] { emit opened(path); });
+}
+
+void DrapeController::loop() {
+    for (;;) {
+        std::function<void()> command;
+        {
+            std::unique_lock lock(m_mutex);
+            m_wake.wait(lock, [this] { return m_quit || !m_commands.empty() || m_running.load(); });
+            if (m_quit) {
+                return;
+            }
+            if (!m_commands.empty()) {
+                command = std::move(m_commands.front());
+                m_commands.pop_front();
+            }
+        }
+        if (command) {
+            command();
+            continue; // commands first, then steps
+        }
+        if (!m_running.load()) {
+            continue;
+        }
+        const patterns::DrapeStatus status = m_session->step();
+        m_stepped.store(true);
+        m_phase.store(static_cast<int>(m_session->phase()));
+        for (const patterns::DrapeEvent& e : m_session->takeEvents()) {
+            const QString message = QString::fromStdString(e.message);
+            QMetaObject::invokeMethod(this, [this, message] { emit event(message); });
+        }
+        if (m_session->finished() || status == patterns::DrapeStatus::Failed) {
+            m_running.store(false);
+            const patterns::DrapeFigures f = m_session->figures();
+            const QString how =
+                f.rested ? QStringLiteral("at rest at t = %1 s").arg(f.time, 0, 'f', 2)
+                : status == patterns::DrapeStatus::Failed
+                    ? QStringLiteral("failed: %1").arg(QString::fromStdString(f.error))
+                    : QStringLiteral("stopped at the time limit, t = %1 s").arg(f.time, 0, 'f', 2);
+            QMetaObject::invokeMethod(this, [this, how] { emit finished(how); });
+        }
+    }
+}
+
+} // namespace atelier::ui

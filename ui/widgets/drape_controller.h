@@ -1,0 +1,107 @@
+#pragma once
+/// The drape behind the window: a DrapeSession owned by a worker thread, which prepares and
+/// steps it; the window sends it commands (open, start, pause, reset) and reads what it
+/// publishes (snapshots, figures) without ever waiting for a step.
+
+#include "patterns/drape_session.h"
+
+#include <QObject>
+#include <QString>
+
+#include <atomic>
+#include <condition_variable>
+#include <deque>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <thread>
+
+namespace atelier::ui {
+
+/// What does not change while a drape runs: the triangles, the panels' ranges and colours'
+/// order, the body, the start positions. Made once per prepare, shared read-only.
+struct StaticScene {
+    sim::MatX3i garmentTriangles;                    ///< (|F|×3) over all panels
+    std::vector<std::pair<int, int>> panelTriangles; ///< per panel: first triangle, count
+    std::vector<std::string> panelNames;
+    sim::MatX2 patternUvs;     ///< (|V|×2) pattern coordinates [m]
+    sim::MatX3 startPositions; ///< (|V|×3) the garment as placed [m]
+    sim::MatX3 bodyPositions;  ///< (|B|×3) [m]
+    sim::MatX3i bodyTriangles; ///< (|T|×3)
+    patterns::Garment garment; ///< the garment as meshed (the pattern view draws it)
+};
+
+/// The figures the status bar shows, from the latest snapshot and the session's phase.
+struct DrapeProgress {
+    double time = 0; ///< simulated [s]
+    long steps = 0;
+    double wallTime = 0;      ///< wall time in steps [s]
+    double kineticEnergy = 0; ///< [J]
+    long contacts = 0;
+    patterns::DrapePhase phase = patterns::DrapePhase::Empty;
+    bool running = false;
+};
+
+class DrapeController : public QObject {
+    Q_OBJECT
+  public:
+    explicit DrapeController(QObject* parent = nullptr);
+    ~DrapeController() override;
+    DrapeController(const DrapeController&) = delete;
+    DrapeController& operator=(const DrapeController&) = delete;
+
+    /// Loads a project file and prepares its drape on the worker (opened() or failed() follow).
+    void open(const QString& path);
+    void start();
+    void pause();
+    /// The garment back where it was placed, nothing stepped.
+    void reset();
+    bool running() const { return m_running.load(); }
+
+    /// Copies the latest published snapshot (any thread); false when none since the prepare.
+    bool snapshot(sim::Snapshot& out);
+    /// The drape's figures now (any thread).
+    DrapeProgress progress();
+    /// The project's file, or empty.
+    QString path() const;
+    /// The garment as it is now (positions) with its static scene; empty when nothing is open.
+    std::shared_ptr<const StaticScene> staticScene() const;
+
+  signals:
+    /// A project was opened and prepared: its static scene is ready.
+    void opened(const QString& path);
+    /// Opening or a step failed: the message says what (file, JSON path, cause).
+    void failed(const QString& message);
+    /// The drape stopped by itself: at rest, at the time limit, or failed.
+    void finished(const QString& how);
+    /// A sewing event (seams sewn, gravity on, at rest, ...), for the status bar.
+    void event(const QString& message);
+
+  private:
+    void post(std::function<void()> command);
+    void loop();
+    void openOnWorker(const QString& path);
+    void prepareOnWorker();
+
+    /// One session for the window's life (its snapshot buffer is read from the UI thread);
+    /// opening a project gives it the new project. Stepped on the worker thread only.
+    std::unique_ptr<patterns::DrapeSession> m_session;
+    patterns::Project m_project;         ///< worker thread only
+    std::filesystem::path m_projectFile; ///< worker thread only (the body provider reads it)
+    /// A step has been published since the last prepare (snapshots before it are of the
+    /// garment as it was).
+    std::atomic<bool> m_stepped{false};
+    QString m_path;                              ///< guarded by m_mutex
+    std::shared_ptr<const StaticScene> m_static; ///< guarded by m_mutex
+
+    mutable std::mutex m_mutex;
+    std::condition_variable m_wake;
+    std::deque<std::function<void()>> m_commands; ///< guarded by m_mutex
+    bool m_quit = false;                          ///< guarded by m_mutex
+    std::atomic<bool> m_running{false};
+    std::atomic<int> m_phase{0};
+    std::thread m_worker;
+};
+
+} // namespace atelier::ui

@@ -1,0 +1,240 @@
+#include "ui/widgets/viewport.h"
+
+#include "ui/render/headless_context.h"
+#include "ui/render/renderer.h"
+#include "ui/render/scene.h"
+
+#include <QImage>
+#include <QMouseEvent>
+#include <QPainter>
+#include <QWheelEvent>
+
+#include <cmath>
+
+namespace atelier::ui {
+
+namespace {
+
+constexpr float FOV_Y_DEG = 30.0f;
+constexpr float PI = 3.14159265358979f;
+
+Eigen::Matrix4f lookAt(const Eigen::Vector3f& eye, const Eigen::Vector3f& target,
+                       const Eigen::Vector3f& up) {
+    const Eigen::Vector3f f = (target - eye).normalized();
+    const Eigen::Vector3f s = f.cross(up).normalized();
+    const Eigen::Vector3f u = s.cross(f);
+    Eigen::Matrix4f m = Eigen::Matrix4f::Identity();
+    m.block<1, 3>(0, 0) = s.transpose();
+    m.block<1, 3>(1, 0) = u.transpose();
+    m.block<1, 3>(2, 0) = -f.transpose();
+    m(0, 3) = -s.dot(eye);
+    m(1, 3) = -u.dot(eye);
+    m(2, 3) = f.dot(eye);
+    return m;
+}
+
+Eigen::Matrix4f perspective(float fovYRad, float aspect, float zNear, float zFar) {
+    const float t = 1.0f / std::tan(fovYRad / 2);
+    Eigen::Matrix4f p = Eigen::Matrix4f::Zero();
+    p(0, 0) = t / aspect;
+    p(1, 1) = t;
+    p(2, 2) = (zFar + zNear) / (zNear - zFar);
+    p(2, 3) = 2 * zFar * zNear / (zNear - zFar);
+    p(3, 2) = -1;
+    return p;
+}
+
+Eigen::AlignedBox3d staticBounds(const StaticScene& s) {
+    Eigen::AlignedBox3d box;
+    for (Eigen::Index i = 0; i < s.startPositions.rows(); ++i) {
+        box.extend(s.startPositions.row(i).transpose());
+    }
+    for (Eigen::Index i = 0; i < s.bodyPositions.rows(); ++i) {
+        box.extend(s.bodyPositions.row(i).transpose());
+    }
+    return box;
+}
+
+} // namespace
+
+Viewport::Viewport(DrapeController* drape, QWidget* parent) : QWidget(parent), m_drape(drape) {
+    setAttribute(Qt::WA_OpaquePaintEvent);
+    setMinimumSize(320, 320);
+    connect(&m_poll, &QTimer::timeout, this, &Viewport::poll);
+    m_poll.start(33);
+    m_fpsClock.start();
+}
+
+Viewport::~Viewport() {
+    m_renderer.reset(); // its GL objects belong to the context, released after it
+}
+
+bool Viewport::ensureRenderer() {
+    if (m_renderer) {
+        return true;
+    }
+    if (!m_error.isEmpty()) {
+        return false;
+    }
+    auto context = render::HeadlessContext::create();
+    if (!context.ok()) {
+        m_error = QString::fromStdString(context.error().toString());
+        return false;
+    }
+    m_context = std::move(context.value());
+    auto renderer = render::Renderer::create();
+    if (!renderer.ok()) {
+        m_error = QString::fromStdString(renderer.error().toString());
+        return false;
+    }
+    m_renderer = std::move(renderer.value());
+    return true;
+}
+
+void Viewport::sceneChanged() {
+    m_static = m_drape->staticScene();
+    m_drawnVersion = 0;
+    setView(render::View::ThreeQuarter);
+}
+
+void Viewport::setView(render::View view) {
+    if (!m_static) {
+        update();
+        return;
+    }
+    const Eigen::AlignedBox3d box = staticBounds(*m_static);
+    const double aspect = height() > 0 ? double(width()) / height() : 1.0;
+    const render::Camera c = render::frameView(view, box, aspect);
+    m_target = box.center().cast<float>();
+    const Eigen::Vector3f offset = c.eye - m_target;
+    m_distance = offset.norm();
+    m_pitch = std::asin(std::clamp(offset.y() / std::max(m_distance, 1e-6f), -1.0f, 1.0f));
+    m_yaw = std::atan2(offset.x(), offset.z());
+    update();
+}
+
+render::Camera Viewport::camera() const {
+    const float pitch = std::clamp(m_pitch, -0.49f * PI, 0.49f * PI);
+    const Eigen::Vector3f dir(std::cos(pitch) * std::sin(m_yaw), std::sin(pitch),
+                              std::cos(pitch) * std::cos(m_yaw));
+    render::Camera c;
+    c.eye = m_target + m_distance * dir;
+    c.view = lookAt(c.eye, m_target, Eigen::Vector3f::UnitY());
+    const float aspect = height() > 0 ? float(width()) / float(height()) : 1.0f;
+    c.projection = perspective(FOV_Y_DEG * PI / 180, aspect, std::max(0.01f, m_distance * 0.01f),
+                               m_distance * 10 + 10);
+    return c;
+}
+
+void Viewport::poll() {
+    if (!isVisible()) {
+        return;
+    }
+    if (m_drape->snapshot(m_snapshot) && m_snapshot.version != m_drawnVersion) {
+        update();
+    }
+}
+
+void Viewport::draw() {
+    const qreal ratio = devicePixelRatioF();
+    const int w = std::max(1, int(width() * ratio));
+    const int h = std::max(1, int(height() * ratio));
+    render::Scene scene;
+    render::DrawMesh garment;
+    garment.kind = render::MeshKind::Garment;
+    const bool live = m_snapshot.version > 0 &&
+                      m_snapshot.clothPositions.rows() == m_static->startPositions.rows();
+    garment.positions = live ? m_snapshot.clothPositions : m_static->startPositions;
+    if (live) {
+        garment.normals = m_snapshot.clothNormals;
+    }
+    garment.triangles = m_static->garmentTriangles;
+    garment.triangleColours.resize(static_cast<std::size_t>(garment.triangles.rows()));
+    for (std::size_t p = 0; p < m_static->panelTriangles.size(); ++p) {
+        const auto [first, count] = m_static->panelTriangles[p];
+        for (int t = first; t < first + count; ++t) {
+            garment.triangleColours[static_cast<std::size_t>(t)] =
+                render::panelColour(static_cast<int>(p));
+        }
+    }
+    scene.meshes.push_back(std::move(garment));
+    render::DrawMesh body;
+    body.kind = render::MeshKind::Body;
+    body.positions = m_static->bodyPositions;
+    body.triangles = m_static->bodyTriangles;
+    body.colour = render::bodyColour();
+    scene.meshes.push_back(std::move(body));
+    m_drawnVersion = live ? m_snapshot.version : 0;
+
+    render::RenderOptions options;
+    options.width = w;
+    options.height = h;
+    options.background = {0.93f, 0.93f, 0.94f, 1.0f};
+    auto set = m_renderer->setScene(scene);
+    auto image =
+        set.ok() ? m_renderer->render(options, camera()) : Result<io::RgbaImage>(set.error());
+    if (!image.ok()) {
+        m_error = QString::fromStdString(image.error().toString());
+        m_picture = QImage();
+        return;
+    }
+    const io::RgbaImage& img = image.value();
+    m_picture =
+        QImage(img.pixels.data(), img.width, img.height, img.width * 4, QImage::Format_RGBA8888)
+            .copy();
+    m_picture.setDevicePixelRatio(ratio);
+}
+
+void Viewport::paintEvent(QPaintEvent* /*event*/) {
+    QPainter painter(this);
+    if (m_static && ensureRenderer()) {
+        draw();
+    }
+    if (!m_picture.isNull() && m_error.isEmpty()) {
+        painter.drawImage(QPointF(0, 0), m_picture);
+    } else {
+        painter.fillRect(rect(), QColor(237, 237, 240));
+        painter.setPen(QColor(90, 90, 100));
+        painter.drawText(rect().adjusted(20, 20, -20, -20), Qt::AlignCenter | Qt::TextWordWrap,
+                         !m_error.isEmpty()
+                             ? tr("The 3D view cannot draw: %1").arg(m_error)
+                             : tr("Open a garment project (File > Open, or a sample)"));
+    }
+    ++m_framesThisSecond;
+    if (m_fpsClock.elapsed() >= 1000) {
+        m_fps = 1000.0 * m_framesThisSecond / double(m_fpsClock.restart());
+        m_framesThisSecond = 0;
+    }
+}
+
+void Viewport::mousePressEvent(QMouseEvent* event) {
+    m_lastMouse = event->position().toPoint();
+}
+
+void Viewport::mouseMoveEvent(QMouseEvent* event) {
+    const QPoint p = event->position().toPoint();
+    const QPoint d = p - m_lastMouse;
+    m_lastMouse = p;
+    if (event->buttons() & Qt::LeftButton) {
+        m_yaw -= 0.01f * float(d.x());
+        m_pitch = std::clamp(m_pitch + 0.01f * float(d.y()), -0.49f * PI, 0.49f * PI);
+    } else if (event->buttons() & (Qt::RightButton | Qt::MiddleButton)) {
+        const render::Camera c = camera();
+        const Eigen::Vector3f right = c.view.block<1, 3>(0, 0).transpose();
+        const Eigen::Vector3f up = c.view.block<1, 3>(1, 0).transpose();
+        const float scale =
+            m_distance * 2 * std::tan(FOV_Y_DEG * PI / 360) / float(std::max(1, height()));
+        m_target += scale * (-float(d.x()) * right + float(d.y()) * up);
+    } else {
+        return;
+    }
+    update();
+}
+
+void Viewport::wheelEvent(QWheelEvent* event) {
+    const float steps = float(event->angleDelta().y()) / 120.0f;
+    m_distance = std::clamp(m_distance * std::pow(0.9f, steps), 0.05f, 100.0f);
+    update();
+}
+
+} // namespace atelier::ui

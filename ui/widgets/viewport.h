@@ -1,0 +1,81 @@
+#pragma once
+/// The 3D view: the garment and its body drawn by the same renderer, in the same kind of
+/// context, as the headless pictures (ui/render: OpenGL 3.3 through EGL, no window surface),
+/// shown as an image in a plain widget (docs/decisions/022-viewport-through-egl.md). It redraws
+/// when the drape publishes a new snapshot (polled 30 times a second), orbits with the left
+/// mouse button, pans with the right (or middle) one and zooms with the wheel; the named views
+/// frame the content.
+
+#include "ui/render/camera.h"
+#include "ui/widgets/drape_controller.h"
+
+#include <QElapsedTimer>
+#include <QImage>
+#include <QTimer>
+#include <QWidget>
+
+#include <memory>
+
+namespace atelier::render {
+class HeadlessContext;
+class Renderer;
+} // namespace atelier::render
+
+namespace atelier::ui {
+
+class Viewport : public QWidget {
+    Q_OBJECT
+  public:
+    explicit Viewport(DrapeController* drape, QWidget* parent = nullptr);
+    ~Viewport() override;
+
+    /// Frames the content from a named view.
+    void setView(render::View view);
+    /// Paints per second over the last second.
+    double framesPerSecond() const { return m_fps; }
+    /// The last picture drawn (for File > Save picture and tests).
+    QImage picture() const { return m_picture; }
+    /// The renderer's error, if it could not start (no OpenGL 3.3).
+    QString rendererError() const { return m_error; }
+
+  public slots:
+    /// A new project: its static scene, framed from three-quarter.
+    void sceneChanged();
+
+  protected:
+    void paintEvent(QPaintEvent* event) override;
+    void mousePressEvent(QMouseEvent* event) override;
+    void mouseMoveEvent(QMouseEvent* event) override;
+    void wheelEvent(QWheelEvent* event) override;
+
+  private:
+    void poll();
+    render::Camera camera() const;
+    /// Makes the context and the renderer on first use; false (with m_error) when it cannot.
+    bool ensureRenderer();
+    /// Draws the scene as it is now into m_picture.
+    void draw();
+
+    DrapeController* m_drape;
+    std::unique_ptr<render::HeadlessContext> m_context;
+    std::unique_ptr<render::Renderer> m_renderer;
+    QImage m_picture;
+    std::shared_ptr<const StaticScene> m_static;
+    sim::Snapshot m_snapshot;
+    std::uint64_t m_drawnVersion = 0;
+    QTimer m_poll;
+    QString m_error;
+
+    // Orbit camera around m_target: yaw about +y, pitch above the horizon, distance.
+    Eigen::Vector3f m_target = Eigen::Vector3f::Zero();
+    float m_yaw = 0;      ///< [rad], 0 = looking from +z
+    float m_pitch = 0;    ///< [rad]
+    float m_distance = 3; ///< [m]
+    QPoint m_lastMouse;
+
+    QElapsedTimer m_fpsClock;
+    int m_framesThisSecond = 0;
+    double m_fps = 0;
+};
+
+} // namespace atelier::ui
