@@ -123,6 +123,7 @@ Result<void> DrapeSession::prepare() {
     m_pause = false;
     m_cancel = false;
     m_timeOffset = 0;
+    m_limitStart = 0;
     m_stepSecondsBefore = 0;
     m_sewnAt = -1;
     m_sewingStart = 0;
@@ -197,6 +198,19 @@ double DrapeSession::time() const {
 const sim::MatX3& DrapeSession::positions() const {
     static const sim::MatX3 none;
     return m_simulation ? m_simulation->positions() : none;
+}
+
+void DrapeSession::wake() {
+    if (!m_simulation || m_phase.load() == DrapePhase::Failed) {
+        return;
+    }
+    if (m_phase.load() == DrapePhase::AtRest) {
+        m_phase = DrapePhase::Settling;
+    }
+    m_restSince = -1;
+    m_restTime = -1;
+    m_timeLimit = false;
+    m_limitStart = time();
 }
 
 bool DrapeSession::finished() const {
@@ -289,7 +303,7 @@ DrapeStatus DrapeSession::stepOnce() {
     if (finished()) {
         return finalStatus();
     }
-    const double until = m_project.drape.timeLimit - m_timeOffset;
+    const double until = m_limitStart + m_project.drape.timeLimit - m_timeOffset;
     m_sewing.beforeStep(*m_simulation);
     if (m_simulation->step(until) != sim::RunStatus::Finished) {
         const sim::RunStats& stats = m_simulation->stats();

@@ -117,6 +117,10 @@ class DrapeSession {
     void pause() { m_pause.store(true); }
     /// Any thread: advance()/runUntil() return after the current step (Cancelled).
     void cancel() { m_cancel.store(true); }
+    /// Stepping thread, between steps: a touch (a grab, a pin) wakes a drape that stopped at
+    /// rest or at its time limit. It settles again; its rest check starts over and its time
+    /// limit counts from now. Does nothing before prepare() or after a failure.
+    void wake();
     /// Any thread.
     DrapePhase phase() const { return m_phase.load(); }
     /// At rest, failed, or at the time limit.
@@ -201,6 +205,7 @@ class DrapeSession {
     std::function<void(long, double, double)> m_onFrame;
 
     // Time and rest across restarts: a restarted simulation counts from 0.
+    double m_limitStart = 0;        ///< drape time the time limit counts from (wake()) [s]
     double m_timeOffset = 0;        ///< drape time at which the current simulation started [s]
     double m_stepSecondsBefore = 0; ///< wall time of earlier simulations' steps [s]
     double m_restSince = -1;        ///< drape time since which the energy has stayed low [s]

@@ -135,6 +135,44 @@ TEST(DrapeSession, PhasesAndEventsOfASewnBand) {
     EXPECT_EQ(f.bodiesMade, 1);
 }
 
+TEST(DrapeSession, AGrabWakesAFinishedDrapeWhichSettlesAgain) {
+    Fixture f;
+    ASSERT_TRUE(f.session.prepare().ok());
+    const DrapeStatus end = f.session.runUntil();
+    ASSERT_TRUE(end == DrapeStatus::AtRest || end == DrapeStatus::TimeLimit);
+    ASSERT_TRUE(f.session.finished());
+    const double stoppedAt = f.session.time();
+    EXPECT_EQ(f.session.step(), end) << "a finished drape does not step";
+    EXPECT_EQ(f.session.time(), stoppedAt);
+
+    // Pull a triangle of the front panel 3 cm outwards, then let go.
+    sim::Simulation& sim = *f.session.simulation();
+    const sim::MatX3i& tri = sim.scene().cloths[0].mesh.triangles;
+    const sim::Vec3 at =
+        (f.session.positions().row(tri(0, 0)) + f.session.positions().row(tri(0, 1)) +
+         f.session.positions().row(tri(0, 2))) /
+        3;
+    const int handle =
+        sim.grab(sim::ClothPoint{0, sim::Vec3::Constant(1.0 / 3)}, at + sim::Vec3(0, 0, 0.03));
+    ASSERT_GT(handle, 0);
+    f.session.wake();
+    EXPECT_FALSE(f.session.finished());
+    EXPECT_EQ(f.session.phase(), DrapePhase::Settling);
+    for (int k = 0; k < 20; ++k) {
+        ASSERT_EQ(f.session.step(), DrapeStatus::Running);
+    }
+    EXPECT_GT(f.session.time(), stoppedAt);
+    const sim::Vec3 moved =
+        (f.session.positions().row(tri(0, 0)) + f.session.positions().row(tri(0, 1)) +
+         f.session.positions().row(tri(0, 2))) /
+        3;
+    EXPECT_GT((moved - at).z(), 0.01) << "the grabbed point followed the target";
+    ASSERT_TRUE(sim.release(handle));
+    const DrapeStatus again = f.session.runUntil();
+    EXPECT_TRUE(again == DrapeStatus::AtRest || again == DrapeStatus::TimeLimit);
+    EXPECT_TRUE(f.session.positions().allFinite());
+}
+
 TEST(DrapeSession, PauseFromAnotherThreadAndResumeGivesTheSameBits) {
     Fixture whole;
     ASSERT_TRUE(whole.session.prepare().ok());

@@ -61,6 +61,41 @@ void DrapeController::reset() {
     });
 }
 
+void DrapeController::grab(const sim::ClothPoint& point, const sim::Vec3& target) {
+    post([this, point, target] {
+        sim::Simulation* simulation = m_session->simulation();
+        if (simulation == nullptr || m_session->phase() == patterns::DrapePhase::Failed) {
+            return;
+        }
+        if (m_grab != 0) {
+            simulation->release(m_grab);
+        }
+        m_grab = simulation->grab(point, target);
+        if (m_grab != 0) {
+            m_session->wake();
+            m_running.store(true);
+        }
+    });
+}
+
+void DrapeController::moveGrab(const sim::Vec3& target) {
+    post([this, target] {
+        if (m_grab != 0 && m_session->simulation() != nullptr) {
+            m_session->simulation()->moveGrab(m_grab, target);
+        }
+    });
+}
+
+void DrapeController::release() {
+    post([this] {
+        if (m_grab != 0 && m_session->simulation() != nullptr) {
+            m_session->simulation()->release(m_grab);
+            m_session->wake(); // let it settle from where it was left
+        }
+        m_grab = 0;
+    });
+}
+
 bool DrapeController::snapshot(sim::Snapshot& out) {
     if (!m_stepped.load()) {
         return false;
@@ -113,6 +148,7 @@ void DrapeController::openOnWorker(const QString& path) {
 
 void DrapeController::prepareOnWorker() {
     m_stepped.store(false);
+    m_grab = 0; // a new simulation holds no grab
     if (auto prepared = m_session->prepare(); !prepared.ok()) {
         m_phase.store(static_cast<int>(patterns::DrapePhase::Failed));
         const QString message = QString::fromStdString(prepared.error().toString());

@@ -5,6 +5,8 @@
 
 #include "patterns/drape_session.h"
 
+#include "sim/simulation.h"
+
 #include <QObject>
 #include <QString>
 
@@ -59,6 +61,15 @@ class DrapeController : public QObject {
     void reset();
     bool running() const { return m_running.load(); }
 
+    /// Grabs the cloth at `point` (a garment triangle, in StaticScene::garmentTriangles' order,
+    /// and barycentric coordinates) and pulls it towards `target` [m]; the drape runs (a drape
+    /// at rest wakes). The seed paper's interactive manipulation: the engine's grab drive.
+    void grab(const sim::ClothPoint& point, const sim::Vec3& target);
+    /// Moves the grab's target [m].
+    void moveGrab(const sim::Vec3& target);
+    /// Lets go of the cloth.
+    void release();
+
     /// Copies the latest published snapshot (any thread); false when none since the prepare.
     bool snapshot(sim::Snapshot& out);
     /// The drape's figures now (any thread).
@@ -100,6 +111,7 @@ class DrapeController : public QObject {
     std::deque<std::function<void()>> m_commands; ///< guarded by m_mutex
     bool m_quit = false;                          ///< guarded by m_mutex
     std::atomic<bool> m_running{false};
+    int m_grab = 0; ///< the engine's grab handle, 0 = none (worker thread only)
     std::atomic<int> m_phase{0};
     std::thread m_worker;
 };

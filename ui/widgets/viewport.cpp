@@ -149,6 +149,7 @@ void Viewport::draw() {
         garment.normals = m_snapshot.clothNormals;
     }
     garment.triangles = m_static->garmentTriangles;
+    m_drawnPositions = garment.positions;
     garment.triangleColours.resize(static_cast<std::size_t>(garment.triangles.rows()));
     for (std::size_t p = 0; p < m_static->panelTriangles.size(); ++p) {
         const auto [first, count] = m_static->panelTriangles[p];
@@ -207,14 +208,89 @@ void Viewport::paintEvent(QPaintEvent* /*event*/) {
     }
 }
 
+std::pair<Eigen::Vector3f, Eigen::Vector3f> Viewport::ray(const QPointF& at) const {
+    const render::Camera c = camera();
+    const Eigen::Matrix4f inverse = (c.projection * c.view).inverse();
+    const float x = float(2 * at.x() / std::max(1, width()) - 1);
+    const float y = float(1 - 2 * at.y() / std::max(1, height()));
+    const Eigen::Vector4f a = inverse * Eigen::Vector4f(x, y, -1, 1);
+    const Eigen::Vector4f b = inverse * Eigen::Vector4f(x, y, 1, 1);
+    const Eigen::Vector3f origin = a.head<3>() / a.w();
+    return {origin, (b.head<3>() / b.w() - origin).normalized()};
+}
+
+bool Viewport::pick(const QPointF& at, sim::ClothPoint& point, Eigen::Vector3f& hit) const {
+    if (!m_static || m_drawnPositions.rows() != m_static->startPositions.rows()) {
+        return false;
+    }
+    const auto [origin, dir] = ray(at);
+    const Eigen::Vector3d o = origin.cast<double>();
+    const Eigen::Vector3d d = dir.cast<double>();
+    double best = INFINITY;
+    const sim::MatX3i& tri = m_static->garmentTriangles;
+    for (Eigen::Index t = 0; t < tri.rows(); ++t) {
+        // Möller–Trumbore: o + s d = (1-u-v) p0 + u p1 + v p2.
+        const Eigen::Vector3d p0 = m_drawnPositions.row(tri(t, 0));
+        const Eigen::Vector3d e1 = Eigen::Vector3d(m_drawnPositions.row(tri(t, 1))) - p0;
+        const Eigen::Vector3d e2 = Eigen::Vector3d(m_drawnPositions.row(tri(t, 2))) - p0;
+        const Eigen::Vector3d p = d.cross(e2);
+        const double det = e1.dot(p);
+        if (std::abs(det) < 1e-14) {
+            continue;
+        }
+        const Eigen::Vector3d q = o - p0;
+        const double u = q.dot(p) / det;
+        const Eigen::Vector3d r = q.cross(e1);
+        const double v = d.dot(r) / det;
+        const double s = e2.dot(r) / det;
+        if (u < 0 || v < 0 || u + v > 1 || s <= 0 || s >= best) {
+            continue;
+        }
+        best = s;
+        point.triangle = static_cast<int>(t);
+        point.barycentric = sim::Vec3(1 - u - v, u, v);
+    }
+    if (!std::isfinite(best)) {
+        return false;
+    }
+    hit = (o + best * d).cast<float>();
+    return true;
+}
+
 void Viewport::mousePressEvent(QMouseEvent* event) {
     m_lastMouse = event->position().toPoint();
+    sim::ClothPoint point;
+    Eigen::Vector3f hit;
+    if (event->button() == Qt::LeftButton && pick(event->position(), point, hit)) {
+        m_grabbing = true;
+        m_grabPoint = hit;
+        m_grabNormal = ray(event->position()).second;
+        m_drape->grab(point, hit.cast<double>());
+    }
+}
+
+void Viewport::mouseReleaseEvent(QMouseEvent* event) {
+    if (event->button() == Qt::LeftButton && m_grabbing) {
+        m_grabbing = false;
+        m_drape->release();
+    }
 }
 
 void Viewport::mouseMoveEvent(QMouseEvent* event) {
     const QPoint p = event->position().toPoint();
     const QPoint d = p - m_lastMouse;
     m_lastMouse = p;
+    if ((event->buttons() & Qt::LeftButton) && m_grabbing) {
+        // The target: where the mouse ray meets the plane through the grabbed point that
+        // faces the camera.
+        const auto [origin, dir] = ray(event->position());
+        const float along = dir.dot(m_grabNormal);
+        if (std::abs(along) > 1e-6f) {
+            const float s = (m_grabPoint - origin).dot(m_grabNormal) / along;
+            m_drape->moveGrab((origin + s * dir).cast<double>());
+        }
+        return;
+    }
     if (event->buttons() & Qt::LeftButton) {
         m_yaw -= 0.01f * float(d.x());
         m_pitch = std::clamp(m_pitch + 0.01f * float(d.y()), -0.49f * PI, 0.49f * PI);

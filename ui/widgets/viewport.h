@@ -4,7 +4,8 @@
 /// shown as an image in a plain widget (docs/decisions/022-viewport-through-egl.md). It redraws
 /// when the drape publishes a new snapshot (polled 30 times a second), orbits with the left
 /// mouse button, pans with the right (or middle) one and zooms with the wheel; the named views
-/// frame the content.
+/// frame the content. Left-dragging the cloth grabs it (the drape runs and follows the mouse
+/// in the plane facing the camera); left-dragging elsewhere orbits.
 
 #include "ui/render/camera.h"
 #include "ui/widgets/drape_controller.h"
@@ -46,11 +47,17 @@ class Viewport : public QWidget {
     void paintEvent(QPaintEvent* event) override;
     void mousePressEvent(QMouseEvent* event) override;
     void mouseMoveEvent(QMouseEvent* event) override;
+    void mouseReleaseEvent(QMouseEvent* event) override;
     void wheelEvent(QWheelEvent* event) override;
 
   private:
     void poll();
     render::Camera camera() const;
+    /// The ray under a widget point: origin and unit direction, world [m].
+    std::pair<Eigen::Vector3f, Eigen::Vector3f> ray(const QPointF& at) const;
+    /// The garment triangle under a widget point, as drawn last: its index, barycentric
+    /// coordinates and the world point; false when the ray misses the garment.
+    bool pick(const QPointF& at, sim::ClothPoint& point, Eigen::Vector3f& hit) const;
     /// Makes the context and the renderer on first use; false (with m_error) when it cannot.
     bool ensureRenderer();
     /// Draws the scene as it is now into m_picture.
@@ -72,6 +79,10 @@ class Viewport : public QWidget {
     float m_pitch = 0;    ///< [rad]
     float m_distance = 3; ///< [m]
     QPoint m_lastMouse;
+    sim::MatX3 m_drawnPositions; ///< the garment as drawn last (picking uses it)
+    bool m_grabbing = false;
+    Eigen::Vector3f m_grabPoint;  ///< where the grab's plane passes, world [m]
+    Eigen::Vector3f m_grabNormal; ///< the plane's normal: the view direction when grabbed
 
     QElapsedTimer m_fpsClock;
     int m_framesThisSecond = 0;

@@ -9,6 +9,7 @@
 #include <QApplication>
 #include <QElapsedTimer>
 #include <QSignalSpy>
+#include <QTest>
 #include <gtest/gtest.h>
 
 namespace atelier::ui {
@@ -64,6 +65,38 @@ TEST(DrapeController, OpensStartsPausesAndResets) {
     EXPECT_FALSE(drape.snapshot(s)) << "the reset garment is back where it was placed";
 }
 
+TEST(DrapeController, AGrabPullsTheClothAndStartsTheDrape) {
+    DrapeController drape;
+    QSignalSpy opened(&drape, &DrapeController::opened);
+    drape.open(GARMENTS + "/skirt.atelier");
+    ASSERT_TRUE(waitFor([&] { return opened.count() == 1; }, 120));
+    const auto scene = drape.staticScene();
+    const int t = 10;
+    const auto corner = [&](const sim::MatX3& x, int k) {
+        return sim::Vec3(x.row(scene->garmentTriangles(t, k)));
+    };
+    const sim::Vec3 start = (corner(scene->startPositions, 0) + corner(scene->startPositions, 1) +
+                             corner(scene->startPositions, 2)) /
+                            3;
+    const sim::Vec3 target = start + sim::Vec3(0, 0, 0.05);
+    drape.grab(sim::ClothPoint{t, sim::Vec3::Constant(1.0 / 3)}, target);
+    ASSERT_TRUE(waitFor([&] { return drape.progress().steps >= 15; }, 120))
+        << "a grab starts the drape";
+    drape.pause();
+    ASSERT_TRUE(waitFor([&] { return !drape.running(); }, 5));
+    sim::Snapshot s;
+    ASSERT_TRUE(drape.snapshot(s));
+    const sim::Vec3 now =
+        (corner(s.clothPositions, 0) + corner(s.clothPositions, 1) + corner(s.clothPositions, 2)) /
+        3;
+    EXPECT_LT((now - target).norm(), 0.5 * (start - target).norm())
+        << "the grabbed point went more than half way to the target";
+    drape.release();
+    drape.start();
+    ASSERT_TRUE(waitFor([&] { return drape.progress().steps >= 25; }, 120));
+    drape.pause();
+}
+
 TEST(DrapeController, AProjectThatCannotBeReadIsAnErrorNamingIt) {
     DrapeController drape;
     QSignalSpy failed(&drape, &DrapeController::failed);
@@ -114,6 +147,31 @@ TEST(Viewport, DrawsTheGarmentOnItsBody) {
     EXPECT_GT(garment / total, 0.01) << "the red front panel covers some of the view";
     EXPECT_GT(background / total, 0.3);
     EXPECT_LT(background / total, 0.98);
+
+    // Pressing on the cloth grabs it: the drape starts; dragging and letting go keep it finite.
+    QPoint onCloth(-1, -1);
+    for (int y = picture.height() / 2; y < picture.height() && onCloth.x() < 0; ++y) {
+        for (int x = 0; x < picture.width(); ++x) {
+            const QColor c = picture.pixelColor(x, y);
+            if (c.red() > c.green() + 40 && c.red() > c.blue() + 40) {
+                onCloth = QPoint(x, y) / window.viewport().devicePixelRatioF();
+                break;
+            }
+        }
+    }
+    ASSERT_GE(onCloth.x(), 0);
+    EXPECT_FALSE(window.drape().running());
+    QTest::mousePress(&window.viewport(), Qt::LeftButton, {}, onCloth);
+    ASSERT_TRUE(waitFor([&] { return window.drape().progress().steps >= 3; }, 120));
+    QTest::mouseMove(&window.viewport(), onCloth + QPoint(30, -20));
+    waitFor([] { return false; }, 0.3);
+    QTest::mouseRelease(&window.viewport(), Qt::LeftButton, {}, onCloth + QPoint(30, -20));
+    waitFor([] { return false; }, 0.3);
+    window.drape().pause();
+    ASSERT_TRUE(waitFor([&] { return !window.drape().running(); }, 5));
+    sim::Snapshot s;
+    ASSERT_TRUE(window.drape().snapshot(s));
+    EXPECT_TRUE(s.clothPositions.allFinite());
 }
 
 } // namespace
