@@ -2,7 +2,7 @@
 
 #include "io/atomic_file.h"
 #include "io/json_reader.h"
-#include "io/obj.h"
+#include "io/mesh_import.h"
 
 #include <nlohmann/json.hpp>
 
@@ -92,16 +92,18 @@ Result<patterns::Body> loadBody(const patterns::BodySource& source,
     if (!std::filesystem::exists(path)) {
         return Error{projectFile.string(), "/body/mesh", "body mesh not found: " + path.string()};
     }
-    auto obj = readObj(path, limits.maxMeshBytes);
-    if (!obj.ok()) {
-        return obj.error();
-    }
-    if (auto problem = checkBodyExtent(obj.value().positions, limits.maxBodyExtent)) {
-        return Error{path.string(), "", *problem};
+    BodyImportOptions options;
+    // The project reader checked the spellings.
+    options.units = parseLengthUnit(source.meshUnits.empty() ? "auto" : source.meshUnits)
+                        .value_or(LengthUnit::Auto);
+    options.up = parseUpAxis(source.meshUp.empty() ? "auto" : source.meshUp).value_or(UpAxis::Auto);
+    auto imported = importBody(path, options, limits);
+    if (!imported.ok()) {
+        return imported.error();
     }
     patterns::Body body;
-    body.vertices = obj.value().positions;
-    body.triangles = obj.value().triangles;
+    body.vertices = std::move(imported.value().vertices);
+    body.triangles = std::move(imported.value().triangles);
     if (auto problem = patterns::estimateSlots(body)) {
         return Error{path.string(), "", *problem};
     }

@@ -24,9 +24,11 @@ Result<patterns::BodyMeasurements> bodyMeasurements(const patterns::BodySource& 
 Result<patterns::Mannequin> makeBody(const patterns::BodySource& source, const std::string& file);
 
 /// The body a project drapes on: the mannequin, or the mesh at meshPath (relative to
-/// projectDir; slots estimated from its proportions, see patterns::estimateSlots).
-/// The mesh must be a regular file of at most `limits.maxMeshBytes`, and no side of its
-/// bounding box longer than `limits.maxBodyExtent`.
+/// projectDir; imported and normalised by importBody with the source's unit and up axis;
+/// slots estimated from its proportions, see patterns::estimateSlots). The mesh must be a
+/// regular file of at most `limits.maxMeshBytes`, and no side of its normalised bounding box
+/// longer than `limits.maxBodyExtent`. Import warnings (holes, non-manifold edges) are not
+/// reported here: `atelier-cli body FILE --report` prints them.
 Result<patterns::Body> loadBody(const patterns::BodySource& source,
                                 const std::filesystem::path& projectDir,
                                 const std::filesystem::path& projectFile,
