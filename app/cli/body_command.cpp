@@ -73,8 +73,6 @@ nlohmann::ordered_json slotsJson(const std::vector<patterns::ArrangementSlot>& s
 std::string importText(const std::string& file, const io::BodyImportReport& r) {
     char text[1024];
     std::snprintf(text, sizeof text,
-                  "file:              %s\n"
-                  "format:            %s\n"
                   "units:             %s (%s)\n"
                   "up axis:           %s (%s)\n"
                   "height:            %.4f m (%.6g file units)\n"
@@ -82,11 +80,11 @@ std::string importText(const std::string& file, const io::BodyImportReport& r) {
                   "triangles:         %ld (%ld degenerate dropped)\n"
                   "holes:             %ld (%ld boundary edges)\n"
                   "non-manifold edges: %ld\n",
-                  file.c_str(), r.format.c_str(), std::string(io::unitName(r.units)).c_str(),
-                  r.unitsFrom.c_str(), std::string(io::axisName(r.up)).c_str(), r.upFrom.c_str(),
-                  r.height, r.fileHeight, r.vertices, r.sourceVertices, r.triangles,
-                  r.droppedTriangles, r.holes, r.boundaryEdges, r.nonManifoldEdges);
-    return text;
+                  std::string(io::unitName(r.units)).c_str(), r.unitsFrom.c_str(),
+                  std::string(io::axisName(r.up)).c_str(), r.upFrom.c_str(), r.height, r.fileHeight,
+                  r.vertices, r.sourceVertices, r.triangles, r.droppedTriangles, r.holes,
+                  r.boundaryEdges, r.nonManifoldEdges);
+    return "file:              " + file + "\nformat:            " + r.format + "\n" + text;
 }
 
 /// `body FILE`: imports a body mesh, reports what was detected, writes it normalised.

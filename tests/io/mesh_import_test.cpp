@@ -307,6 +307,49 @@ TEST(BodyImportFiles, EachFormatInEachUnitAndAxisIsNormalised) {
     }
 }
 
+/// The box as COLLADA, Z up in centimetres: assimp applies `up_axis` and `unit` itself.
+std::string colladaZUpCm() {
+    const io::RawMesh raw = scaled(zUp(boxBody()), 100.0);
+    std::string positions;
+    for (Eigen::Index i = 0; i < raw.positions.rows(); ++i) {
+        for (int k = 0; k < 3; ++k) {
+            positions += std::to_string(raw.positions(i, k)) + " ";
+        }
+    }
+    std::string indices;
+    for (Eigen::Index f = 0; f < raw.triangles.rows(); ++f) {
+        for (int k = 0; k < 3; ++k) {
+            indices += std::to_string(raw.triangles(f, k)) + " ";
+        }
+    }
+    return R"(<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset><unit name="centimeter" meter="0.01"/><up_axis>Z_UP</up_axis></asset>
+  <library_geometries><geometry id="box" name="box"><mesh>
+    <source id="box-pos"><float_array id="box-pos-array" count="24">)" +
+           positions + R"(</float_array>
+      <technique_common><accessor source="#box-pos-array" count="8" stride="3">
+        <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
+      </accessor></technique_common></source>
+    <vertices id="box-vtx"><input semantic="POSITION" source="#box-pos"/></vertices>
+    <triangles count="12"><input semantic="VERTEX" source="#box-vtx" offset="0"/><p>)" +
+           indices + R"(</p></triangles>
+  </mesh></geometry></library_geometries>
+  <library_visual_scenes><visual_scene id="scene"><node id="n">
+    <instance_geometry url="#box"/></node></visual_scene></library_visual_scenes>
+  <scene><instance_visual_scene url="#scene"/></scene>
+</COLLADA>
+)";
+}
+
+TEST(BodyImportFiles, ColladaUpAxisAndUnitAreApplied) {
+    const test::TempDir dir;
+    auto body = io::importBody(dir.write("box.dae", colladaZUpCm()));
+    ASSERT_TRUE(body.ok()) << body.error().toString();
+    EXPECT_EQ(body.value().report.format, "COLLADA");
+    expectBox(body.value(), 1e-5);
+}
+
 TEST(BodyImportFiles, BrokenAndUnsupportedFilesGiveErrors) {
     const test::TempDir dir;
     EXPECT_EQ(errorOf(io::importBody(dir.write("body.xyz", "1 2 3\n"))),
