@@ -80,7 +80,8 @@ std::optional<std::string> checkBodyExtent(const sim::MatX3& vertices, double ma
 
 Result<patterns::Body> loadBody(const patterns::BodySource& source,
                                 const std::filesystem::path& projectDir,
-                                const std::filesystem::path& projectFile, const Limits& limits) {
+                                const std::filesystem::path& projectFile, const Limits& limits,
+                                std::vector<std::string>* warnings) {
     if (source.meshPath.empty()) {
         auto mannequin = makeBody(source, projectFile.string());
         if (!mannequin.ok()) {
@@ -100,6 +101,11 @@ Result<patterns::Body> loadBody(const patterns::BodySource& source,
     auto imported = importBody(path, options, limits);
     if (!imported.ok()) {
         return imported.error();
+    }
+    if (warnings != nullptr) {
+        for (const std::string& w : imported.value().report.warnings) {
+            warnings->push_back(path.string() + ": " + w);
+        }
     }
     patterns::Body body;
     body.vertices = std::move(imported.value().vertices);

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace atelier::io {
 
@@ -27,12 +28,12 @@ Result<patterns::Mannequin> makeBody(const patterns::BodySource& source, const s
 /// projectDir; imported and normalised by importBody with the source's unit and up axis;
 /// slots estimated from its proportions, see patterns::estimateSlots). The mesh must be a
 /// regular file of at most `limits.maxMeshBytes`, and no side of its normalised bounding box
-/// longer than `limits.maxBodyExtent`. Import warnings (holes, non-manifold edges) are not
-/// reported here: `atelier-cli body FILE --report` prints them.
+/// longer than `limits.maxBodyExtent`. The import's warnings (holes, non-manifold edges),
+/// each prefixed with the mesh file, are appended to `warnings` when given.
 Result<patterns::Body> loadBody(const patterns::BodySource& source,
                                 const std::filesystem::path& projectDir,
-                                const std::filesystem::path& projectFile,
-                                const Limits& limits = {});
+                                const std::filesystem::path& projectFile, const Limits& limits = {},
+                                std::vector<std::string>* warnings = nullptr);
 
 /// What is wrong when a body (or obstacle) mesh has a bounding-box side longer than `maxExtent`
 /// [m], naming the length and the axis; nullopt when it fits.

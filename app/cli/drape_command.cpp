@@ -113,7 +113,12 @@ std::optional<std::string> checkBeforeWork(const DrapeOptions& options,
 patterns::BodyProvider projectBodies(const std::string& projectFile, const io::Limits& limits) {
     const std::filesystem::path dir = std::filesystem::absolute(projectFile).parent_path();
     return [dir, projectFile, limits](const patterns::BodySource& source) {
-        return io::loadBody(source, dir, projectFile, limits);
+        std::vector<std::string> warnings;
+        auto body = io::loadBody(source, dir, projectFile, limits, &warnings);
+        for (const std::string& w : warnings) {
+            std::cerr << "warning: " << w << "\n";
+        }
+        return body;
     };
 }
 

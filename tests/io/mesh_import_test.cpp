@@ -434,9 +434,24 @@ TEST(BodyImportFiles, TheMakeHumanBodyLoads) {
 
     patterns::BodySource source;
     source.meshPath = path.filename().string();
-    const auto loaded = io::loadBody(source, path.parent_path(), "p.atelier");
+    std::vector<std::string> warnings;
+    const auto loaded = io::loadBody(source, path.parent_path(), "p.atelier", {}, &warnings);
     ASSERT_TRUE(loaded.ok()) << loaded.error().toString();
     EXPECT_FALSE(loaded.value().slots.empty());
+    EXPECT_TRUE(warnings.empty());
+
+    // With a triangle missing it still loads, with a warning naming the file and the hole.
+    const test::TempDir dir;
+    io::SurfaceMesh open;
+    open.positions = body.value().vertices;
+    open.triangles = body.value().triangles.topRows(r.triangles - 1);
+    ASSERT_TRUE(io::exportMesh(dir / "open.obj", open, io::MeshFormat::Obj).ok());
+    source.meshPath = "open.obj";
+    const auto opened = io::loadBody(source, dir.path(), "p.atelier", {}, &warnings);
+    ASSERT_TRUE(opened.ok()) << opened.error().toString();
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_EQ(warnings[0],
+              (dir / "open.obj").string() + ": the surface is open: 1 hole (3 boundary edges)");
 }
 
 } // namespace
