@@ -55,18 +55,16 @@ std::string formatOfExtension(const std::string& ext) {
     return "STL";
 }
 
-/// Reads a mesh through assimp: triangulated, identical vertices joined, node transforms
-/// applied (every mesh in scene coordinates), points and lines dropped.
+/// Reads a mesh through assimp with no post-processing but its validation (assimp's
+/// triangulation asserts, and so aborts, on some broken files: a fuzzed binary PLY), then
+/// fans polygons into triangles, drops points and lines, and places every mesh instance by
+/// its node's accumulated transform (so the vertices are in scene coordinates).
 /// `text` is the file's content; a .gltf (which may name other files) is read from the file.
 Result<RawMesh> readWithAssimp(const std::filesystem::path& path, const std::string& ext,
-                               const std::string& text) {
+                               const std::string& text, long long maxVertices) {
     const std::string file = path.string();
     Assimp::Importer importer;
-    importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
-                                aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-    const unsigned steps = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                           aiProcess_PreTransformVertices | aiProcess_SortByPType |
-                           aiProcess_ValidateDataStructure;
+    const unsigned steps = aiProcess_ValidateDataStructure;
     const aiScene* scene =
         ext == ".gltf"
             ? importer.ReadFile(file, steps)
@@ -77,42 +75,72 @@ Result<RawMesh> readWithAssimp(const std::filesystem::path& path, const std::str
     }
     RawMesh raw;
     raw.format = formatOfExtension(ext);
-    long vertexCount = 0;
-    long triangleCount = 0;
-    for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
-        const aiMesh* mesh = scene->mMeshes[m];
-        vertexCount += mesh->mNumVertices;
-        for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
-            triangleCount += mesh->mFaces[f].mNumIndices == 3 ? 1 : 0;
+    std::vector<sim::Vec3> positions;
+    std::vector<std::array<int, 3>> triangles;
+    // Depth-first over the nodes with an explicit stack (a deep tree cannot overflow ours).
+    std::vector<std::pair<const aiNode*, aiMatrix4x4>> stack;
+    if (scene->mRootNode != nullptr) {
+        stack.emplace_back(scene->mRootNode, scene->mRootNode->mTransformation);
+    }
+    while (!stack.empty()) {
+        const auto [node, transform] = stack.back();
+        stack.pop_back();
+        for (unsigned c = 0; c < node->mNumChildren; ++c) {
+            if (node->mChildren[c] != nullptr) {
+                stack.emplace_back(node->mChildren[c],
+                                   transform * node->mChildren[c]->mTransformation);
+            }
+        }
+        for (unsigned i = 0; i < node->mNumMeshes; ++i) {
+            if (node->mMeshes[i] >= scene->mNumMeshes) {
+                return Error{file, "", "a node names a mesh the file does not hold"};
+            }
+            const aiMesh* mesh = scene->mMeshes[node->mMeshes[i]];
+            if (static_cast<long long>(positions.size()) + mesh->mNumVertices > maxVertices) {
+                return Error{file, "",
+                             "more than " + std::to_string(maxVertices) +
+                                 " vertices (the limit body-vertices)"};
+            }
+            const auto base = static_cast<int>(positions.size());
+            for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+                const aiVector3D p = transform * mesh->mVertices[v];
+                positions.emplace_back(p.x, p.y, p.z);
+            }
+            for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+                const aiFace& face = mesh->mFaces[f];
+                for (unsigned k = 0; k < face.mNumIndices; ++k) {
+                    if (face.mIndices[k] >= mesh->mNumVertices) {
+                        return Error{file, "",
+                                     "a face names a vertex the mesh does not hold (" +
+                                         std::to_string(face.mIndices[k]) + " of " +
+                                         std::to_string(mesh->mNumVertices) + ")"};
+                    }
+                }
+                // Polygons as fans; points and lines (fewer than 3 corners) carry no surface.
+                for (unsigned k = 1; k + 1 < face.mNumIndices; ++k) {
+                    triangles.push_back({base + static_cast<int>(face.mIndices[0]),
+                                         base + static_cast<int>(face.mIndices[k]),
+                                         base + static_cast<int>(face.mIndices[k + 1])});
+                }
+            }
+            raw.hasUvs = raw.hasUvs || mesh->HasTextureCoords(0);
+            aiString name;
+            if (mesh->mMaterialIndex < scene->mNumMaterials) {
+                scene->mMaterials[mesh->mMaterialIndex]->Get(AI_MATKEY_NAME, name);
+            }
+            raw.materials.emplace_back(name.C_Str());
         }
     }
-    raw.positions.resize(vertexCount, 3);
-    raw.triangles.resize(triangleCount, 3);
-    int vertexBase = 0;
-    Eigen::Index t = 0;
-    for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
-        const aiMesh* mesh = scene->mMeshes[m];
-        for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
-            const aiVector3D& p = mesh->mVertices[v];
-            raw.positions.row(vertexBase + static_cast<int>(v)) = sim::Vec3(p.x, p.y, p.z);
+    raw.positions.resize(static_cast<Eigen::Index>(positions.size()), 3);
+    for (std::size_t i = 0; i < positions.size(); ++i) {
+        raw.positions.row(static_cast<Eigen::Index>(i)) = positions[i];
+    }
+    raw.triangles.resize(static_cast<Eigen::Index>(triangles.size()), 3);
+    for (std::size_t f = 0; f < triangles.size(); ++f) {
+        for (int k = 0; k < 3; ++k) {
+            raw.triangles(static_cast<Eigen::Index>(f), k) =
+                triangles[f][static_cast<std::size_t>(k)];
         }
-        for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
-            const aiFace& face = mesh->mFaces[f];
-            if (face.mNumIndices != 3) {
-                continue;
-            }
-            for (int k = 0; k < 3; ++k) {
-                raw.triangles(t, k) = vertexBase + static_cast<int>(face.mIndices[k]);
-            }
-            ++t;
-        }
-        vertexBase += static_cast<int>(mesh->mNumVertices);
-        raw.hasUvs = raw.hasUvs || mesh->HasTextureCoords(0);
-        aiString name;
-        if (mesh->mMaterialIndex < scene->mNumMaterials) {
-            scene->mMaterials[mesh->mMaterialIndex]->Get(AI_MATKEY_NAME, name);
-        }
-        raw.materials.emplace_back(name.C_Str());
     }
     // FBX declares its up axis (UpAxis 1 = Y, 2 = Z); glTF is Y up by its specification;
     // assimp turns a COLLADA Z_UP file Y up itself.
@@ -485,7 +513,8 @@ Result<ImportedBody> normaliseBody(const RawMesh& raw, const std::string& file,
     return out;
 }
 
-Result<RawMesh> readMesh(const std::filesystem::path& path, std::uint64_t maxBytes) {
+Result<RawMesh> readMesh(const std::filesystem::path& path, std::uint64_t maxBytes,
+                         long long maxVertices) {
     const std::string ext = lowerExtension(path);
     if (auto error = unsupported(path, ext)) {
         return *error;
@@ -494,7 +523,7 @@ Result<RawMesh> readMesh(const std::filesystem::path& path, std::uint64_t maxByt
     if (!text.ok()) {
         return text.error();
     }
-    return readWithAssimp(path, ext, text.value());
+    return readWithAssimp(path, ext, text.value(), maxVertices);
 }
 
 Result<ImportedBody> importBody(const std::filesystem::path& path, const BodyImportOptions& options,
@@ -514,7 +543,7 @@ Result<ImportedBody> importBody(const std::filesystem::path& path, const BodyImp
         raw.triangles = std::move(obj.value().triangles);
         raw.format = "OBJ";
     } else {
-        auto read = readMesh(path, limits.maxMeshBytes);
+        auto read = readMesh(path, limits.maxMeshBytes, limits.maxBodyVertices);
         if (!read.ok()) {
             return read.error();
         }

@@ -52,7 +52,7 @@ struct BodyImportReport {
     std::string upFrom;      ///< "the bounding box", "the file's metadata" or "given"
     double fileHeight = 0;   ///< extent along the up axis [file units]
     double height = 0;       ///< [m]
-    long sourceVertices = 0; ///< vertices as read (after assimp's identical-vertex join)
+    long sourceVertices = 0; ///< vertices as read
     long vertices = 0;       ///< after the positional weld, used by triangles
     long triangles = 0;
     long droppedTriangles = 0; ///< degenerate after the weld (two corners one vertex)
@@ -81,10 +81,12 @@ struct RawMesh {
 };
 
 /// Reads any mesh file of bodyMeshExtensions through assimp, as it is (file units and axes):
-/// triangulated, identical vertices joined, node transforms applied, points and lines dropped.
-/// The file must be a regular file of at most `maxBytes`.
+/// polygons fanned into triangles, node transforms applied, points and lines dropped, each
+/// mesh's vertices as the file holds them (no join). The file must be a regular file of at
+/// most `maxBytes` holding at most `maxVertices` vertices (every mesh instance counted).
 Result<RawMesh> readMesh(const std::filesystem::path& path,
-                         std::uint64_t maxBytes = Limits{}.maxMeshBytes);
+                         std::uint64_t maxBytes = Limits{}.maxMeshBytes,
+                         long long maxVertices = Limits{}.maxBodyVertices);
 
 /// File extensions importBody reads (lower case, with the dot).
 const std::vector<std::string>& bodyMeshExtensions();
