@@ -2,7 +2,7 @@
 
 #include "io/atomic_file.h"
 #include "io/json_reader.h"
-#include "io/obj.h"
+#include "io/mesh_import.h"
 
 #include <nlohmann/json.hpp>
 
@@ -80,7 +80,8 @@ std::optional<std::string> checkBodyExtent(const sim::MatX3& vertices, double ma
 
 Result<patterns::Body> loadBody(const patterns::BodySource& source,
                                 const std::filesystem::path& projectDir,
-                                const std::filesystem::path& projectFile, const Limits& limits) {
+                                const std::filesystem::path& projectFile, const Limits& limits,
+                                std::vector<std::string>* warnings) {
     if (source.meshPath.empty()) {
         auto mannequin = makeBody(source, projectFile.string());
         if (!mannequin.ok()) {
@@ -92,16 +93,23 @@ Result<patterns::Body> loadBody(const patterns::BodySource& source,
     if (!std::filesystem::exists(path)) {
         return Error{projectFile.string(), "/body/mesh", "body mesh not found: " + path.string()};
     }
-    auto obj = readObj(path, limits.maxMeshBytes);
-    if (!obj.ok()) {
-        return obj.error();
+    BodyImportOptions options;
+    // The project reader checked the spellings.
+    options.units = parseLengthUnit(source.meshUnits.empty() ? "auto" : source.meshUnits)
+                        .value_or(LengthUnit::Auto);
+    options.up = parseUpAxis(source.meshUp.empty() ? "auto" : source.meshUp).value_or(UpAxis::Auto);
+    auto imported = importBody(path, options, limits);
+    if (!imported.ok()) {
+        return imported.error();
     }
-    if (auto problem = checkBodyExtent(obj.value().positions, limits.maxBodyExtent)) {
-        return Error{path.string(), "", *problem};
+    if (warnings != nullptr) {
+        for (const std::string& w : imported.value().report.warnings) {
+            warnings->push_back(path.string() + ": " + w);
+        }
     }
     patterns::Body body;
-    body.vertices = obj.value().positions;
-    body.triangles = obj.value().triangles;
+    body.vertices = std::move(imported.value().vertices);
+    body.triangles = std::move(imported.value().triangles);
     if (auto problem = patterns::estimateSlots(body)) {
         return Error{path.string(), "", *problem};
     }

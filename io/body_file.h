@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace atelier::io {
 
@@ -24,13 +25,15 @@ Result<patterns::BodyMeasurements> bodyMeasurements(const patterns::BodySource& 
 Result<patterns::Mannequin> makeBody(const patterns::BodySource& source, const std::string& file);
 
 /// The body a project drapes on: the mannequin, or the mesh at meshPath (relative to
-/// projectDir; slots estimated from its proportions, see patterns::estimateSlots).
-/// The mesh must be a regular file of at most `limits.maxMeshBytes`, and no side of its
-/// bounding box longer than `limits.maxBodyExtent`.
+/// projectDir; imported and normalised by importBody with the source's unit and up axis;
+/// slots estimated from its proportions, see patterns::estimateSlots). The mesh must be a
+/// regular file of at most `limits.maxMeshBytes`, and no side of its normalised bounding box
+/// longer than `limits.maxBodyExtent`. The import's warnings (holes, non-manifold edges),
+/// each prefixed with the mesh file, are appended to `warnings` when given.
 Result<patterns::Body> loadBody(const patterns::BodySource& source,
                                 const std::filesystem::path& projectDir,
-                                const std::filesystem::path& projectFile,
-                                const Limits& limits = {});
+                                const std::filesystem::path& projectFile, const Limits& limits = {},
+                                std::vector<std::string>* warnings = nullptr);
 
 /// What is wrong when a body (or obstacle) mesh has a bounding-box side longer than `maxExtent`
 /// [m], naming the length and the axis; nullopt when it fits.

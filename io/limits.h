@@ -20,6 +20,9 @@ struct Limits {
     std::uint64_t maxMeshBytes = 256 * MIB;
     /// Deepest nesting of JSON arrays and objects inside each other.
     int maxJsonDepth = 256;
+    /// Most vertices of a body mesh read through assimp, every instance of a mesh counted (the
+    /// MakeHuman body has 13,380; a dense scan a few million).
+    long long maxBodyVertices = 20'000'000;
     /// Largest extent (bounding-box side) of a body mesh or an OBJ obstacle [m]; a body is
     /// metres and Y up, so a larger one is a unit mistake or a broken file.
     double maxBodyExtent = 3.0;

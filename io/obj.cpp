@@ -339,10 +339,22 @@ Result<std::string> formatObj(const sim::MatX3& positions, const sim::MatX3i& tr
     const Eigen::Index nv = positions.rows();
     const Eigen::Index nf = triangles.rows();
     const bool withUvs = options.uvs.rows() > 0;
-    if (withUvs && options.uvs.rows() != nv) {
+    const bool uvCorners = options.uvTriangles.rows() > 0;
+    if (withUvs && !uvCorners && options.uvs.rows() != nv) {
         return Error{"", "",
                      "uvs have " + std::to_string(options.uvs.rows()) + " rows, positions " +
                          std::to_string(nv)};
+    }
+    if (uvCorners) {
+        if (!withUvs || options.uvTriangles.rows() != nf) {
+            return Error{"", "",
+                         "uv triangles have " + std::to_string(options.uvTriangles.rows()) +
+                             " rows, triangles " + std::to_string(nf) + " (and uvs are needed)"};
+        }
+        if (options.uvTriangles.minCoeff() < 0 ||
+            options.uvTriangles.maxCoeff() >= options.uvs.rows()) {
+            return Error{"", "", "a uv triangle's index is out of range"};
+        }
     }
     for (Eigen::Index f = 0; f < nf; ++f) {
         for (int k = 0; k < 3; ++k) {
@@ -362,6 +374,9 @@ Result<std::string> formatObj(const sim::MatX3& positions, const sim::MatX3i& tr
     std::string out;
     out.reserve(static_cast<std::size_t>(nv * 90 + nf * 40));
     appendComment(out, options.comment);
+    if (!options.materialLibrary.empty()) {
+        out += "mtllib " + objName(options.materialLibrary) + '\n';
+    }
     for (Eigen::Index i = 0; i < nv; ++i) {
         out += 'v';
         for (int k = 0; k < 3; ++k) {
@@ -371,7 +386,7 @@ Result<std::string> formatObj(const sim::MatX3& positions, const sim::MatX3i& tr
         out += '\n';
     }
     if (withUvs) {
-        for (Eigen::Index i = 0; i < nv; ++i) {
+        for (Eigen::Index i = 0; i < options.uvs.rows(); ++i) {
             out += "vt ";
             appendNumber(out, options.uvs(i, 0));
             out += ' ';
@@ -403,16 +418,22 @@ Result<std::string> formatObj(const sim::MatX3& positions, const sim::MatX3i& tr
             out += "g ";
             out += objName(g->name);
             out += '\n';
+            if (!options.materialLibrary.empty()) {
+                out += "usemtl ";
+                out += objName(g->name);
+                out += '\n';
+            }
         }
         out += 'f';
         for (int k = 0; k < 3; ++k) {
             const std::string i = std::to_string(triangles(f, k) + 1);
+            const std::string t = uvCorners ? std::to_string(options.uvTriangles(f, k) + 1) : i;
             out += ' ';
             out += i;
             if (withUvs && options.normals) {
-                out += '/' + i + '/' + i;
+                out += '/' + t + '/' + i;
             } else if (withUvs) {
-                out += '/' + i;
+                out += '/' + t;
             } else if (options.normals) {
                 out += "//" + i;
             }

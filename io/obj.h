@@ -46,8 +46,14 @@ Result<ObjMesh> readObj(const std::filesystem::path& path,
 
 /// Options of `writeObj`.
 struct ObjWriteOptions {
-    /// (|V|×2) texture coordinates written as `vt`, one per vertex; empty = none.
+    /// Texture coordinates written as `vt`: (|V|×2), one per vertex, or (|T|×2) indexed per
+    /// corner by `uvTriangles`; empty = none.
     sim::MatX2 uvs;
+    /// (|F|×3) each corner's row of `uvs`; empty = the corner's vertex.
+    sim::MatX3i uvTriangles;
+    /// A material library written as `mtllib`; when set, each group also selects the material
+    /// of its (written) name with `usemtl`.
+    std::string materialLibrary;
     /// Groups over the triangles (each written as `g name` before its first triangle; in the
     /// name, control characters, whitespace and `#` are written as `_`, an empty name as
     /// `default`).

@@ -180,6 +180,20 @@ patterns::BodySource readBody(const json& value, const ordered_json& ordered,
             }
         }
         body.meshPath = name(r, "mesh");
+        if (r.has("units")) {
+            body.meshUnits = r.string("units", "");
+            if (body.meshUnits != "mm" && body.meshUnits != "cm" && body.meshUnits != "m") {
+                r.fail("units", "unknown mesh unit " + inQuotes(body.meshUnits) +
+                                    " (expected \"mm\", \"cm\" or \"m\")");
+            }
+        }
+        if (r.has("up")) {
+            body.meshUp = r.string("up", "");
+            if (body.meshUp != "y" && body.meshUp != "z") {
+                r.fail("up",
+                       "unknown up axis " + inQuotes(body.meshUp) + " (expected \"y\" or \"z\")");
+            }
+        }
         r.finish();
         return body;
     }
@@ -348,6 +362,12 @@ ordered_json bodyJson(const patterns::BodySource& source) {
     ordered_json body = ordered_json::object();
     if (!source.meshPath.empty()) {
         body["mesh"] = source.meshPath;
+        if (!source.meshUnits.empty()) {
+            body["units"] = source.meshUnits;
+        }
+        if (!source.meshUp.empty()) {
+            body["up"] = source.meshUp;
+        }
         return body;
     }
     body["base"] = source.base;

@@ -19,9 +19,13 @@ struct BodySource {
     /// Measurements overriding the base's defaults, by field name (`waist`, `hip`, ...) in
     /// file order [m].
     std::vector<std::pair<std::string, double>> measurements;
-    /// A body mesh (OBJ, metres, Y up, facing +z), relative to the project file; when set,
-    /// the mannequin is not used and the slots are computed from the mesh.
+    /// A body mesh (OBJ, FBX, glTF, COLLADA, PLY or STL; facing +z once Y up), relative to the
+    /// project file; when set, the mannequin is not used and the slots are computed from the
+    /// mesh.
     std::string meshPath;
+    /// The mesh file's unit ("mm", "cm", "m") and up axis ("y", "z"); empty = detected.
+    std::string meshUnits;
+    std::string meshUp;
 
     bool operator==(const BodySource&) const = default;
 };

@@ -1,4 +1,6 @@
-/// `atelier-cli body`: writes the parametric mannequin for a set of measurements.
+/// `atelier-cli body`: writes the parametric mannequin for a set of measurements, or imports a
+/// body mesh (OBJ, FBX, glTF, COLLADA, PLY, STL), says what was detected and writes it
+/// normalised.
 #include "app/cli/commands.h"
 #include "app/cli/interrupt.h"
 #include "app/cli/limits_option.h"
@@ -7,6 +9,8 @@
 #include "io/atomic_file.h"
 #include "io/body_file.h"
 #include "io/json_text.h"
+#include "io/mesh_export.h"
+#include "io/mesh_import.h"
 #include "io/obj.h"
 
 #include "patterns/body_measure.h"
@@ -25,6 +29,10 @@ namespace atelier::app {
 namespace {
 
 struct BodyOptions {
+    std::string mesh; ///< a body mesh to import instead of making the mannequin
+    std::string units = "auto";
+    std::string up = "auto";
+    bool reportGiven = false; ///< --report without a file: the import report on stdout
     std::string measurements;
     std::string base = "female";
     std::string out;
@@ -36,13 +44,151 @@ nlohmann::ordered_json vec(const sim::Vec3& v) {
     return {v.x(), v.y(), v.z()};
 }
 
+nlohmann::ordered_json slotsJson(const std::vector<patterns::ArrangementSlot>& slots) {
+    nlohmann::ordered_json out = nlohmann::ordered_json::array();
+    for (const patterns::ArrangementSlot& s : slots) {
+        nlohmann::ordered_json slot = {{"name", s.name},         {"origin", vec(s.origin)},
+                                       {"axis", vec(s.axis)},    {"facing", vec(s.facing)},
+                                       {"radius", s.radius},     {"along_min", s.alongMin},
+                                       {"along_max", s.alongMax}};
+        if (!s.profile.empty()) {
+            // Per bin from along_min: the radius, and where the section is centred (leg
+            // slots: the radius is measured from there, not from the axis).
+            slot["profile_step"] = s.profileStep;
+            slot["profile_radius"] = s.profile;
+            if (!s.profileCentre.empty()) {
+                nlohmann::ordered_json centres = nlohmann::ordered_json::array();
+                for (const sim::Vec3& c : s.profileCentre) {
+                    centres.push_back(vec(c));
+                }
+                slot["profile_centre"] = centres;
+            }
+        }
+        out.push_back(slot);
+    }
+    return out;
+}
+
+/// The import report as text (stdout of `body FILE --report`).
+std::string importText(const std::string& file, const io::BodyImportReport& r) {
+    char text[1024];
+    std::snprintf(text, sizeof text,
+                  "units:             %s (%s)\n"
+                  "up axis:           %s (%s)\n"
+                  "height:            %.4f m (%.6g file units)\n"
+                  "vertices:          %ld (%ld as read)\n"
+                  "triangles:         %ld (%ld degenerate dropped)\n"
+                  "holes:             %ld (%ld boundary edges)\n"
+                  "non-manifold edges: %ld\n",
+                  std::string(io::unitName(r.units)).c_str(), r.unitsFrom.c_str(),
+                  std::string(io::axisName(r.up)).c_str(), r.upFrom.c_str(), r.height, r.fileHeight,
+                  r.vertices, r.sourceVertices, r.triangles, r.droppedTriangles, r.holes,
+                  r.boundaryEdges, r.nonManifoldEdges);
+    return "file:              " + file + "\nformat:            " + r.format + "\n" + text;
+}
+
+/// `body FILE`: imports a body mesh, reports what was detected, writes it normalised.
+int runBodyImport(const BodyOptions& options) {
+    const std::optional<io::Limits> limits = limitsOrReport(options.limits);
+    if (!limits) {
+        return EXIT_BAD_INPUT;
+    }
+    std::optional<io::MeshFormat> outFormat;
+    if (!options.out.empty()) {
+        outFormat = io::meshFormatOfPath(options.out);
+        if (!outFormat) {
+            std::cerr << "error: --out " << options.out
+                      << ": unknown mesh format (by extension: .obj, .glb, .fbx, .ply)\n";
+            return EXIT_BAD_INPUT;
+        }
+    }
+    io::BodyImportOptions importOptions;
+    importOptions.units = io::parseLengthUnit(options.units).value_or(io::LengthUnit::Auto);
+    importOptions.up = io::parseUpAxis(options.up).value_or(io::UpAxis::Auto);
+    auto imported = io::importBody(options.mesh, importOptions, *limits);
+    if (!imported.ok()) {
+        std::cerr << inputErrorText(imported.error());
+        return EXIT_BAD_INPUT;
+    }
+    const io::ImportedBody& body = imported.value();
+    const io::BodyImportReport& r = body.report;
+    std::fprintf(stderr,
+                 "body: %s, %s, %s up, %.3f m tall, %ld vertices, %ld triangles, %ld holes, "
+                 "%ld non-manifold edges\n",
+                 r.format.c_str(), std::string(io::unitName(r.units)).c_str(),
+                 std::string(io::axisName(r.up)).c_str(), r.height, r.vertices, r.triangles,
+                 r.holes, r.nonManifoldEdges);
+    for (const std::string& w : r.warnings) {
+        std::cerr << "warning: " << options.mesh << ": " << w << "\n";
+    }
+    if (options.reportGiven && options.report.empty()) {
+        std::cout << importText(options.mesh, r);
+    }
+    int code = EXIT_OK;
+    if (outFormat) {
+        io::SurfaceMesh surface;
+        surface.positions = body.vertices;
+        surface.triangles = body.triangles;
+        surface.groups.push_back(io::ObjGroup{"body", 0, static_cast<int>(r.triangles)});
+        surface.comment = "body imported from " + options.mesh + ", metres, Y up";
+        auto written = io::exportMesh(options.out, surface, *outFormat);
+        if (!written.ok()) {
+            std::cerr << "error: " << written.error().toString() << "\n";
+            code = EXIT_RUN_FAILED;
+        }
+    }
+    if (!options.report.empty()) {
+        nlohmann::ordered_json j;
+        j["file"] = options.mesh;
+        j["format"] = r.format;
+        j["units"] = io::unitName(r.units);
+        j["units_from"] = r.unitsFrom;
+        j["up"] = io::axisName(r.up);
+        j["up_from"] = r.upFrom;
+        j["file_height"] = r.fileHeight;
+        j["height_m"] = r.height;
+        j["source_vertices"] = r.sourceVertices;
+        j["vertices"] = r.vertices;
+        j["triangles"] = r.triangles;
+        j["dropped_triangles"] = r.droppedTriangles;
+        j["holes"] = r.holes;
+        j["boundary_edges"] = r.boundaryEdges;
+        j["non_manifold_edges"] = r.nonManifoldEdges;
+        j["warnings"] = r.warnings;
+        patterns::Body withSlots;
+        withSlots.vertices = body.vertices;
+        withSlots.triangles = body.triangles;
+        if (auto problem = patterns::estimateSlots(withSlots)) {
+            j["slots"] = nullptr;
+            j["slots_problem"] = *problem;
+        } else {
+            j["slots"] = slotsJson(withSlots.slots);
+        }
+        auto written = io::writeFileAtomically(options.report, io::jsonText(j));
+        if (!written.ok()) {
+            std::cerr << "error: " << written.error().toString() << "\n";
+            code = EXIT_RUN_FAILED;
+        }
+    }
+    return code;
+}
+
 int runBody(const BodyOptions& options) {
     // A signal while the body is made (seconds; it cannot stop midway) stops the command once
     // it is made: the body is written, marked interrupted, and the exit code is 130.
     const InterruptGuard interrupts;
-    if (auto problem = checkOutputs({{"--measurements", options.measurements}},
-                                    {{"--out", options.out}, {"--report", options.report}})) {
+    if (auto problem = checkOutputs(
+            {{"--measurements", options.measurements}, {"the body mesh", options.mesh}},
+            {{"--out", options.out}, {"--report", options.report}})) {
         std::cerr << "error: " << *problem << "\n";
+        return EXIT_BAD_INPUT;
+    }
+    if (!options.mesh.empty()) {
+        return runBodyImport(options);
+    }
+    if (options.reportGiven && options.report.empty()) {
+        std::cerr << "error: --report needs a file for the mannequin (printing it needs a body "
+                     "mesh)\n";
         return EXIT_BAD_INPUT;
     }
     patterns::BodySource source;
@@ -106,28 +252,7 @@ int runBody(const BodyOptions& options) {
         r["seconds"] = m.seconds;
         r["requested"] = requested;
         r["measured"] = measured;
-        nlohmann::ordered_json slots = nlohmann::ordered_json::array();
-        for (const patterns::ArrangementSlot& s : m.body.slots) {
-            nlohmann::ordered_json slot = {{"name", s.name},         {"origin", vec(s.origin)},
-                                           {"axis", vec(s.axis)},    {"facing", vec(s.facing)},
-                                           {"radius", s.radius},     {"along_min", s.alongMin},
-                                           {"along_max", s.alongMax}};
-            if (!s.profile.empty()) {
-                // Per bin from along_min: the radius, and where the section is centred (leg
-                // slots: the radius is measured from there, not from the axis).
-                slot["profile_step"] = s.profileStep;
-                slot["profile_radius"] = s.profile;
-                if (!s.profileCentre.empty()) {
-                    nlohmann::ordered_json centres = nlohmann::ordered_json::array();
-                    for (const sim::Vec3& c : s.profileCentre) {
-                        centres.push_back(vec(c));
-                    }
-                    slot["profile_centre"] = centres;
-                }
-            }
-            slots.push_back(slot);
-        }
-        r["slots"] = slots;
+        r["slots"] = slotsJson(m.body.slots);
         auto written = io::writeFileAtomically(options.report, io::jsonText(r));
         if (!written.ok()) {
             std::cerr << "error: " << written.error().toString() << "\n";
@@ -142,17 +267,36 @@ int runBody(const BodyOptions& options) {
 void addBodyCommand(CLI::App& app) {
     auto options = std::make_shared<BodyOptions>();
     CLI::App* cmd = app.add_subcommand(
-        "body", "Generate the parametric mannequin for a set of measurements (OBJ)");
+        "body", "Generate the parametric mannequin for a set of measurements (OBJ), or import "
+                "a body mesh and say what was detected");
+    CLI::Option* mesh = cmd->add_option(
+        "mesh", options->mesh,
+        "A body mesh to import (OBJ, FBX, glTF .gltf/.glb, COLLADA .dae, PLY, STL): "
+        "triangulated, welded, normalised to metres, Y up, standing on y = 0");
+    cmd->add_option("--units", options->units,
+                    "The mesh's unit (default: from its height, ~1700 mm, ~170 cm, ~1.7 m)")
+        ->check(CLI::IsMember({"auto", "mm", "cm", "m"}))
+        ->needs(mesh);
+    cmd->add_option("--up", options->up,
+                    "The mesh's up axis (default: from its metadata and bounding box)")
+        ->check(CLI::IsMember({"auto", "y", "z"}))
+        ->needs(mesh);
     cmd->add_option("--measurements,-m", options->measurements,
                     "Measurements (JSON, metres: {\"base\": \"female\", \"waist\": 0.72, ...}); "
-                    "absent ones take the base's");
+                    "absent ones take the base's")
+        ->excludes(mesh);
     cmd->add_option("--base", options->base, "Base when no measurements file is given")
         ->check(CLI::IsMember({"female", "male"}));
-    cmd->add_option("--out,-o", options->out, "Body mesh (OBJ)");
+    cmd->add_option("--out,-o", options->out,
+                    "Body mesh (mannequin: OBJ; an imported mesh: .obj, .glb, .fbx or .ply)");
     cmd->add_option("--report,-r", options->report,
-                    "Report (JSON): requested and measured measurements, topology, slots");
+                    "Report (JSON): requested and measured measurements, topology, slots; for "
+                    "an imported mesh what was detected (units, up axis, height, counts, holes, "
+                    "non-manifold edges), printed on stdout when no file is given")
+        ->expected(0, 1);
     addLimitOption(cmd, &options->limits);
-    cmd->callback([options] {
+    cmd->callback([options, cmd] {
+        options->reportGiven = cmd->count("--report") > 0;
         const int code = runBody(*options);
         if (code != EXIT_OK) {
             throw CLI::RuntimeError(code);

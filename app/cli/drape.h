@@ -24,6 +24,8 @@ struct DrapeOptions {
     double timeLimit = -1;          ///< override of the project's time limit [s]; < 0 = keep
     double particleDistanceMm = -1; ///< override of the project's particle distance [mm]
     std::string framesDir;          ///< write the garment at every frame here (OBJ)
+    std::string format;             ///< --out's format (io::parseMeshFormat); empty = by extension
+    bool splitPanels = false;       ///< --out keeps each panel's own vertices along the seams
     long maxVertices = DEFAULT_MAX_VERTICES; ///< refuse meshes estimated larger
     std::vector<std::string> limits;         ///< --limit NAME=VALUE
     /// Further files written once the drape ends (a caller's pictures), checked with the

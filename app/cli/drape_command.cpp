@@ -1,6 +1,7 @@
 /// `atelier-cli drape PROJECT.atelier --out DRAPED.obj --report REPORT.json`: mesh the
 /// garment's panels, place them around the body, sew and drape until rest; write the draped
-/// garment (one group per panel, UVs = pattern coordinates [m], normals), the body beside it
+/// garment (one surface, welded seam vertices once; one group and material per panel, UVs =
+/// pattern coordinates [m], normals; OBJ + MTL, glTF binary, FBX or PLY), the body beside it
 /// (`DRAPED.body.obj`), a report and, with `--thumbnail`, a picture of the drape.
 
 #include "app/cli/commands.h"
@@ -10,6 +11,7 @@
 #include "app/cli/run_loop.h"
 
 #include "io/body_file.h"
+#include "io/mesh_export.h"
 #include "io/obj.h"
 #include "io/project_file.h"
 #include "io/report.h"
@@ -58,6 +60,12 @@ GarmentObj garmentObj(const patterns::Garment& garment, const patterns::GarmentM
 
 namespace {
 
+/// The format of --out: --format, else its extension; nullopt when neither names one.
+std::optional<io::MeshFormat> outputFormat(const DrapeOptions& options) {
+    return options.format.empty() ? io::meshFormatOfPath(options.out)
+                                  : io::parseMeshFormat(options.format);
+}
+
 /// The checks before any work (exit 2 with the message): outputs against the inputs (the
 /// project and its body mesh) and each other, and the estimated mesh size.
 std::optional<std::string> checkBeforeWork(const DrapeOptions& options,
@@ -71,11 +79,23 @@ std::optional<std::string> checkBeforeWork(const DrapeOptions& options,
     std::vector<NamedPath> outputs = {
         {"--out", options.out}, {"--report", options.report}, {"--thumbnail", options.thumbnail}};
     outputs.insert(outputs.end(), options.laterOutputs.begin(), options.laterOutputs.end());
+    std::optional<io::MeshFormat> format;
     if (!options.out.empty()) {
         outputs.push_back({"--out (its body)", drapedBodyPath(options.out)});
+        format = outputFormat(options);
+        if (format == io::MeshFormat::Obj) {
+            outputs.push_back(
+                {"--out (its materials)", io::exportedFiles(options.out, *format)[1]});
+        }
     }
     if (auto problem = checkOutputs(inputs, outputs)) {
         return problem;
+    }
+    if (!options.out.empty() && !format) {
+        return "--out " + options.out + ": unknown mesh format " +
+               (options.format.empty() ? "extension (.obj, .glb, .fbx, .ply; or --format)"
+                                       : "\"" + options.format + "\"") +
+               " (formats: " + io::meshFormatList() + ")";
     }
     inputs.insert(inputs.end(), outputs.begin(), outputs.end());
     if (auto problem = checkOutputFolder({"--frames-dir", options.framesDir}, inputs)) {
@@ -93,7 +113,12 @@ std::optional<std::string> checkBeforeWork(const DrapeOptions& options,
 patterns::BodyProvider projectBodies(const std::string& projectFile, const io::Limits& limits) {
     const std::filesystem::path dir = std::filesystem::absolute(projectFile).parent_path();
     return [dir, projectFile, limits](const patterns::BodySource& source) {
-        return io::loadBody(source, dir, projectFile, limits);
+        std::vector<std::string> warnings;
+        auto body = io::loadBody(source, dir, projectFile, limits, &warnings);
+        for (const std::string& w : warnings) {
+            std::cerr << "warning: " << w << "\n";
+        }
+        return body;
     };
 }
 
@@ -214,9 +239,22 @@ int writeDrapedMeshes(const DrapeOptions& options, const patterns::DrapeSession&
                       int code) {
     const sim::Simulation& simulation = *session.simulation();
     GarmentObj obj = garmentObj(session.project().garment, session.mesh(), session.assembled());
-    obj.options.comment = "atelier-cli drape " + options.project +
-                          "\nt = " + std::to_string(simulation.time()) + " s";
-    auto written = io::writeObj(options.out, simulation.positions(), obj.triangles, obj.options);
+    // One surface: the vertices of each welded seam pair are one vertex (with a UV in each
+    // panel); --split-panels keeps every panel's own.
+    std::vector<std::pair<int, int>> welds;
+    if (!options.splitPanels) {
+        const auto& pairs = session.assembled().scene.seams;
+        for (std::size_t k = 0; k < pairs.size(); ++k) {
+            if (simulation.seamPairWelded(k)) {
+                welds.emplace_back(pairs[k].a, pairs[k].b);
+            }
+        }
+    }
+    io::SurfaceMesh surface = io::weldedSurface(simulation.positions(), obj.triangles,
+                                                obj.options.uvs, obj.options.groups, welds);
+    surface.comment = "atelier-cli drape " + options.project +
+                      "\nt = " + std::to_string(simulation.time()) + " s";
+    auto written = io::exportMesh(options.out, surface, *outputFormat(options));
     if (written.ok()) {
         io::ObjWriteOptions bodyOptions;
         bodyOptions.comment = "body of atelier-cli drape " + options.project;
@@ -372,8 +410,14 @@ void addDrapeCommand(CLI::App& app) {
         "drape", "Mesh, place, sew and drape a garment project until rest; write the mesh");
     cmd->add_option("project", options->project, "Garment project (.atelier)")->required();
     cmd->add_option("--out,-o", options->out,
-                    "Draped garment (OBJ: one group per panel, UV = pattern [m], normals); the "
-                    "body goes to OUT.body.obj");
+                    "Draped garment, one surface (welded seam vertices once), the format by "
+                    "extension: .obj (+ .mtl; one group and material per panel, UV = pattern "
+                    "[m], normals), .glb, .fbx, .ply; the body goes to OUT.body.obj");
+    cmd->add_option("--format", options->format,
+                    "Format of --out whatever its extension: " + io::meshFormatList())
+        ->check(CLI::IsMember({"obj", "glb", "fbx", "fbx-ascii", "ply"}));
+    cmd->add_flag("--split-panels", options->splitPanels,
+                  "Keep each panel's own vertices along the seams in --out");
     cmd->add_option("--report,-r", options->report, "Drape report (JSON)");
     cmd->add_option("--thumbnail", options->thumbnail,
                     "A 256x256 three-quarter picture of the drape (PNG)");

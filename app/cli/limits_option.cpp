@@ -38,6 +38,8 @@ const std::vector<LimitEntry>& entries() {
               &io::Limits::maxJsonDepth),
         entry("body-extent-m", "longest side of a body mesh or OBJ obstacle [m]",
               &io::Limits::maxBodyExtent),
+        entry("body-vertices", "vertices of a body mesh read through assimp (FBX, glTF, ...)",
+              &io::Limits::maxBodyVertices),
         entry("scene-coordinate-m", "farthest cloth or obstacle point from the origin [m]",
               &io::Limits::maxSceneCoordinate),
         entry("thickness-m", "thickest contact layer of a cloth or obstacle [m]",

@@ -478,6 +478,15 @@ TEST(ProjectFile, BodyMeshResolvedAgainstTheProjectDirectory) {
 
     // parseProject has no directory and does not look for the mesh.
     EXPECT_TRUE(parse(text).ok());
+
+    // Another format with its unit and up axis given: kept, and written back.
+    const auto given =
+        parse(fullWith("/body", json::parse(R"({"mesh": "body.fbx", "units": "cm", "up": "z"})")));
+    ASSERT_TRUE(given.ok()) << given.error().toString();
+    EXPECT_EQ(given.value().body.meshUnits, "cm");
+    EXPECT_EQ(given.value().body.meshUp, "z");
+    EXPECT_EQ(json::parse(formatProject(given.value()))["body"],
+              json::parse(R"({"mesh": "body.fbx", "units": "cm", "up": "z"})"));
 }
 
 TEST(ProjectFile, SaveIntoAMissingDirectoryFails) {
@@ -535,6 +544,10 @@ TEST(ProjectFile, BadValuesNameFileAndPath) {
         {"unknown top key", fullWith("/colour", "red"), "/colour", "unknown key \"colour\""},
         {"body base", fullWith("/body/base", "child"), "/body/base", "unknown body base"},
         {"mesh and base", fullWith("/body/mesh", "body.obj"), "/body/base", "not both"},
+        {"mesh unit", fullWith("/body", json::parse(R"({"mesh": "b.glb", "units": "in"})")),
+         "/body/units", "unknown mesh unit \"in\" (expected \"mm\", \"cm\" or \"m\")"},
+        {"mesh up axis", fullWith("/body", json::parse(R"({"mesh": "b.glb", "up": "x"})")),
+         "/body/up", "unknown up axis \"x\" (expected \"y\" or \"z\")"},
         {"measurement in mm", fullWith("/body/measurements/bust", 920), "/body/measurements/bust",
          "in metres"},
         {"measurement type", fullWith("/body/measurements/bust", "92cm"), "/body/measurements/bust",
