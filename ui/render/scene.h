@@ -40,9 +40,19 @@ struct DrawMesh {
     std::vector<Colour> vertexColours;     ///< (|V|) interpolated colours, or empty
 };
 
+/// Line segments drawn over the meshes in one flat colour (seams): depth-tested, nudged towards
+/// the camera so that lines lying on a surface are not hidden by it.
+struct DrawLines {
+    sim::MatX3 positions; ///< (|V|×3) [m]
+    sim::MatX2i segments; ///< (|S|×2) 0-based vertex pairs
+    Colour colour{0.1f, 0.1f, 0.1f, 1.0f};
+    float widthPx = 2.0f; ///< [pixels] (clamped to what GL offers)
+};
+
 /// Everything drawn in one picture.
 struct Scene {
     std::vector<DrawMesh> meshes;
+    std::vector<DrawLines> lines; ///< drawn after the meshes; not part of the framing bounds
 };
 
 /// The axis-aligned box around every vertex of the scene (empty when it has none).

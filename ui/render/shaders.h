@@ -112,4 +112,28 @@ void main() {
 }
 )";
 
+/// Lines over the meshes (seams): flat colour, each vertex moved `uTowardsCamera` metres towards
+/// the eye along its view ray (the picture position stays; the depth wins against the surface
+/// the line lies on).
+inline constexpr const char* LINE_VERTEX = R"(#version 330 core
+layout(location = 0) in vec3 aPosition;
+uniform mat4 uView;
+uniform mat4 uProjection;
+uniform float uTowardsCamera;
+void main() {
+    vec4 p = uView * vec4(aPosition, 1.0);
+    float d = length(p.xyz);
+    p.xyz *= max(d - uTowardsCamera, 0.5 * d) / max(d, 1e-9);
+    gl_Position = uProjection * p;
+}
+)";
+
+inline constexpr const char* LINE_FRAGMENT = R"(#version 330 core
+uniform vec4 uColour;
+out vec4 outColour;
+void main() {
+    outColour = uColour;
+}
+)";
+
 } // namespace atelier::render::shaders
