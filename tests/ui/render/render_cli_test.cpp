@@ -110,8 +110,8 @@ TEST_F(RenderCli, EveryViewOnATransparentBackground) {
 
 TEST_F(RenderCli, BadArgumentsExitWithTwo) {
     const auto out = q(m_dir / "x.png");
-    for (const char* args : {" --size 0x10", " --size 10", " --view sideways", " --overlay strain",
-                             " --background bluish"}) {
+    for (const char* args : {" --size 0x10", " --size 10", " --view sideways",
+                             " --overlay sparkles", " --background bluish"}) {
         const CliRun run = runCli(m_dir, "render " + q(m_garment) + " --out " + out + args);
         EXPECT_EQ(run.exitCode, 2) << args;
         EXPECT_NE(run.stderrText.find("error: --"), std::string::npos) << run.stderrText;
