@@ -76,8 +76,10 @@ double medianEdge(const DrapedGarment& g) {
     return lengths[lengths.size() / 2];
 }
 
-/// Amber for cloth within the contact thickness of the body, red for cloth inside it.
+/// Red for cloth inside the body, amber for cloth closer than the contact thickness, green for
+/// cloth resting in the contact layer above it.
 constexpr render::Colour NEAR_COLOUR{0.95f, 0.70f, 0.20f, 1.0f};
+constexpr render::Colour RESTING_COLOUR{0.35f, 0.72f, 0.45f, 1.0f};
 constexpr render::Colour INSIDE_COLOUR{0.85f, 0.05f, 0.10f, 1.0f};
 constexpr render::Colour CLEAR_COLOUR{0.80f, 0.82f, 0.85f, 1.0f};
 
@@ -226,8 +228,13 @@ Result<render::Scene> pictureScene(const DrapedGarment& garment, const PictureOp
                 nearest = std::min(nearest, d[garment.triangles(t, k)]);
             }
             auto& c = cloth.triangleColours[static_cast<std::size_t>(t)];
-            c = nearest < 0 ? INSIDE_COLOUR
-                            : (nearest < options.contactThickness ? NEAR_COLOUR : CLEAR_COLOUR);
+            if (nearest < 0) {
+                c = INSIDE_COLOUR;
+            } else if (nearest < options.contactThickness) {
+                c = NEAR_COLOUR;
+            } else if (nearest < (1 + options.contactLayer) * options.contactThickness) {
+                c = RESTING_COLOUR;
+            }
         }
         break;
     }

@@ -13,6 +13,8 @@
 
 #include "patterns/drape_session.h"
 
+#include "sim/scene.h"
+
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -62,6 +64,9 @@ struct PictureOptions {
     Overlay overlay = Overlay::None;
     double strainRange = 0.10;       ///< the strain colours saturate at ±this [-]
     double contactThickness = 0.004; ///< closer to the body than this is in contact [m]
+    /// Cloth resting on the body sits in a layer this fraction of the thickness above it
+    /// (the engine's contact springs act there: sim::ContactSolveOptions::margin) [-].
+    double contactLayer = sim::ContactSolveOptions{}.margin;
 };
 
 /// The scene of `garment` with the options' overlay: panel colours, or strain colours (an

@@ -288,7 +288,7 @@ int runRenderBatch(const BatchOptions& o) {
         }
         for (std::size_t v = 0; v < views.size(); ++v) {
             render::SheetCell cell;
-            cell.label = item.name + " / " + std::string(render::viewName(views[v]));
+            cell.label = item.name + "\n" + std::string(render::viewName(views[v]));
             if (problem.empty()) {
                 cell.picture = std::move(images[v]);
             } else {
@@ -302,6 +302,7 @@ int runRenderBatch(const BatchOptions& o) {
     sheet.columns = o.sheetColumns > 0 ? o.sheetColumns : static_cast<int>(views.size());
     sheet.cellWidth = cellWidth;
     sheet.cellHeight = cellHeight;
+    sheet.labelLines = 2; // the item's name, then the view
     if (pictures.render.background.a >= 1.0f) {
         sheet.background = pictures.render.background;
     }

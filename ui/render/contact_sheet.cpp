@@ -20,7 +20,7 @@ std::uint8_t toByte(double value) {
 } // namespace
 
 int sheetLabelHeight(const SheetOptions& options) {
-    return LINE_HEIGHT * labelScale(options) + 4;
+    return std::max(options.labelLines, 0) * LINE_HEIGHT * labelScale(options) + 4;
 }
 
 io::RgbaImage resizeImage(const io::RgbaImage& image, int width, int height) {
@@ -104,10 +104,16 @@ io::RgbaImage contactSheet(const std::vector<SheetCell>& cells, const SheetOptio
                 drawText(sheet, left + 4, y, lines[i], textScale, options.alarm);
             }
         }
-        const std::string text = fitText(cell.label, options.cellWidth, scale);
-        drawText(sheet, left + (options.cellWidth - textWidth(text, scale)) / 2,
-                 top + options.cellHeight + 3, text, scale,
-                 cell.message.empty() ? options.ink : options.alarm);
+        std::size_t begin = 0;
+        for (int line = 0; line < options.labelLines && begin <= cell.label.size(); ++line) {
+            const std::size_t end = std::min(cell.label.find('\n', begin), cell.label.size());
+            const std::string text = fitText(
+                std::string_view(cell.label).substr(begin, end - begin), options.cellWidth, scale);
+            drawText(sheet, left + (options.cellWidth - textWidth(text, scale)) / 2,
+                     top + options.cellHeight + 3 + line * LINE_HEIGHT * scale, text, scale,
+                     cell.message.empty() ? options.ink : options.alarm);
+            begin = end + 1;
+        }
     }
     return sheet;
 }

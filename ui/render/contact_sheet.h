@@ -14,8 +14,10 @@ namespace atelier::render {
 
 struct SheetCell {
     io::RgbaImage picture; ///< any size (fitted into the cell), or empty when `message` says why
-    std::string label;     ///< one line under the picture (cut with ".." to the cell's width)
-    std::string message;   ///< drawn wrapped in the cell in place of a picture, or empty
+    /// Under the picture: lines separated by '\n' (each cut with ".." to the cell's width;
+    /// lines past SheetOptions::labelLines are dropped).
+    std::string label;
+    std::string message; ///< drawn wrapped in the cell in place of a picture, or empty
 };
 
 struct SheetOptions {
@@ -23,12 +25,13 @@ struct SheetOptions {
     int cellWidth = 256;  ///< picture area of a cell [pixels]
     int cellHeight = 256; ///< [pixels]
     int gap = 8;          ///< between cells and around the grid [pixels]
+    int labelLines = 1;   ///< text lines under each cell
     Colour background{1.0f, 1.0f, 1.0f, 1.0f};
     Colour ink{0.15f, 0.15f, 0.15f, 1.0f};   ///< labels
     Colour alarm{0.70f, 0.10f, 0.10f, 1.0f}; ///< messages of failed cells
 };
 
-/// The height of a cell's label strip [pixels]: one line of text at the scale labels use.
+/// The height of a cell's label strip [pixels]: labelLines lines at the scale labels use.
 int sheetLabelHeight(const SheetOptions& options);
 
 /// The sheet: ceil(|cells| / columns) rows. Pictures are scaled down (area average, aspect

@@ -83,6 +83,21 @@ TEST(ContactSheet, TransparentPicturesAreLaidOnTheBackground) {
     EXPECT_EQ(otherPixels(sheet, options.gap, options.gap, 20, 20, 0, 255, 0), 0);
 }
 
+TEST(ContactSheet, LabelsOfTwoLines) {
+    SheetOptions options;
+    options.columns = 1;
+    options.cellWidth = 200;
+    options.cellHeight = 50;
+    options.labelLines = 2;
+    EXPECT_EQ(sheetLabelHeight(options), 2 * 2 * LINE_HEIGHT + 4);
+    const io::RgbaImage sheet =
+        contactSheet({{filled(200, 50, 0, 0, 0), "trousers\nthree-quarter", ""}}, options);
+    const int top = options.gap + 50 + 3;
+    const int line = 2 * LINE_HEIGHT;
+    EXPECT_GT(otherPixels(sheet, options.gap, top, 200, line, 255, 255, 255), 30);
+    EXPECT_GT(otherPixels(sheet, options.gap, top + line, 200, line, 255, 255, 255), 30);
+}
+
 TEST(ResizeImage, AveragesWhatEachPixelCoversWeightedByAlpha) {
     io::RgbaImage image = filled(4, 2, 0, 0, 0);
     for (int y = 0; y < 2; ++y) {
