@@ -183,6 +183,13 @@ std::optional<DrapedGarment> readDrapedObj(const std::filesystem::path& path,
 Result<render::Scene> pictureScene(const DrapedGarment& garment, const PictureOptions& options) {
     render::Scene scene = garmentScene(garment);
     render::DrawMesh& cloth = scene.meshes.front();
+    if (options.weavePeriodMm > 0) {
+        if (garment.uvs.rows() != garment.positions.rows()) {
+            return Error{"", "", "--weave: the garment has no pattern UVs (vt) to draw it through"};
+        }
+        cloth.uvs = garment.uvs;
+        cloth.weavePeriodMm = options.weavePeriodMm;
+    }
     switch (options.overlay) {
     case Overlay::None:
     case Overlay::Wireframe:
@@ -206,6 +213,9 @@ Result<render::Scene> pictureScene(const DrapedGarment& garment, const PictureOp
                 ? garment.seams
                 : render::seamEdgesByPosition(garment.positions, garment.triangles,
                                               trianglePanels(garment), 0.25 * medianEdge(garment));
+        std::fprintf(stderr, "render: %ld seam edges (%s)\n",
+                     static_cast<long>(lines.segments.rows()),
+                     garment.seams.rows() > 0 ? "sewn" : "found by position");
         lines.colour = {0.10f, 0.10f, 0.12f, 1.0f};
         lines.widthPx = std::max(2.0f, static_cast<float>(options.render.height) / 256.0f);
         scene.lines.push_back(std::move(lines));

@@ -64,6 +64,7 @@ struct PictureOptions {
     Overlay overlay = Overlay::None;
     double strainRange = 0.10;       ///< the strain colours saturate at ±this [-]
     double contactThickness = 0.004; ///< closer to the body than this is in contact [m]
+    double weavePeriodMm = 0;        ///< a plain weave through the UVs, threads this far apart [mm]
     /// Cloth resting on the body sits in a layer this fraction of the thickness above it
     /// (the engine's contact springs act there: sim::ContactSolveOptions::margin) [-].
     double contactLayer = sim::ContactSolveOptions{}.margin;

@@ -42,6 +42,7 @@ struct BatchOptions {
     std::string overlay;
     std::string background = "white";
     double strainRangePct = 10;
+    double weaveMm = 0; ///< --weave [mm]
     double contactThicknessMm = -1;
     int threads = 0;
     double timeLimit = -1;
@@ -152,6 +153,7 @@ std::optional<std::string> parseOptions(const BatchOptions& o, PictureOptions& p
     pictures.overlay = *overlay;
     pictures.render.wireframe = *overlay == Overlay::Wireframe;
     pictures.strainRange = o.strainRangePct / 100;
+    pictures.weavePeriodMm = o.weaveMm;
     if (o.contactThicknessMm > 0) {
         pictures.contactThickness = o.contactThicknessMm / 1000;
     }
@@ -348,6 +350,10 @@ void addRenderBatchCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--overlay", options->overlay,
                     "wireframe, strain, seams or contact (as for render)");
+    cmd->add_option("--weave", options->weaveMm,
+                    "A plain weave drawn through the pattern UVs, threads this far apart [mm] "
+                    "(warp along the UVs' v axis)")
+        ->check(CLI::Range(0.05, 1000.0));
     cmd->add_option("--strain-range", options->strainRangePct,
                     "--overlay strain: the colours saturate at +-this [%]")
         ->check(CLI::PositiveNumber)

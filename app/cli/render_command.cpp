@@ -39,6 +39,7 @@ struct RenderCommandOptions {
     std::string overlay;
     std::string background = "white";
     double strainRangePct = 10;     ///< --strain-range [%]
+    double weaveMm = 0;             ///< --weave [mm]; 0 = none
     double contactThicknessMm = -1; ///< --contact-thickness [mm]; < 0 = the project's or 4 mm
     std::string framesDir;          ///< --frames-dir: render every frame OBJ in it
     std::string body;               ///< --body: the body of the frames (static)
@@ -76,6 +77,7 @@ std::optional<std::string> parsePictureOptions(const RenderCommandOptions& o, Pi
     out.overlay = *overlay;
     out.render.wireframe = *overlay == Overlay::Wireframe;
     out.strainRange = o.strainRangePct / 100;
+    out.weavePeriodMm = o.weaveMm;
     if (o.contactThicknessMm > 0) {
         out.contactThickness = o.contactThicknessMm / 1000;
     }
@@ -309,6 +311,10 @@ void addRenderCommand(CLI::App& app) {
     cmd->add_option("--overlay", options->overlay,
                     "wireframe (triangle edges), strain (against the pattern UVs, with a "
                     "legend), seams (seam lines) or contact (cloth near or inside the body)");
+    cmd->add_option("--weave", options->weaveMm,
+                    "A plain weave drawn through the pattern UVs, threads this far apart [mm] "
+                    "(warp along the UVs' v axis)")
+        ->check(CLI::Range(0.05, 1000.0));
     cmd->add_option("--strain-range", options->strainRangePct,
                     "--overlay strain: the colours saturate at +-this [%]")
         ->check(CLI::PositiveNumber)

@@ -82,6 +82,19 @@ std::optional<std::string> meshProblem(const DrawMesh& mesh) {
         return "vertex colours: " + std::to_string(mesh.vertexColours.size()) + " for " +
                std::to_string(n) + " vertices";
     }
+    if (mesh.uvs.rows() != 0 && mesh.uvs.rows() != n) {
+        return "uvs: " + std::to_string(mesh.uvs.rows()) + " for " + std::to_string(n) +
+               " vertices";
+    }
+    if (!(mesh.weavePeriodMm >= 0) || !std::isfinite(mesh.weavePeriodMm)) {
+        return "weave period must be finite and >= 0";
+    }
+    if (mesh.weavePeriodMm > 0 && mesh.uvs.rows() == 0) {
+        return "a weave needs uvs";
+    }
+    if (!mesh.uvs.allFinite()) {
+        return "a uv is not finite";
+    }
     if (!mesh.triangleColours.empty() &&
         std::ssize(mesh.triangleColours) != mesh.triangles.rows()) {
         return "triangle colours: " + std::to_string(mesh.triangleColours.size()) + " for " +
@@ -117,7 +130,8 @@ struct GpuMesh {
     sim::MatX3 positions;
     sim::MatX3i triangles;
     GLuint vao = 0;
-    std::array<GLuint, 4> buffers{}; ///< positions, normals, colours, indices
+    std::array<GLuint, 5> buffers{}; ///< positions, normals, colours, indices, uvs
+    float weavePeriodMm = 0;
     GLuint triangleColourBuffer = 0; ///< texture buffer contents, or 0
     GLuint triangleColourTexture = 0;
     GLsizei indexCount = 0;
@@ -170,6 +184,16 @@ GpuMesh upload(const DrawMesh& mesh) {
         glEnableVertexAttribArray(a);
     }
     uploadBuffer(GL_ELEMENT_ARRAY_BUFFER, gpu.buffers[3], indices);
+    if (mesh.uvs.rows() > 0) {
+        std::vector<float> uvs(static_cast<std::size_t>(mesh.uvs.size()));
+        for (std::size_t i = 0; i < uvs.size(); ++i) {
+            uvs[i] = static_cast<float>(mesh.uvs.data()[i]);
+        }
+        uploadBuffer(GL_ARRAY_BUFFER, gpu.buffers[4], uvs);
+        glVertexAttribPointer(3, 2, GL_FLOAT, GL_FALSE, 0, nullptr);
+        glEnableVertexAttribArray(3);
+        gpu.weavePeriodMm = static_cast<float>(mesh.weavePeriodMm);
+    }
     glBindVertexArray(0);
 
     if (!mesh.triangleColours.empty()) {
@@ -457,6 +481,7 @@ void Renderer::Impl::drawMeshes(const Camera& camera, bool wire) {
         }
         glUniform1i(at("uGarment"), m.kind == MeshKind::Garment ? 1 : 0);
         glUniform1i(at("uTriangleColoured"), m.triangleColourTexture != 0 ? 1 : 0);
+        glUniform1f(at("uWeavePeriodMm"), m.weavePeriodMm);
         glActiveTexture(GL_TEXTURE0);
         glBindTexture(GL_TEXTURE_BUFFER, m.triangleColourTexture);
         glBindVertexArray(m.vao);

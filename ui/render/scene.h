@@ -38,6 +38,12 @@ struct DrawMesh {
     Colour colour{0.8f, 0.8f, 0.8f, 1.0f}; ///< front colour where no colours are given below
     std::vector<Colour> triangleColours;   ///< (|F|) one colour per triangle, or empty
     std::vector<Colour> vertexColours;     ///< (|V|) interpolated colours, or empty
+    /// (|V|×2) fabric coordinates [m] (the pattern UVs of a drape), or empty.
+    sim::MatX2 uvs;
+    /// A plain weave drawn through `uvs` (which it needs), its threads this far apart [mm]:
+    /// warp along the UVs' v axis (the grain), weft along u; 0 = none. Threads finer than
+    /// about two pixels fade to their average shade instead of shimmering.
+    double weavePeriodMm = 0;
 };
 
 /// Line segments drawn over the meshes in one flat colour (seams): depth-tested, nudged towards

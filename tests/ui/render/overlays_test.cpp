@@ -189,5 +189,36 @@ TEST_F(RenderTest, SeamLinesAreDrawnOverTheCloth) {
     EXPECT_FALSE(renderer().setScene(scene).ok()) << "index out of range";
 }
 
+double meanLuminance(const io::RgbaImage& image, int x0, int y0, int x1, int y1) {
+    double sum = 0;
+    for (int y = y0; y < y1; ++y) {
+        for (int x = x0; x < x1; ++x) {
+            const std::uint8_t* p = image.at(x, y);
+            sum += 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+        }
+    }
+    return sum / (double(x1 - x0) * double(y1 - y0));
+}
+
+TEST_F(RenderTest, AWeaveThroughTheUvsTexturesTheClothAndKeepsItsBrightness) {
+    Scene scene;
+    scene.meshes.push_back(sheet(0.5, 8));
+    const io::RgbaImage plain = draw(scene, front());
+    // 20 mm threads on a 0.5 m sheet: visible at 96 pixels (about 3 pixels a thread).
+    scene.meshes.front().uvs = restOf(scene.meshes.front());
+    scene.meshes.front().weavePeriodMm = 20;
+    const io::RgbaImage woven = draw(scene, front());
+    EXPECT_GT(differingPixels(plain, woven), 0.3 * coverage(plain) * 96 * 96);
+    const double a = meanLuminance(plain, 30, 30, 66, 66);
+    const double b = meanLuminance(woven, 30, 30, 66, 66);
+    EXPECT_NEAR(b / a, 1.0, 0.06) << "the weave shades, it does not darken the cloth";
+    // 0.05 mm threads are far below a pixel: they fade to the plain colour.
+    scene.meshes.front().weavePeriodMm = 0.05;
+    EXPECT_LT(differingPixels(plain, draw(scene, front())), 96 * 2);
+
+    scene.meshes.front().uvs.resize(0, 2);
+    EXPECT_FALSE(renderer().setScene(scene).ok()) << "a weave needs uvs";
+}
+
 } // namespace
 } // namespace atelier::render::test
