@@ -30,7 +30,8 @@ namespace atelier::app {
 
 namespace {
 
-constexpr int MAX_SIDE = 4096; ///< as for `render`
+constexpr int MAX_SIDE = 4096;         ///< of a picture, as for `render` [pixels]
+constexpr long MAX_SHEET_SIDE = 16384; ///< of the contact sheet (1 GiB of RGBA at most) [pixels]
 
 struct BatchOptions {
     std::string input;
@@ -239,6 +240,33 @@ int runRenderBatch(const BatchOptions& o) {
         return EXIT_BAD_INPUT;
     }
 
+    const int cellSide = std::max(o.sheetCell, 16);
+    const double cellScale =
+        std::min(1.0, double(cellSide) / std::max(pictures.render.width, pictures.render.height));
+    const int cellWidth = std::max(1, int(pictures.render.width * cellScale + 0.5));
+    const int cellHeight = std::max(1, int(pictures.render.height * cellScale + 0.5));
+    render::SheetOptions sheet;
+    const auto cellCount = static_cast<long>(items.size() * views.size());
+    sheet.columns = static_cast<int>(
+        std::min<long>(o.sheetColumns > 0 ? o.sheetColumns : long(views.size()), cellCount));
+    sheet.cellWidth = cellWidth;
+    sheet.cellHeight = cellHeight;
+    sheet.labelLines = 2; // the item's name, then the view
+    if (pictures.render.background.a >= 1.0f) {
+        sheet.background = pictures.render.background;
+    }
+    // The sheet is one picture in memory and in a PNG: refuse one past MAX_SHEET_SIDE.
+    const long rows = (cellCount + sheet.columns - 1) / sheet.columns;
+    const long sheetWidth = sheet.gap + long(sheet.columns) * (cellWidth + sheet.gap);
+    const long sheetHeight =
+        sheet.gap + rows * (cellHeight + render::sheetLabelHeight(sheet) + sheet.gap);
+    if (sheetWidth > MAX_SHEET_SIDE || sheetHeight > MAX_SHEET_SIDE) {
+        std::cerr << "error: the contact sheet would be " << sheetWidth << "x" << sheetHeight
+                  << " pixels, more than " << MAX_SHEET_SIDE
+                  << " a side: fewer items, a smaller --sheet-cell or other --sheet-columns\n";
+        return EXIT_BAD_INPUT;
+    }
+
     auto drawing = startDrawing();
     if (!drawing.ok()) {
         std::cerr << "error: cannot draw " << dir.string() << ": " << drawing.error().toString()
@@ -246,11 +274,6 @@ int runRenderBatch(const BatchOptions& o) {
         return EXIT_RUN_FAILED;
     }
     render::Renderer& renderer = *drawing.value().renderer;
-    const int cellSide = std::max(o.sheetCell, 16);
-    const double cellScale =
-        std::min(1.0, double(cellSide) / std::max(pictures.render.width, pictures.render.height));
-    const int cellWidth = std::max(1, int(pictures.render.width * cellScale + 0.5));
-    const int cellHeight = std::max(1, int(pictures.render.height * cellScale + 0.5));
 
     std::vector<render::SheetCell> cells;
     int failed = 0;
@@ -300,14 +323,6 @@ int runRenderBatch(const BatchOptions& o) {
         }
     }
 
-    render::SheetOptions sheet;
-    sheet.columns = o.sheetColumns > 0 ? o.sheetColumns : static_cast<int>(views.size());
-    sheet.cellWidth = cellWidth;
-    sheet.cellHeight = cellHeight;
-    sheet.labelLines = 2; // the item's name, then the view
-    if (pictures.render.background.a >= 1.0f) {
-        sheet.background = pictures.render.background;
-    }
     if (auto written = io::writePng(sheetPath, render::contactSheet(cells, sheet)); !written.ok()) {
         std::cerr << "error: " << written.error().toString() << "\n";
         return EXIT_RUN_FAILED;

@@ -139,7 +139,9 @@ TEST_F(RenderBatchCli, BadInputExitsWithTwo) {
          {q(m_dir / "empty.txt") + " --out " + out, q(m_dir / "none.txt") + " --out " + out,
           q(m_dir / "items") + " --out " + out + " --views front,sideways",
           q(m_dir / "items") + " --out " + out + " --size 10",
-          q(m_dir / "items") + " --out " + out + " --overlay sparkles"}) {
+          q(m_dir / "items") + " --out " + out + " --overlay sparkles",
+          q(m_dir / "items") + " --out " + out + " --sheet-cell 4096 --size 4096x4096 --views " +
+              "front,back,left,right,top"}) {
         const CliRun run = runCli(m_dir, "render-batch " + args);
         EXPECT_EQ(run.exitCode, 2) << args << "\n" << run.stderrText;
     }
@@ -257,6 +259,8 @@ TEST_F(RenderBatchCli, FramesAreDrawnWithOneCamera) {
     const CliRun run = runCli(m_dir, "render --frames-dir " + q(m_dir / "frames") + " --out " +
                                          q(m_dir / "pngs") + " --size 64x64 --view front");
     ASSERT_EQ(run.exitCode, 0) << run.stderrText;
+    EXPECT_NE(run.stderrText.find("2 frames 64x64 written"), std::string::npos) << run.stderrText;
+    EXPECT_NE(run.stderrText.find("(1 by position updates)"), std::string::npos) << run.stderrText;
     const auto centreRow = [](const io::RgbaImage& image) {
         double sum = 0;
         double n = 0;
