@@ -132,6 +132,22 @@ TEST_F(RenderBatchCli, AListWithCommentsAndColumns) {
     EXPECT_EQ(sheet.at(0, 0)[3], 255) << "the sheet is opaque";
 }
 
+TEST_F(RenderBatchCli, ProjectsAreDrapedFirstAndAMissingOneFails) {
+    const std::string skirt = std::string(ATELIER_SOURCE_DIR) + "/assets/garments/skirt.atelier";
+    m_dir.write("projects.txt", skirt + "\nmissing.atelier\n");
+    const CliRun run =
+        runCli(m_dir, "render-batch " + q(m_dir / "projects.txt") + " --out " + q(m_dir / "p") +
+                          " --views front --size 48x48 --particle-distance 40 --time-limit 0.02 "
+                          "--threads 1 --overlay seams");
+    EXPECT_EQ(run.exitCode, 1) << run.stderrText;
+    EXPECT_NE(run.stderrText.find("missing.atelier: the drape failed"), std::string::npos)
+        << run.stderrText;
+    EXPECT_NE(run.stderrText.find("seam edges (sewn)"), std::string::npos) << run.stderrText;
+    EXPECT_EQ(picture("p/skirt-front.png").width, 48);
+    EXPECT_FALSE(std::filesystem::exists(m_dir / "p/missing-front.png"));
+    EXPECT_TRUE(std::filesystem::exists(m_dir / "p/contact-sheet.png"));
+}
+
 TEST_F(RenderBatchCli, BadInputExitsWithTwo) {
     m_dir.write("empty.txt", "# nothing\n");
     const auto out = q(m_dir / "o");
