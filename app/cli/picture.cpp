@@ -4,6 +4,7 @@
 #include "app/cli/drape.h"
 #include "app/cli/limits_option.h"
 
+#include "ui/render/ambient_occlusion.h"
 #include "ui/render/overlays.h"
 
 #include <algorithm>
@@ -248,6 +249,12 @@ Result<render::Scene> pictureScene(const DrapedGarment& garment, const PictureOp
         }
         break;
     }
+    }
+    if (options.ambientOcclusion) {
+        std::vector<std::vector<float>> visibility = render::ambientOcclusion(scene);
+        for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+            scene.meshes[m].ambientOcclusion = std::move(visibility[m]);
+        }
     }
     return scene;
 }

@@ -65,6 +65,7 @@ struct PictureOptions {
     double strainRange = 0.10;       ///< the strain colours saturate at ±this [-]
     double contactThickness = 0.004; ///< closer to the body than this is in contact [m]
     double weavePeriodMm = 0;        ///< a plain weave through the UVs, threads this far apart [mm]
+    bool ambientOcclusion = false;   ///< darken creases and cloth near the body
     /// Cloth resting on the body sits in a layer this fraction of the thickness above it
     /// (the engine's contact springs act there: sim::ContactSolveOptions::margin) [-].
     double contactLayer = sim::ContactSolveOptions{}.margin;

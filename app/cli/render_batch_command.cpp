@@ -43,7 +43,8 @@ struct BatchOptions {
     std::string overlay;
     std::string background = "white";
     double strainRangePct = 10;
-    double weaveMm = 0; ///< --weave [mm]
+    double weaveMm = 0;            ///< --weave [mm]
+    bool ambientOcclusion = false; ///< --ambient-occlusion
     double contactThicknessMm = -1;
     int threads = 0;
     double timeLimit = -1;
@@ -155,6 +156,7 @@ std::optional<std::string> parseOptions(const BatchOptions& o, PictureOptions& p
     pictures.render.wireframe = *overlay == Overlay::Wireframe;
     pictures.strainRange = o.strainRangePct / 100;
     pictures.weavePeriodMm = o.weaveMm;
+    pictures.ambientOcclusion = o.ambientOcclusion;
     if (o.contactThicknessMm > 0) {
         pictures.contactThickness = o.contactThicknessMm / 1000;
     }
@@ -365,6 +367,9 @@ void addRenderBatchCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--overlay", options->overlay,
                     "wireframe, strain, seams or contact (as for render)");
+    cmd->add_flag("--ambient-occlusion", options->ambientOcclusion,
+                  "Darken creases, armpits and cloth close to the body (computed per vertex on "
+                  "the CPU before drawing)");
     cmd->add_option("--weave", options->weaveMm,
                     "A plain weave drawn through the pattern UVs, threads this far apart [mm] "
                     "(warp along the UVs' v axis)")

@@ -40,6 +40,7 @@ struct RenderCommandOptions {
     std::string background = "white";
     double strainRangePct = 10;     ///< --strain-range [%]
     double weaveMm = 0;             ///< --weave [mm]; 0 = none
+    bool ambientOcclusion = false;  ///< --ambient-occlusion
     double contactThicknessMm = -1; ///< --contact-thickness [mm]; < 0 = the project's or 4 mm
     std::string framesDir;          ///< --frames-dir: render every frame OBJ in it
     std::string body;               ///< --body: the body of the frames (static)
@@ -78,6 +79,7 @@ std::optional<std::string> parsePictureOptions(const RenderCommandOptions& o, Pi
     out.render.wireframe = *overlay == Overlay::Wireframe;
     out.strainRange = o.strainRangePct / 100;
     out.weavePeriodMm = o.weaveMm;
+    out.ambientOcclusion = o.ambientOcclusion;
     if (o.contactThicknessMm > 0) {
         out.contactThickness = o.contactThicknessMm / 1000;
     }
@@ -329,6 +331,9 @@ void addRenderCommand(CLI::App& app) {
     cmd->add_option("--overlay", options->overlay,
                     "wireframe (triangle edges), strain (against the pattern UVs, with a "
                     "legend), seams (seam lines) or contact (cloth near or inside the body)");
+    cmd->add_flag("--ambient-occlusion", options->ambientOcclusion,
+                  "Darken creases, armpits and cloth close to the body (computed per vertex on "
+                  "the CPU before drawing)");
     cmd->add_option("--weave", options->weaveMm,
                     "A plain weave drawn through the pattern UVs, threads this far apart [mm] "
                     "(warp along the UVs' v axis)")

@@ -89,6 +89,10 @@ std::optional<std::string> meshProblem(const DrawMesh& mesh) {
     if (!(mesh.weavePeriodMm >= 0) || !std::isfinite(mesh.weavePeriodMm)) {
         return "weave period must be finite and >= 0";
     }
+    if (!mesh.ambientOcclusion.empty() && std::ssize(mesh.ambientOcclusion) != n) {
+        return "ambient occlusion: " + std::to_string(mesh.ambientOcclusion.size()) + " for " +
+               std::to_string(n) + " vertices";
+    }
     if (mesh.weavePeriodMm > 0 && mesh.uvs.rows() == 0) {
         return "a weave needs uvs";
     }
@@ -130,7 +134,7 @@ struct GpuMesh {
     sim::MatX3 positions;
     sim::MatX3i triangles;
     GLuint vao = 0;
-    std::array<GLuint, 5> buffers{}; ///< positions, normals, colours, indices, uvs
+    std::array<GLuint, 6> buffers{}; ///< positions, normals, colours, indices, uvs, occlusion
     float weavePeriodMm = 0;
     GLuint triangleColourBuffer = 0; ///< texture buffer contents, or 0
     GLuint triangleColourTexture = 0;
@@ -193,6 +197,11 @@ GpuMesh upload(const DrawMesh& mesh) {
         glVertexAttribPointer(3, 2, GL_FLOAT, GL_FALSE, 0, nullptr);
         glEnableVertexAttribArray(3);
         gpu.weavePeriodMm = static_cast<float>(mesh.weavePeriodMm);
+    }
+    if (!mesh.ambientOcclusion.empty()) {
+        uploadBuffer(GL_ARRAY_BUFFER, gpu.buffers[5], mesh.ambientOcclusion);
+        glVertexAttribPointer(4, 1, GL_FLOAT, GL_FALSE, 0, nullptr);
+        glEnableVertexAttribArray(4);
     }
     glBindVertexArray(0);
 
@@ -485,6 +494,7 @@ void Renderer::Impl::drawMeshes(const Camera& camera, bool wire) {
         glActiveTexture(GL_TEXTURE0);
         glBindTexture(GL_TEXTURE_BUFFER, m.triangleColourTexture);
         glBindVertexArray(m.vao);
+        glVertexAttrib1f(4, 1.0f); // the visibility where a mesh has no occlusion array
         glDrawElements(GL_TRIANGLES, m.indexCount, GL_UNSIGNED_INT, nullptr);
     }
     glBindVertexArray(0);

@@ -44,6 +44,9 @@ struct DrawMesh {
     /// warp along the UVs' v axis (the grain), weft along u; 0 = none. Threads finer than
     /// about two pixels fade to their average shade instead of shimmering.
     double weavePeriodMm = 0;
+    /// (|V|) ambient visibility in [0, 1] (ambientOcclusion()), darkening the ambient light
+    /// fully and the lamps by half; empty = 1 everywhere. Not updated by updatePositions.
+    std::vector<float> ambientOcclusion;
 };
 
 /// Line segments drawn over the meshes in one flat colour (seams): depth-tested, nudged towards

@@ -10,18 +10,21 @@ layout(location = 0) in vec3 aPosition;
 layout(location = 1) in vec3 aNormal;
 layout(location = 2) in vec4 aColour;
 layout(location = 3) in vec2 aUv;
+layout(location = 4) in float aVisibility;
 uniform mat4 uView;
 uniform mat4 uProjection;
 out vec3 vWorldNormal;
 out vec3 vViewPosition;
 out vec4 vColour;
 out vec2 vUvMm;
+out float vVisibility;
 void main() {
     vec4 p = uView * vec4(aPosition, 1.0);
     vViewPosition = p.xyz;
     vWorldNormal = aNormal;
     vColour = aColour;
     vUvMm = 1000.0 * aUv;
+    vVisibility = aVisibility;
     gl_Position = uProjection * p;
 }
 )";
@@ -31,6 +34,7 @@ in vec3 vWorldNormal;
 in vec3 vViewPosition;
 in vec4 vColour;
 in vec2 vUvMm;
+in float vVisibility;
 uniform float uWeavePeriodMm;
 uniform mat3 uViewRotation;
 uniform bool uTriangleColoured;
@@ -96,10 +100,12 @@ void main() {
     }
     vec3 n = normalize(uViewRotation * nWorld);
     vec3 v = normalize(-vViewPosition);
-    vec3 colour = albedo * mix(GROUND, SKY, 0.5 + 0.5 * nWorld.y);
-    colour += light(albedo, n, v, normalize(KEY_DIR), KEY);
+    vec3 colour = light(albedo, n, v, normalize(KEY_DIR), KEY);
     colour += light(albedo, n, v, normalize(FILL_DIR), FILL);
     colour += light(albedo, n, v, normalize(RIM_DIR), RIM);
+    // Ambient occlusion: the sky's light fully, the lamps' by half (1 = none).
+    colour = colour * (0.5 + 0.5 * vVisibility) +
+             vVisibility * albedo * mix(GROUND, SKY, 0.5 + 0.5 * nWorld.y);
     if (uGarment) {
         colour += albedo * 0.3 * pow(1.0 - max(dot(n, v), 0.0), 3.0); // fabric sheen at grazing
     }
