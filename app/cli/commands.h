@@ -32,8 +32,13 @@ void addBenchCommand(CLI::App& app);
 void addDrapeCommand(CLI::App& app);
 
 /// `atelier-cli render INPUT --out PICTURE.png [--size WxH] [--view V|all] [--overlay
-/// wireframe] [--background COLOUR]` (render_command.cpp).
+/// wireframe|strain|seams|contact] [--background COLOUR]` and `atelier-cli render --frames-dir
+/// DIR --out OUTDIR` (render_command.cpp).
 void addRenderCommand(CLI::App& app);
+
+/// `atelier-cli render-batch LIST|FOLDER --out DIR [--views V,...] [--size WxH]
+/// [--sheet-columns N]` (render_batch_command.cpp).
+void addRenderBatchCommand(CLI::App& app);
 
 /// `atelier-cli body [--measurements M.json | --base B] --out BODY.obj` (body_command.cpp).
 void addBodyCommand(CLI::App& app);

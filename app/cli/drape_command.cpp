@@ -386,7 +386,7 @@ int runDrape(const DrapeOptions& options, const DrapeFinished& finished) {
         }
     }
     if (finite && !options.thumbnail.empty()) {
-        code = writeThumbnail(sessionScene(session), options.thumbnail, code);
+        code = writeThumbnail(sessionGarment(session), options.thumbnail, code);
     }
     if (finite && finished) {
         code = finished(session, code);

@@ -21,6 +21,7 @@ int run(int argc, char** argv) {
     atelier::app::addBenchCommand(app);
     atelier::app::addDrapeCommand(app);
     atelier::app::addRenderCommand(app);
+    atelier::app::addRenderBatchCommand(app);
     atelier::app::addBodyCommand(app);
     atelier::app::addBatchCommand(app);
     atelier::app::addBatchSummaryCommand(app);

@@ -82,6 +82,23 @@ std::optional<std::string> meshProblem(const DrawMesh& mesh) {
         return "vertex colours: " + std::to_string(mesh.vertexColours.size()) + " for " +
                std::to_string(n) + " vertices";
     }
+    if (mesh.uvs.rows() != 0 && mesh.uvs.rows() != n) {
+        return "uvs: " + std::to_string(mesh.uvs.rows()) + " for " + std::to_string(n) +
+               " vertices";
+    }
+    if (!(mesh.weavePeriodMm >= 0) || !std::isfinite(mesh.weavePeriodMm)) {
+        return "weave period must be finite and >= 0";
+    }
+    if (!mesh.ambientOcclusion.empty() && std::ssize(mesh.ambientOcclusion) != n) {
+        return "ambient occlusion: " + std::to_string(mesh.ambientOcclusion.size()) + " for " +
+               std::to_string(n) + " vertices";
+    }
+    if (mesh.weavePeriodMm > 0 && mesh.uvs.rows() == 0) {
+        return "a weave needs uvs";
+    }
+    if (!mesh.uvs.allFinite()) {
+        return "a uv is not finite";
+    }
     if (!mesh.triangleColours.empty() &&
         std::ssize(mesh.triangleColours) != mesh.triangles.rows()) {
         return "triangle colours: " + std::to_string(mesh.triangleColours.size()) + " for " +
@@ -90,11 +107,35 @@ std::optional<std::string> meshProblem(const DrawMesh& mesh) {
     return std::nullopt;
 }
 
-/// One mesh on the GPU.
+/// Checks lines before upload; the message names the problem.
+std::optional<std::string> linesProblem(const DrawLines& lines) {
+    const auto n = lines.positions.rows();
+    if (!lines.positions.allFinite()) {
+        return "a line vertex position is not finite";
+    }
+    if (lines.segments.size() > 0 &&
+        (lines.segments.minCoeff() < 0 || lines.segments.maxCoeff() >= n)) {
+        return "a line segment index is out of range [0, " + std::to_string(n) + ")";
+    }
+    return std::nullopt;
+}
+
+std::vector<float> toFloats(const sim::MatX3& m) {
+    std::vector<float> out(static_cast<std::size_t>(m.size()));
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        out[i] = static_cast<float>(m.data()[i]);
+    }
+    return out;
+}
+
+/// One mesh on the GPU, with its positions and triangles kept for position updates and bounds.
 struct GpuMesh {
     MeshKind kind = MeshKind::Garment;
+    sim::MatX3 positions;
+    sim::MatX3i triangles;
     GLuint vao = 0;
-    std::array<GLuint, 4> buffers{}; ///< positions, normals, colours, indices
+    std::array<GLuint, 6> buffers{}; ///< positions, normals, colours, indices, uvs, occlusion
+    float weavePeriodMm = 0;
     GLuint triangleColourBuffer = 0; ///< texture buffer contents, or 0
     GLuint triangleColourTexture = 0;
     GLsizei indexCount = 0;
@@ -116,17 +157,15 @@ template <class T> void uploadBuffer(GLenum target, GLuint buffer, const std::ve
 GpuMesh upload(const DrawMesh& mesh) {
     GpuMesh gpu;
     gpu.kind = mesh.kind;
+    gpu.positions = mesh.positions;
+    gpu.triangles = mesh.triangles;
     const auto n = static_cast<std::size_t>(mesh.positions.rows());
     sim::MatX3 normals = mesh.normals;
     if (normals.rows() == 0) {
         sim::vertexNormals(mesh.positions, mesh.triangles, normals);
     }
-    std::vector<float> positions(n * 3);
-    std::vector<float> normalData(n * 3);
-    for (std::size_t i = 0; i < n * 3; ++i) {
-        positions[i] = static_cast<float>(mesh.positions.data()[i]);
-        normalData[i] = static_cast<float>(normals.data()[i]);
-    }
+    const std::vector<float> positions = toFloats(mesh.positions);
+    const std::vector<float> normalData = toFloats(normals);
     std::vector<std::uint8_t> colours;
     colours.reserve(n * 4);
     for (std::size_t i = 0; i < n; ++i) {
@@ -149,6 +188,21 @@ GpuMesh upload(const DrawMesh& mesh) {
         glEnableVertexAttribArray(a);
     }
     uploadBuffer(GL_ELEMENT_ARRAY_BUFFER, gpu.buffers[3], indices);
+    if (mesh.uvs.rows() > 0) {
+        std::vector<float> uvs(static_cast<std::size_t>(mesh.uvs.size()));
+        for (std::size_t i = 0; i < uvs.size(); ++i) {
+            uvs[i] = static_cast<float>(mesh.uvs.data()[i]);
+        }
+        uploadBuffer(GL_ARRAY_BUFFER, gpu.buffers[4], uvs);
+        glVertexAttribPointer(3, 2, GL_FLOAT, GL_FALSE, 0, nullptr);
+        glEnableVertexAttribArray(3);
+        gpu.weavePeriodMm = static_cast<float>(mesh.weavePeriodMm);
+    }
+    if (!mesh.ambientOcclusion.empty()) {
+        uploadBuffer(GL_ARRAY_BUFFER, gpu.buffers[5], mesh.ambientOcclusion);
+        glVertexAttribPointer(4, 1, GL_FLOAT, GL_FALSE, 0, nullptr);
+        glEnableVertexAttribArray(4);
+    }
     glBindVertexArray(0);
 
     if (!mesh.triangleColours.empty()) {
@@ -164,6 +218,38 @@ GpuMesh upload(const DrawMesh& mesh) {
         glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA8, gpu.triangleColourBuffer);
         glBindTexture(GL_TEXTURE_BUFFER, 0);
     }
+    return gpu;
+}
+
+/// Line segments on the GPU.
+struct GpuLines {
+    GLuint vao = 0;
+    std::array<GLuint, 2> buffers{}; ///< positions, indices
+    GLsizei indexCount = 0;
+    Colour colour;
+    float widthPx = 1;
+
+    void release() {
+        glDeleteBuffers(static_cast<GLsizei>(buffers.size()), buffers.data());
+        glDeleteVertexArrays(1, &vao);
+    }
+};
+
+GpuLines upload(const DrawLines& lines) {
+    GpuLines gpu;
+    gpu.colour = lines.colour;
+    gpu.widthPx = lines.widthPx;
+    const std::vector<GLuint> indices(lines.segments.data(),
+                                      lines.segments.data() + lines.segments.size());
+    gpu.indexCount = static_cast<GLsizei>(indices.size());
+    glGenVertexArrays(1, &gpu.vao);
+    glBindVertexArray(gpu.vao);
+    glGenBuffers(static_cast<GLsizei>(gpu.buffers.size()), gpu.buffers.data());
+    uploadBuffer(GL_ARRAY_BUFFER, gpu.buffers[0], toFloats(lines.positions));
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+    glEnableVertexAttribArray(0);
+    uploadBuffer(GL_ELEMENT_ARRAY_BUFFER, gpu.buffers[1], indices);
+    glBindVertexArray(0);
     return gpu;
 }
 
@@ -187,23 +273,37 @@ struct Targets {
 struct Renderer::Impl {
     GLuint meshProgram = 0;
     GLuint groundProgram = 0;
+    GLuint lineProgram = 0;
     GLuint groundVao = 0;
     GLuint groundBuffer = 0;
     std::vector<GpuMesh> meshes;
+    std::vector<GpuLines> lines;
     Eigen::AlignedBox3d bounds;
     Eigen::AlignedBox3d footprint; ///< the vertices in the lowest 10% of the content's height
     Targets targets;
 
     ~Impl() {
-        for (GpuMesh& m : meshes) {
-            m.release();
-        }
+        releaseScene();
         targets.release();
         glDeleteBuffers(1, &groundBuffer);
         glDeleteVertexArrays(1, &groundVao);
         glDeleteProgram(meshProgram);
         glDeleteProgram(groundProgram);
+        glDeleteProgram(lineProgram);
     }
+
+    void releaseScene() {
+        for (GpuMesh& m : meshes) {
+            m.release();
+        }
+        meshes.clear();
+        for (GpuLines& l : lines) {
+            l.release();
+        }
+        lines.clear();
+    }
+    void refreshBounds();
+    void drawLines(const Camera& camera);
 
     Result<void> prepareTargets(int width, int height, int samples);
     void drawMeshes(const Camera& camera, bool wire);
@@ -229,6 +329,11 @@ Result<std::unique_ptr<Renderer>> Renderer::create() {
         return ground.error();
     }
     impl->groundProgram = ground.value();
+    auto line = buildProgram(shaders::LINE_VERTEX, shaders::LINE_FRAGMENT);
+    if (!line.ok()) {
+        return line.error();
+    }
+    impl->lineProgram = line.value();
     const std::vector<float> corners = {-1, -1, 1, -1, -1, 1, 1, 1};
     glGenVertexArrays(1, &impl->groundVao);
     glBindVertexArray(impl->groundVao);
@@ -254,24 +359,80 @@ Result<void> Renderer::setScene(const Scene& scene) {
             return Error{"", "mesh " + std::to_string(k), *problem};
         }
     }
-    for (GpuMesh& m : m_impl->meshes) {
-        m.release();
+    for (std::size_t k = 0; k < scene.lines.size(); ++k) {
+        if (auto problem = linesProblem(scene.lines[k])) {
+            return Error{"", "lines " + std::to_string(k), *problem};
+        }
     }
-    m_impl->meshes.clear();
+    m_impl->releaseScene();
     for (const DrawMesh& mesh : scene.meshes) {
         m_impl->meshes.push_back(upload(mesh));
     }
-    m_impl->bounds = sceneBounds(scene);
-    m_impl->footprint = Eigen::AlignedBox3d();
-    const double floorBand = m_impl->bounds.min().y() + 0.1 * m_impl->bounds.sizes().y();
-    for (const DrawMesh& mesh : scene.meshes) {
+    for (const DrawLines& lines : scene.lines) {
+        m_impl->lines.push_back(upload(lines));
+    }
+    m_impl->refreshBounds();
+    return {};
+}
+
+void Renderer::Impl::refreshBounds() {
+    bounds = Eigen::AlignedBox3d();
+    for (const GpuMesh& mesh : meshes) {
+        for (Eigen::Index i = 0; i < mesh.positions.rows(); ++i) {
+            bounds.extend(mesh.positions.row(i).transpose());
+        }
+    }
+    footprint = Eigen::AlignedBox3d();
+    const double floorBand = bounds.min().y() + 0.1 * bounds.sizes().y();
+    for (const GpuMesh& mesh : meshes) {
         for (Eigen::Index i = 0; i < mesh.positions.rows(); ++i) {
             if (mesh.positions(i, 1) <= floorBand) {
-                m_impl->footprint.extend(mesh.positions.row(i).transpose());
+                footprint.extend(mesh.positions.row(i).transpose());
             }
         }
     }
+}
+
+Result<void> Renderer::updatePositions(int meshIndex, const sim::MatX3& positions,
+                                       const sim::MatX3& normals) {
+    if (meshIndex < 0 || meshIndex >= std::ssize(m_impl->meshes)) {
+        return Error{"", "mesh " + std::to_string(meshIndex),
+                     "no such mesh (" + std::to_string(m_impl->meshes.size()) + " uploaded)"};
+    }
+    GpuMesh& mesh = m_impl->meshes[static_cast<std::size_t>(meshIndex)];
+    const auto n = mesh.positions.rows();
+    std::optional<std::string> problem;
+    if (positions.rows() != n) {
+        problem = "positions: " + std::to_string(positions.rows()) + " for " + std::to_string(n) +
+                  " vertices";
+    } else if (!positions.allFinite()) {
+        problem = "a vertex position is not finite";
+    } else if (normals.rows() != 0 && normals.rows() != n) {
+        problem = "normals: " + std::to_string(normals.rows()) + " for " + std::to_string(n) +
+                  " vertices";
+    }
+    if (problem) {
+        return Error{"", "mesh " + std::to_string(meshIndex), *problem};
+    }
+    mesh.positions = positions;
+    sim::MatX3 smooth;
+    if (normals.rows() == 0) {
+        sim::vertexNormals(positions, mesh.triangles, smooth);
+    }
+    const std::vector<float> positionData = toFloats(positions);
+    const std::vector<float> normalData = toFloats(normals.rows() == 0 ? smooth : normals);
+    const auto bytes = static_cast<GLsizeiptr>(positionData.size() * sizeof(float));
+    glBindBuffer(GL_ARRAY_BUFFER, mesh.buffers[0]);
+    glBufferSubData(GL_ARRAY_BUFFER, 0, bytes, positionData.data());
+    glBindBuffer(GL_ARRAY_BUFFER, mesh.buffers[1]);
+    glBufferSubData(GL_ARRAY_BUFFER, 0, bytes, normalData.data());
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    m_impl->refreshBounds();
     return {};
+}
+
+const Eigen::AlignedBox3d& Renderer::bounds() const {
+    return m_impl->bounds;
 }
 
 Result<void> Renderer::Impl::prepareTargets(int width, int height, int samples) {
@@ -329,11 +490,33 @@ void Renderer::Impl::drawMeshes(const Camera& camera, bool wire) {
         }
         glUniform1i(at("uGarment"), m.kind == MeshKind::Garment ? 1 : 0);
         glUniform1i(at("uTriangleColoured"), m.triangleColourTexture != 0 ? 1 : 0);
+        glUniform1f(at("uWeavePeriodMm"), m.weavePeriodMm);
         glActiveTexture(GL_TEXTURE0);
         glBindTexture(GL_TEXTURE_BUFFER, m.triangleColourTexture);
         glBindVertexArray(m.vao);
+        glVertexAttrib1f(4, 1.0f); // the visibility where a mesh has no occlusion array
         glDrawElements(GL_TRIANGLES, m.indexCount, GL_UNSIGNED_INT, nullptr);
     }
+    glBindVertexArray(0);
+}
+
+void Renderer::Impl::drawLines(const Camera& camera) {
+    glUseProgram(lineProgram);
+    const auto at = [&](const char* name) { return glGetUniformLocation(lineProgram, name); };
+    glUniformMatrix4fv(at("uView"), 1, GL_FALSE, camera.view.data());
+    glUniformMatrix4fv(at("uProjection"), 1, GL_FALSE, camera.projection.data());
+    // 3 mm: above the cloth a seam lies on and the seam allowance beside it, at a garment's
+    // scale; a line behind the body stays hidden.
+    glUniform1f(at("uTowardsCamera"), 0.003f);
+    GLfloat range[2] = {1, 1};
+    glGetFloatv(GL_ALIASED_LINE_WIDTH_RANGE, range);
+    for (const GpuLines& l : lines) {
+        glLineWidth(std::clamp(l.widthPx, range[0], range[1]));
+        glUniform4f(at("uColour"), l.colour.r, l.colour.g, l.colour.b, l.colour.a);
+        glBindVertexArray(l.vao);
+        glDrawElements(GL_LINES, l.indexCount, GL_UNSIGNED_INT, nullptr);
+    }
+    glLineWidth(1);
     glBindVertexArray(0);
 }
 
@@ -424,6 +607,9 @@ Result<io::RgbaImage> Renderer::render(const RenderOptions& options, const Camer
         glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
         m_impl->drawMeshes(camera, true);
         glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    }
+    if (!m_impl->lines.empty()) {
+        m_impl->drawLines(camera);
     }
     glDepthMask(GL_TRUE);
     glDisable(GL_BLEND);

@@ -43,6 +43,14 @@ class Renderer {
     /// Uploads the scene's meshes (replacing those uploaded before); its bounds frame the views.
     /// Fails on inconsistent arrays (an index out of range, colours of the wrong count).
     Result<void> setScene(const Scene& scene);
+    /// Replaces the positions (and normals) of uploaded mesh `meshIndex` and re-uploads only its
+    /// vertex buffers (a viewport following a running drape): the triangles and colours stay.
+    /// `positions` (|V|×3) must have the mesh's vertex count; `normals` the same, or empty for
+    /// smooth normals computed from the triangles. The framing bounds follow the new positions.
+    Result<void> updatePositions(int meshIndex, const sim::MatX3& positions,
+                                 const sim::MatX3& normals = {});
+    /// The box framing the views: every uploaded mesh vertex (empty when there is none).
+    const Eigen::AlignedBox3d& bounds() const;
     /// Draws the uploaded scene from `options.view` and returns the picture (top row first).
     Result<io::RgbaImage> render(const RenderOptions& options);
     /// Draws with an explicit camera.

@@ -38,11 +38,30 @@ struct DrawMesh {
     Colour colour{0.8f, 0.8f, 0.8f, 1.0f}; ///< front colour where no colours are given below
     std::vector<Colour> triangleColours;   ///< (|F|) one colour per triangle, or empty
     std::vector<Colour> vertexColours;     ///< (|V|) interpolated colours, or empty
+    /// (|V|×2) fabric coordinates [m] (the pattern UVs of a drape), or empty.
+    sim::MatX2 uvs;
+    /// A plain weave drawn through `uvs` (which it needs), its threads this far apart [mm]:
+    /// warp along the UVs' v axis (the grain), weft along u; 0 = none. Threads finer than
+    /// about two pixels fade to their average shade instead of shimmering.
+    double weavePeriodMm = 0;
+    /// (|V|) ambient visibility in [0, 1] (ambientOcclusion()), darkening the ambient light
+    /// fully and the lamps by half; empty = 1 everywhere. Not updated by updatePositions.
+    std::vector<float> ambientOcclusion;
+};
+
+/// Line segments drawn over the meshes in one flat colour (seams): depth-tested, nudged towards
+/// the camera so that lines lying on a surface are not hidden by it.
+struct DrawLines {
+    sim::MatX3 positions; ///< (|V|×3) [m]
+    sim::MatX2i segments; ///< (|S|×2) 0-based vertex pairs
+    Colour colour{0.1f, 0.1f, 0.1f, 1.0f};
+    float widthPx = 2.0f; ///< [pixels] (clamped to what GL offers)
 };
 
 /// Everything drawn in one picture.
 struct Scene {
     std::vector<DrawMesh> meshes;
+    std::vector<DrawLines> lines; ///< drawn after the meshes; not part of the framing bounds
 };
 
 /// The axis-aligned box around every vertex of the scene (empty when it has none).

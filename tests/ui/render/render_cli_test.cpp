@@ -110,8 +110,8 @@ TEST_F(RenderCli, EveryViewOnATransparentBackground) {
 
 TEST_F(RenderCli, BadArgumentsExitWithTwo) {
     const auto out = q(m_dir / "x.png");
-    for (const char* args : {" --size 0x10", " --size 10", " --view sideways", " --overlay strain",
-                             " --background bluish"}) {
+    for (const char* args : {" --size 0x10", " --size 10", " --view sideways",
+                             " --overlay sparkles", " --background bluish"}) {
         const CliRun run = runCli(m_dir, "render " + q(m_garment) + " --out " + out + args);
         EXPECT_EQ(run.exitCode, 2) << args;
         EXPECT_NE(run.stderrText.find("error: --"), std::string::npos) << run.stderrText;
@@ -154,8 +154,14 @@ TEST_F(RenderCli, DrapeWritesAThumbnailAndRenderDrapesAProject) {
 
     const auto out = m_dir / "skirt.png";
     run = runCli(m_dir, "render " + q(skirt) + " --out " + q(out) +
-                            " --size 40x30 --particle-distance 40 --time-limit 0.02 --threads 1");
+                            " --size 40x30 --particle-distance 40 --time-limit 0.02 --threads 1 "
+                            "--overlay seams");
     ASSERT_EQ(run.exitCode, 0) << run.stderrText;
+    // The project's seams come from its sewing (the skirt's two side seams, many edges each).
+    const auto at = run.stderrText.find(" seam edges (sewn)");
+    ASSERT_NE(at, std::string::npos) << run.stderrText;
+    const auto from = run.stderrText.rfind("render: ", at);
+    EXPECT_GE(std::stoi(run.stderrText.substr(from + 8, at - from - 8)), 4) << run.stderrText;
     image = io::readPng(out);
     ASSERT_TRUE(image.ok());
     EXPECT_EQ(image.value().width, 40);
