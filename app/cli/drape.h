@@ -23,6 +23,7 @@ struct DrapeOptions {
     int threads = 0;
     double timeLimit = -1;          ///< override of the project's time limit [s]; < 0 = keep
     double particleDistanceMm = -1; ///< override of the project's particle distance [mm]
+    std::string linearSolver;       ///< override of the project's linear solver; empty = keep
     std::string framesDir;          ///< write the garment at every frame here (OBJ)
     long maxVertices = DEFAULT_MAX_VERTICES; ///< refuse meshes estimated larger
     std::vector<std::string> limits;         ///< --limit NAME=VALUE
