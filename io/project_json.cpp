@@ -36,6 +36,8 @@ constexpr std::array<std::pair<SegmentKind, std::string_view>, 4> SEGMENT_KINDS 
 constexpr std::array<sim::IntegratorKind, 5> INTEGRATORS = {
     sim::IntegratorKind::Euler, sim::IntegratorKind::Midpoint, sim::IntegratorKind::Rk4,
     sim::IntegratorKind::Rk45, sim::IntegratorKind::ImplicitEuler};
+constexpr std::array<sim::LinearSolver, 2> LINEAR_SOLVERS = {
+    sim::LinearSolver::BlockJacobi, sim::LinearSolver::BlockIncompleteCholesky};
 constexpr std::array<sim::StretchModel, 3> MODELS = {
     sim::StretchModel::Springs, sim::StretchModel::Volino, sim::StretchModel::Fem};
 
@@ -313,6 +315,15 @@ patterns::DrapeSettings readSimulation(const json& value, const std::string& poi
     }
     d.dt = r.positive("dt_s", d.dt);
     d.cgTolerance = r.positive("cg_tolerance", d.cgTolerance);
+    if (const auto solver = r.optionalString("linear_solver")) {
+        const auto kind = sim::linearSolverFromName(*solver);
+        if (!kind) {
+            r.fail("linear_solver", "unknown linear solver " + inQuotes(*solver) +
+                                        " (expected one of " +
+                                        nameList(LINEAR_SOLVERS, &sim::linearSolverName) + ")");
+        }
+        d.linearSolver = kind.value_or(d.linearSolver);
+    }
     d.clothThickness = lengthMm(r, "cloth_thickness_mm", d.clothThickness, Range::Positive);
     d.selfCollision = r.boolean("self_collision", d.selfCollision);
     d.bodyThickness = lengthMm(r, "body_thickness_mm", d.bodyThickness, Range::NonNegative);
@@ -423,6 +434,7 @@ ordered_json simulationJson(const patterns::DrapeSettings& d) {
     out["integrator"] = std::string(sim::integratorName(d.integrator));
     out["dt_s"] = number(d.dt);
     out["cg_tolerance"] = number(d.cgTolerance);
+    out["linear_solver"] = std::string(sim::linearSolverName(d.linearSolver));
     out["cloth_thickness_mm"] = mm(d.clothThickness);
     out["self_collision"] = d.selfCollision;
     out["body_thickness_mm"] = mm(d.bodyThickness);

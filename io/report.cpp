@@ -31,6 +31,11 @@ std::string formatReport(const sim::Simulation& simulation, const ReportFields& 
     j["rejected_steps"] = stats.rejectedSteps;
     j["force_evaluations"] = stats.forceEvaluations;
     j["cg_iterations"] = stats.cgIterations;
+    j["linear_solver"] = std::string(sim::linearSolverName(scene.integrator.linearSolver));
+    j["linear_solves"] = stats.linearSolves;
+    j["linear_solves_unconverged"] = stats.unconvergedSolves;
+    j["linear_solves_capped"] = stats.cappedSolves;
+    j["linear_solve_worst_residual"] = number(stats.worstRelativeResidual);
     j["sim_time_s"] = number(stats.simTime);
     j["wall_time_s"] = number(stats.wallTime);
     j["min_dt_s"] = number(stats.minDt);

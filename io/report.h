@@ -25,7 +25,10 @@ using ReportFields = std::map<std::string, ReportValue>;
 
 /// The report of a run as JSON text (2-space indented). Keys:
 /// `format` ("atelier-report"), `version` (1), `steps`, `rejected_steps`, `force_evaluations`,
-/// `cg_iterations`, `sim_time_s`, `wall_time_s`, `min_dt_s`, `max_dt_s`, `finite` (bool),
+/// `cg_iterations`, `linear_solver` (name), `linear_solves`, `linear_solves_unconverged`
+/// (ended above the tolerance), `linear_solves_capped` (of which at the iteration cap),
+/// `linear_solve_worst_residual` (largest final relative residual [-]),
+/// `sim_time_s`, `wall_time_s`, `min_dt_s`, `max_dt_s`, `finite` (bool),
 /// `max_edge_strain` [-], `kinetic_energy_j`, `potential_energy_j`, `energy_input_j`,
 /// `active_stages` (list), `stage_seconds` (object: stage → [s]), `integrator`, `error` (string
 /// or null), `vertices`, `triangles`, `cloths` (list of names); collision figures, always

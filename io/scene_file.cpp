@@ -47,6 +47,8 @@ constexpr long long MAX_CG_ITERATIONS = 100'000;
 constexpr std::array<sim::IntegratorKind, 5> INTEGRATORS = {
     sim::IntegratorKind::Euler, sim::IntegratorKind::Midpoint, sim::IntegratorKind::Rk4,
     sim::IntegratorKind::Rk45, sim::IntegratorKind::ImplicitEuler};
+constexpr std::array<sim::LinearSolver, 2> LINEAR_SOLVERS = {
+    sim::LinearSolver::BlockJacobi, sim::LinearSolver::BlockIncompleteCholesky};
 constexpr std::array<sim::StretchModel, 3> MODELS = {
     sim::StretchModel::Springs, sim::StretchModel::Volino, sim::StretchModel::Fem};
 
@@ -686,6 +688,15 @@ class SceneParser {
                    "must be an integer in [1, " + std::to_string(MAX_CG_ITERATIONS) + "]");
         }
         o.cgMaxIterations = static_cast<int>(cgMax);
+        if (const auto solver = r.optionalString("linear_solver")) {
+            const auto kind = sim::linearSolverFromName(*solver);
+            if (!kind) {
+                r.fail("linear_solver", "unknown linear solver " + inQuotes(*solver) +
+                                            " (expected one of " +
+                                            nameList(LINEAR_SOLVERS, &sim::linearSolverName) + ")");
+            }
+            o.linearSolver = kind.value_or(o.linearSolver);
+        }
         if (!(o.growth > 1)) {
             r.fail("growth", "must be greater than 1");
         }

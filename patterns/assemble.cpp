@@ -121,6 +121,7 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
                          ? sim::SeamMode::Elastic
                          : sim::SeamMode::Imposed;
     scene.integrator.cgTolerance = settings.cgTolerance;
+    scene.integrator.linearSolver = settings.linearSolver;
     scene.seamTimeConstant = settings.seamTimeConstant;
     scene.seamReach = settings.seamReach;
     scene.seamStiffnessPerLength = settings.seamStiffness;

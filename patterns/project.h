@@ -40,6 +40,10 @@ struct DrapeSettings {
     /// shape at rest, not the path to it: on the 10 mm skirt, 1e-3 closed the seams nearly as
     /// fast as 1e-6 (gap 0.176 against 0.156 m after 0.3 s) with ~200 instead of 500 iterations.
     double cgTolerance = 1e-3;
+    /// Implicit Euler: the solve's preconditioner. Block-Jacobi: the drapes' sewing and rest
+    /// figures were tuned with its inexact solves; block IC(0) closes the 10 mm tshirt's seams
+    /// later (docs/decisions/019-linear-solver.md).
+    sim::LinearSolver linearSolver = sim::LinearSolver::BlockJacobi;
     double clothThickness = 0.002; ///< collision thickness of the cloth [m]
     bool selfCollision = true;     ///< garment against itself (layers, front vs back)
     double bodyThickness = 0.002;  ///< collision thickness of the body surface [m]

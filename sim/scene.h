@@ -2,6 +2,7 @@
 /// What a simulation is asked to do: cloths, constraints, environment and solver settings.
 /// Plain data: `sim/` takes arrays; files and JSON are io/'s business.
 
+#include "sim/integrators/linear_solver.h"
 #include "sim/material.h"
 #include "sim/mesh/cloth_mesh.h"
 
@@ -179,6 +180,8 @@ struct IntegratorOptions {
     /// Implicit Euler: conjugate-gradient relative tolerance and iteration cap.
     double cgTolerance = 1e-6;
     int cgMaxIterations = 500;
+    /// Implicit Euler: the preconditioner of the solve (docs/decisions/019-linear-solver.md).
+    LinearSolver linearSolver = LinearSolver::BlockJacobi;
 };
 
 struct SceneSpec {

@@ -376,6 +376,10 @@ bool Simulation::Impl::implicitStep(double h) {
                      scene.integrator.cgMaxIterations, &welds.groups());
     }
     stats.cgIterations += r.iterations;
+    ++stats.linearSolves;
+    stats.unconvergedSolves += r.converged ? 0 : 1;
+    stats.cappedSolves += r.capped ? 1 : 0;
+    stats.worstRelativeResidual = std::max(stats.worstRelativeResidual, r.relativeResidual);
     vNew = v + dv;
     if (scene.seamMode == SeamMode::Imposed && !scene.seams.empty()) {
         const double before = 0.5 * (mass.array() * vNew.rowwise().squaredNorm().array()).sum();

@@ -22,12 +22,19 @@ struct RunStats {
     long rejectedSteps = 0;    ///< steps rejected (error above tolerance or non-finite state)
     long forceEvaluations = 0; ///< derivative evaluations (Runge–Kutta stages, implicit solves)
     long cgIterations = 0;     ///< implicit Euler: conjugate-gradient iterations in total
-    double simTime = 0;        ///< simulated time reached [s]
-    double wallTime = 0;       ///< wall time spent in steps [s]
-    double minDt = 0;          ///< smallest accepted step [s]
-    double maxDt = 0;          ///< largest accepted step [s]
-    bool finite = true;        ///< the state is finite
-    std::string error;         ///< why the run stopped early; empty when it did not
+    long linearSolves = 0;     ///< implicit Euler: linear solves (one per attempted step)
+    /// Implicit Euler: solves that ended above their tolerance: stopped at the iteration cap
+    /// (`cappedSolves`) or broken down (the system not positive definite along a direction).
+    long unconvergedSolves = 0;
+    long cappedSolves = 0; ///< of which stopped at the iteration cap
+    /// Implicit Euler: largest final relative residual |S(b − A x)| / |S b| of any solve [-]
+    double worstRelativeResidual = 0;
+    double simTime = 0;  ///< simulated time reached [s]
+    double wallTime = 0; ///< wall time spent in steps [s]
+    double minDt = 0;    ///< smallest accepted step [s]
+    double maxDt = 0;    ///< largest accepted step [s]
+    bool finite = true;  ///< the state is finite
+    std::string error;   ///< why the run stopped early; empty when it did not
     /// Work done on the cloth by pins and drives, plus the energy the initial state held
     /// (kinetic + elastic + gravitational above the lowest point reached) [J]: an upper bound
     /// for the kinetic energy a dissipative simulation may show.

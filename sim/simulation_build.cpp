@@ -151,6 +151,7 @@ void Simulation::Impl::buildSolver() {
         rk = std::make_unique<ExplicitRkStepper>(ButcherTableau::cashKarp());
         break;
     case IntegratorKind::ImplicitEuler:
+        cg.setPreconditioner(scene.integrator.linearSolver);
         break;
     }
     dtNominal = scene.integrator.dt;

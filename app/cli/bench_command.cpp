@@ -134,6 +134,9 @@ void addDrape(CLI::App& bench) {
                     "Simulated time limit [s] (default: the project's)")
         ->check(CLI::PositiveNumber);
     cmd->add_option("--dt", o->dt, "Step [s] (default: the project's)")->check(CLI::PositiveNumber);
+    cmd->add_option("--linear-solver", o->linearSolver,
+                    "Implicit solve's preconditioner (default: the project's)")
+        ->check(CLI::IsMember({"block-jacobi", "block-ic0"}));
     cmd->add_option("--threads,-j", o->threads, "Engine threads (default: all cores)")
         ->check(CLI::PositiveNumber);
     cmd->add_option("--reader-hz", o->readerHz,

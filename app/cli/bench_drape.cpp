@@ -100,6 +100,9 @@ int runDrapeBench(const DrapeBenchOptions& o) {
     if (o.dt > 0) {
         project.drape.dt = o.dt;
     }
+    if (const auto solver = sim::linearSolverFromName(o.linearSolver)) {
+        project.drape.linearSolver = *solver;
+    }
     const double h = project.drape.particleDistance;
     if (auto problem = checkVertexLimit(
             "the garment meshed at a particle distance of " + std::to_string(1000 * h) + " mm",
@@ -186,6 +189,12 @@ int runDrapeBench(const DrapeBenchOptions& o) {
     j["step_p99_s"] = quantile(0.99);
     j["step_longest_s"] = stepSeconds.empty() ? 0.0 : stepSeconds.back();
     j["dt_s"] = session.project().drape.dt;
+    const sim::RunStats& stats = session.simulation()->stats();
+    j["linear_solver"] = std::string(sim::linearSolverName(session.project().drape.linearSolver));
+    j["cg_iterations"] = stats.cgIterations;
+    j["linear_solves_capped"] = stats.cappedSolves;
+    j["linear_solves_unconverged"] = stats.unconvergedSolves;
+    j["linear_solve_worst_residual"] = stats.worstRelativeResidual;
     j["seam_gap_max_m"] = f.seamGapMax;
     j["intersecting_triangle_pairs"] = session.simulation()->intersectingTrianglePairs();
     j["largest_forced_weld_m"] = session.simulation()->stats().largestForcedWeld;

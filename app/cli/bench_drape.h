@@ -18,6 +18,7 @@ struct DrapeBenchOptions {
     double particleDistanceMm = -1; ///< override of the project's [mm]
     double timeLimit = -1;          ///< override of the project's simulated time limit [s]
     double dt = -1;                 ///< override of the project's step [s]
+    std::string linearSolver;       ///< override of the project's linear solver; empty = keep
     int threads = 0;                ///< engine threads (0: all cores)
     double readerHz = 0;            ///< snapshots read by another thread per second (0: none)
     int busy = 0;                   ///< processes spinning on a core each during the drape

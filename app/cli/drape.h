@@ -23,6 +23,7 @@ struct DrapeOptions {
     int threads = 0;
     double timeLimit = -1;          ///< override of the project's time limit [s]; < 0 = keep
     double particleDistanceMm = -1; ///< override of the project's particle distance [mm]
+    std::string linearSolver;       ///< override of the project's linear solver; empty = keep
     std::string framesDir;          ///< write the garment at every frame here (OBJ)
     std::string format;             ///< --out's format (io::parseMeshFormat); empty = by extension
     bool splitPanels = false;       ///< --out keeps each panel's own vertices along the seams

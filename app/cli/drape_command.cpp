@@ -283,6 +283,9 @@ std::optional<patterns::Project> loadDrapeProject(const DrapeOptions& options,
     if (options.particleDistanceMm > 0) {
         project.drape.particleDistance = options.particleDistanceMm / 1000.0;
     }
+    if (const auto solver = sim::linearSolverFromName(options.linearSolver)) {
+        project.drape.linearSolver = *solver;
+    }
     if (auto problem = checkBeforeWork(options, project)) {
         std::cerr << "error: " << *problem << "\n";
         return std::nullopt;
@@ -369,6 +372,16 @@ int runDrape(const DrapeOptions& options, const DrapeFinished& finished) {
         std::fprintf(stderr, "drape: not at rest after the time limit (%.2f s simulated)\n",
                      f.time);
     }
+    if (const sim::RunStats& stats = simulation.stats(); stats.unconvergedSolves > 0) {
+        char text[200];
+        std::snprintf(text, sizeof text,
+                      "%ld of %ld linear solves ended above their tolerance (%ld at the iteration "
+                      "cap), worst relative residual %.2e",
+                      stats.unconvergedSolves, stats.linearSolves, stats.cappedSolves,
+                      stats.worstRelativeResidual);
+        std::cerr << "warning: " << options.project << ": " << text << "\n";
+        warnings.emplace_back(text);
+    }
     for (std::string& w : sewingWarnings(session, f)) {
         std::cerr << "warning: " << options.project << ": " << w << "\n";
         warnings.push_back(std::move(w));
@@ -429,6 +442,9 @@ void addDrapeCommand(CLI::App& app) {
     cmd->add_option("--particle-distance", options->particleDistanceMm,
                     "Mesh particle distance [mm] (default: the project's)")
         ->check(CLI::PositiveNumber);
+    cmd->add_option("--linear-solver", options->linearSolver,
+                    "Implicit solve's preconditioner (default: the project's)")
+        ->check(CLI::IsMember({"block-jacobi", "block-ic0"}));
     cmd->add_option("--frames-dir", options->framesDir,
                     "Write the garment at every output frame to DIR/frame_NNNNN.obj");
     cmd->add_option("--max-vertices", options->maxVertices,

@@ -247,6 +247,12 @@ int runSimulate(const SimulateOptions& options) {
                   << ": simulation failed at t = " << simulation->time() << " s"
                   << (why.empty() ? "" : ": " + why) << "\n";
     }
+    if (stats.unconvergedSolves > 0) {
+        std::cerr << "warning: " << options.scene << ": " << stats.unconvergedSolves << " of "
+                  << stats.linearSolves << " linear solves ended above their tolerance ("
+                  << stats.cappedSolves << " at the iteration cap), worst relative residual "
+                  << stats.worstRelativeResidual << "\n";
+    }
 
     if (!options.out.empty()) {
         if (finite) {

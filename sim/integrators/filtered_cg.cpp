@@ -45,12 +45,8 @@ void FilteredCg::scatter(MatX3& x) const {
     }
 }
 
-CgResult FilteredCg::solve(const BlockSparseMatrix& A, const MatX3& b,
-                           const std::vector<char>& constrained, MatX3& x, double tolerance,
-                           int maxIterations, const std::vector<std::vector<int>>* groups) {
+void FilteredCg::buildBlockJacobi(const BlockSparseMatrix& A) {
     const int n = A.blockRows();
-    m_groups = groups != nullptr && !groups->empty() ? groups : nullptr;
-    m_constrained = constrained;
     m_precond.resize(static_cast<std::size_t>(n));
     for (int i = 0; i < n; ++i) {
         m_precond[static_cast<std::size_t>(i)] = A.block(A.diagonalSlot(i));
@@ -69,6 +65,24 @@ CgResult FilteredCg::solve(const BlockSparseMatrix& A, const MatX3& b,
                     }
                 }
             }
+        }
+    }
+    for (int i = 0; i < n; ++i) {
+        Eigen::FullPivLU<Mat3> lu(m_precond[static_cast<std::size_t>(i)]);
+        m_precond[static_cast<std::size_t>(i)] =
+            lu.isInvertible() ? Mat3(lu.inverse()) : Mat3::Identity();
+    }
+}
+
+CgResult FilteredCg::solve(const BlockSparseMatrix& A, const MatX3& b,
+                           const std::vector<char>& constrained, MatX3& x, double tolerance,
+                           int maxIterations, const std::vector<std::vector<int>>* groups) {
+    const int n = A.blockRows();
+    m_groups = groups != nullptr && !groups->empty() ? groups : nullptr;
+    m_constrained = constrained;
+    if (m_groups != nullptr) {
+        for (const std::vector<int>& g : *m_groups) {
+            const std::size_t first = static_cast<std::size_t>(g[0]);
             for (std::size_t k = 0; k < g.size(); ++k) {
                 if (constrained[static_cast<std::size_t>(g[k])] != 0) {
                     m_constrained[first] = 1;
@@ -78,18 +92,23 @@ CgResult FilteredCg::solve(const BlockSparseMatrix& A, const MatX3& b,
         }
         scatter(x);
     }
-    for (int i = 0; i < n; ++i) {
-        Eigen::FullPivLU<Mat3> lu(m_precond[static_cast<std::size_t>(i)]);
-        m_precond[static_cast<std::size_t>(i)] =
-            lu.isInvertible() ? Mat3(lu.inverse()) : Mat3::Identity();
+    CgResult result;
+    // No shift gave positive definite pivots: block-Jacobi for this solve.
+    const bool incomplete = m_preconditioner == LinearSolver::BlockIncompleteCholesky &&
+                            m_incomplete.factorize(A, m_constrained, m_groups);
+    if (!incomplete) {
+        buildBlockJacobi(A);
     }
     auto precondition = [&](const MatX3& r, MatX3& z) {
+        if (incomplete) {
+            m_incomplete.apply(r, z);
+            return;
+        }
         z.resize(r.rows(), 3);
         for (int i = 0; i < n; ++i) {
             z.row(i) = (m_precond[static_cast<std::size_t>(i)] * r.row(i).transpose()).transpose();
         }
     };
-    CgResult result;
     A.multiply(x, m_q);
     m_r = b - m_q;
     gather(m_r);
@@ -106,6 +125,7 @@ CgResult FilteredCg::solve(const BlockSparseMatrix& A, const MatX3& b,
     filter(m_z);
     m_p = m_z;
     double rz = dot(m_r, m_z);
+    bool brokeDown = false;
     for (int it = 0; it < maxIterations; ++it) {
         const double rNorm = std::sqrt(dot(m_r, m_r));
         result.relativeResidual = rNorm / bNorm;
@@ -124,7 +144,8 @@ CgResult FilteredCg::solve(const BlockSparseMatrix& A, const MatX3& b,
         filter(m_q);
         const double pq = dot(m_p, m_q);
         if (!(pq > 0.0) || !std::isfinite(pq)) {
-            break; // not positive definite along p: stop with what we have
+            brokeDown = true; // not positive definite along p: stop with what we have
+            break;
         }
         const double alpha = rz / pq;
         x.noalias() += alpha * m_p;
@@ -139,6 +160,7 @@ CgResult FilteredCg::solve(const BlockSparseMatrix& A, const MatX3& b,
     scatter(x);
     result.relativeResidual = std::sqrt(dot(m_r, m_r)) / bNorm;
     result.converged = result.relativeResidual <= tolerance;
+    result.capped = !result.converged && !brokeDown && result.iterations >= maxIterations;
     return result;
 }
 

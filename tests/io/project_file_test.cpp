@@ -171,6 +171,7 @@ const char* const MINIMAL_CANONICAL = R"({
     "integrator": "implicit-euler",
     "dt_s": 0.0033333333333333335,
     "cg_tolerance": 0.001,
+    "linear_solver": "block-jacobi",
     "cloth_thickness_mm": 2,
     "self_collision": true,
     "body_thickness_mm": 2,
