@@ -146,7 +146,9 @@ void MainWindow::updateStatus() {
     m_lastWall = p.wallTime;
     m_energy.setText(tr("KE %1 J").arg(p.kineticEnergy, 0, 'e', 1));
     m_contacts.setText(tr("%1 contacts").arg(p.contacts));
-    m_fps.setText(tr("%1 fps").arg(m_viewport->framesPerSecond(), 0, 'f', 0));
+    m_fps.setText(tr("%1 fps, %2 ms")
+                      .arg(m_viewport->framesPerSecond(), 0, 'f', 0)
+                      .arg(m_viewport->drawMilliseconds(), 0, 'f', 0));
 }
 
 void MainWindow::exportMesh() {

@@ -16,6 +16,7 @@ namespace atelier::ui {
 namespace {
 
 constexpr float FOV_Y_DEG = 30.0f;
+constexpr double DRAFT_SCALE = 0.6;
 constexpr float PI = 3.14159265358979f;
 
 Eigen::Matrix4f lookAt(const Eigen::Vector3f& eye, const Eigen::Vector3f& target,
@@ -94,6 +95,7 @@ bool Viewport::ensureRenderer() {
 void Viewport::sceneChanged() {
     m_static = m_drape->staticScene();
     m_drawnVersion = 0;
+    m_uploaded = false;
     setView(render::View::ThreeQuarter);
 }
 
@@ -136,42 +138,55 @@ void Viewport::poll() {
 }
 
 void Viewport::draw() {
-    const qreal ratio = devicePixelRatioF();
+    // While the cloth moves, a draft: 0.6 of the resolution (a third of the pixels) and 2×
+    // multisampling, scaled up on screen; full resolution and 4× once it stops.
+    const bool moving = m_drape->running();
+    const qreal ratio = devicePixelRatioF() * (moving ? DRAFT_SCALE : 1.0);
     const int w = std::max(1, int(width() * ratio));
     const int h = std::max(1, int(height() * ratio));
-    render::Scene scene;
-    render::DrawMesh garment;
-    garment.kind = render::MeshKind::Garment;
     const bool live = m_snapshot.version > 0 &&
                       m_snapshot.clothPositions.rows() == m_static->startPositions.rows();
-    garment.positions = live ? m_snapshot.clothPositions : m_static->startPositions;
-    if (live) {
-        garment.normals = m_snapshot.clothNormals;
-    }
-    garment.triangles = m_static->garmentTriangles;
-    m_drawnPositions = garment.positions;
-    garment.triangleColours.resize(static_cast<std::size_t>(garment.triangles.rows()));
-    for (std::size_t p = 0; p < m_static->panelTriangles.size(); ++p) {
-        const auto [first, count] = m_static->panelTriangles[p];
-        for (int t = first; t < first + count; ++t) {
-            garment.triangleColours[static_cast<std::size_t>(t)] =
-                render::panelColour(static_cast<int>(p));
+    m_drawnPositions = live ? m_snapshot.clothPositions : m_static->startPositions;
+    Result<void> set;
+    if (!m_uploaded) {
+        // The whole scene once per project: triangles, colours, the body.
+        render::Scene scene;
+        render::DrawMesh garment;
+        garment.kind = render::MeshKind::Garment;
+        garment.positions = m_drawnPositions;
+        if (live) {
+            garment.normals = m_snapshot.clothNormals;
         }
+        garment.triangles = m_static->garmentTriangles;
+        garment.triangleColours.resize(static_cast<std::size_t>(garment.triangles.rows()));
+        for (std::size_t p = 0; p < m_static->panelTriangles.size(); ++p) {
+            const auto [first, count] = m_static->panelTriangles[p];
+            for (int t = first; t < first + count; ++t) {
+                garment.triangleColours[static_cast<std::size_t>(t)] =
+                    render::panelColour(static_cast<int>(p));
+            }
+        }
+        scene.meshes.push_back(std::move(garment));
+        render::DrawMesh body;
+        body.kind = render::MeshKind::Body;
+        body.positions = m_static->bodyPositions;
+        body.triangles = m_static->bodyTriangles;
+        body.colour = render::bodyColour();
+        scene.meshes.push_back(std::move(body));
+        set = m_renderer->setScene(scene);
+        m_uploaded = set.ok();
+    } else {
+        // While the drape runs only the garment's vertices change.
+        set = m_renderer->updatePositions(0, m_drawnPositions,
+                                          live ? m_snapshot.clothNormals : sim::MatX3());
     }
-    scene.meshes.push_back(std::move(garment));
-    render::DrawMesh body;
-    body.kind = render::MeshKind::Body;
-    body.positions = m_static->bodyPositions;
-    body.triangles = m_static->bodyTriangles;
-    body.colour = render::bodyColour();
-    scene.meshes.push_back(std::move(body));
     m_drawnVersion = live ? m_snapshot.version : 0;
 
     render::RenderOptions options;
     options.width = w;
     options.height = h;
     options.background = {0.93f, 0.93f, 0.94f, 1.0f};
-    auto set = m_renderer->setScene(scene);
+    options.samples = moving ? 2 : 4;
     auto image =
         set.ok() ? m_renderer->render(options, camera()) : Result<io::RgbaImage>(set.error());
     if (!image.ok()) {
@@ -183,16 +198,26 @@ void Viewport::draw() {
     m_picture =
         QImage(img.pixels.data(), img.width, img.height, img.width * 4, QImage::Format_RGBA8888)
             .copy();
-    m_picture.setDevicePixelRatio(ratio);
+    m_picture.setDevicePixelRatio(devicePixelRatioF());
+    m_draft = moving;
 }
 
 void Viewport::paintEvent(QPaintEvent* /*event*/) {
     QPainter painter(this);
     if (m_static && ensureRenderer()) {
+        QElapsedTimer clock;
+        clock.start();
         draw();
+        const double ms = double(clock.nsecsElapsed()) * 1e-6;
+        m_drawMs = m_drawMs == 0 ? ms : 0.8 * m_drawMs + 0.2 * ms;
     }
     if (!m_picture.isNull() && m_error.isEmpty()) {
-        painter.drawImage(QPointF(0, 0), m_picture);
+        if (m_draft) {
+            painter.setRenderHint(QPainter::SmoothPixmapTransform);
+            painter.drawImage(rect(), m_picture);
+        } else {
+            painter.drawImage(QPointF(0, 0), m_picture);
+        }
     } else {
         painter.fillRect(rect(), QColor(237, 237, 240));
         painter.setPen(QColor(90, 90, 100));

@@ -32,8 +32,10 @@ class Viewport : public QWidget {
 
     /// Frames the content from a named view.
     void setView(render::View view);
-    /// Paints per second over the last second.
+    /// Paints per second over the last second (a new snapshot, an orbit or an expose each).
     double framesPerSecond() const { return m_fps; }
+    /// Wall time of drawing one frame (renderer and read-back), a running mean [ms].
+    double drawMilliseconds() const { return m_drawMs; }
     /// The last picture drawn (for File > Save picture and tests).
     QImage picture() const { return m_picture; }
     /// The renderer's error, if it could not start (no OpenGL 3.3).
@@ -70,6 +72,8 @@ class Viewport : public QWidget {
     std::shared_ptr<const StaticScene> m_static;
     sim::Snapshot m_snapshot;
     std::uint64_t m_drawnVersion = 0;
+    bool m_draft = false;    ///< m_picture is a reduced-resolution draft (the drape was running)
+    bool m_uploaded = false; ///< the static scene is on the GPU (then only positions change)
     QTimer m_poll;
     QString m_error;
 
@@ -87,6 +91,7 @@ class Viewport : public QWidget {
     QElapsedTimer m_fpsClock;
     int m_framesThisSecond = 0;
     double m_fps = 0;
+    double m_drawMs = 0;
 };
 
 } // namespace atelier::ui
