@@ -150,10 +150,11 @@ JobOptions readJobOptions(ObjectReader& r, const ordered_json& ordered, const Na
     if (r.has("exports")) {
         auto exports = stringList(r, "exports");
         for (std::size_t i = 0; i < exports.size(); ++i) {
-            if (exports[i] != "obj") {
+            const std::string& e = exports[i];
+            if (e != "obj" && e != "glb" && e != "fbx" && e != "ply") {
                 throw JsonError{detail::childPointer(r.pointerOf("exports"), i),
-                                "unknown export format " + detail::inQuotes(exports[i]) +
-                                    " (this build writes \"obj\")"};
+                                "unknown export format " + detail::inQuotes(e) +
+                                    " (formats: \"obj\", \"glb\", \"fbx\", \"ply\")"};
             }
         }
         o.exports = std::move(exports);

@@ -32,8 +32,10 @@ struct BatchJob {
     std::vector<std::string> views;         ///< pictures to draw (render view names)
     int width = 512;                        ///< picture size [pixels]
     int height = 512;
-    int threads = 1;                            ///< engine threads of the job's drape
-    std::vector<std::string> exports = {"obj"}; ///< garment mesh formats (file extensions)
+    int threads = 1; ///< engine threads of the job's drape
+    /// Garment mesh formats besides the OBJ every job writes (its pictures are drawn from it):
+    /// "glb", "fbx", "ply" (and "obj", which changes nothing).
+    std::vector<std::string> exports = {"obj"};
     std::string pointer; ///< where the job is in the manifest (`/jobs/3`, `/matrix`)
 };
 

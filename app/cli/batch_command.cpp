@@ -85,9 +85,11 @@ std::string sizeText(const io::BatchJob& job) {
 /// The files a finished job has, relative to its folder.
 std::vector<std::string> jobOutputs(const io::BatchJob& job) {
     std::vector<std::string> out = {job.name + ".atelier", job.name + ".report.json",
-                                    job.name + ".body.obj"};
+                                    job.name + ".obj", job.name + ".mtl", job.name + ".body.obj"};
     for (const std::string& format : job.exports) {
-        out.push_back(job.name + "." + format);
+        if (format != "obj") {
+            out.push_back(job.name + "." + format);
+        }
     }
     for (const std::string& view : job.views) {
         out.push_back(job.name + "-" + view + ".png");
@@ -232,11 +234,17 @@ JobEnd runJob(const io::BatchJob& job, const fs::path& dir, const BatchOptions& 
         return JobEnd::Failed;
     }
     const std::string exe = selfExecutable().string();
-    const fs::path mesh = dir / (job.name + "." + job.exports.front());
+    const fs::path mesh = dir / (job.name + ".obj");
     std::vector<std::vector<std::string>> steps;
     steps.push_back({exe, "drape", projectFile.string(), "--out", mesh.string(), "--report",
                      (dir / (job.name + ".report.json")).string(), "--threads",
                      std::to_string(job.threads)});
+    for (const std::string& format : job.exports) {
+        if (format != "obj") {
+            steps.front().push_back("--also-out");
+            steps.front().push_back((dir / (job.name + "." + format)).string());
+        }
+    }
     for (const std::string& view : job.views) {
         steps.push_back({exe, "render", mesh.string(), "--out",
                          (dir / (job.name + "-" + view + ".png")).string(), "--view", view,

@@ -20,6 +20,8 @@ struct DrapeOptions {
     std::string out;
     std::string report;
     std::string thumbnail; ///< a 256×256 three-quarter PNG of the drape, or empty
+    /// The same surface in further files, each in the format of its extension (--also-out).
+    std::vector<std::string> alsoOut;
     int threads = 0;
     double timeLimit = -1;          ///< override of the project's time limit [s]; < 0 = keep
     double particleDistanceMm = -1; ///< override of the project's particle distance [mm]

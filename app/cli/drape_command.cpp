@@ -88,6 +88,21 @@ std::optional<std::string> checkBeforeWork(const DrapeOptions& options,
                 {"--out (its materials)", io::exportedFiles(options.out, *format)[1]});
         }
     }
+    if (!options.alsoOut.empty() && options.out.empty()) {
+        return "--also-out needs --out";
+    }
+    for (const std::string& extra : options.alsoOut) {
+        outputs.push_back({"--also-out", extra});
+        const auto extraFormat = io::meshFormatOfPath(extra);
+        if (!extraFormat) {
+            return "--also-out " + extra +
+                   ": unknown mesh format extension (formats: " + io::meshFormatList() + ")";
+        }
+        if (*extraFormat == io::MeshFormat::Obj) {
+            outputs.push_back(
+                {"--also-out (its materials)", io::exportedFiles(extra, *extraFormat)[1]});
+        }
+    }
     if (auto problem = checkOutputs(inputs, outputs)) {
         return problem;
     }
@@ -255,6 +270,11 @@ int writeDrapedMeshes(const DrapeOptions& options, const patterns::DrapeSession&
     surface.comment = "atelier-cli drape " + options.project +
                       "\nt = " + std::to_string(simulation.time()) + " s";
     auto written = io::exportMesh(options.out, surface, *outputFormat(options));
+    for (const std::string& extra : options.alsoOut) {
+        if (written.ok()) {
+            written = io::exportMesh(extra, surface, *io::meshFormatOfPath(extra));
+        }
+    }
     if (written.ok()) {
         io::ObjWriteOptions bodyOptions;
         bodyOptions.comment = "body of atelier-cli drape " + options.project;
@@ -429,6 +449,9 @@ void addDrapeCommand(CLI::App& app) {
     cmd->add_option("--format", options->format,
                     "Format of --out whatever its extension: " + io::meshFormatList())
         ->check(CLI::IsMember({"obj", "glb", "fbx", "fbx-ascii", "ply"}));
+    cmd->add_option("--also-out", options->alsoOut,
+                    "The same draped garment in further files, each in the format of its "
+                    "extension (repeatable)");
     cmd->add_flag("--split-panels", options->splitPanels,
                   "Keep each panel's own vertices along the seams in --out");
     cmd->add_option("--report,-r", options->report, "Drape report (JSON)");

@@ -26,7 +26,7 @@ std::string manifestText(const std::string& secondFabric) {
                    "threads": 1},
       "jobs": [
         {"name": "one", "project": ")" +
-           SKIRT + R"(", "views": ["front"], "size": [64, 64]},
+           SKIRT + R"(", "views": ["front"], "size": [64, 64], "exports": ["obj", "glb"]},
         {"name": "two", "project": ")" +
            SKIRT + R"(", "fabric": ")" + secondFabric + R"("},
         {"name": "unfit", "project": ")" +
@@ -60,6 +60,7 @@ TEST(BatchCli, ShardsFailuresReRunsAndTheSummary) {
         }
     }
     EXPECT_TRUE(std::filesystem::is_regular_file(out / "one" / "one-front.png"));
+    EXPECT_GT(std::filesystem::file_size(out / "one" / "one.glb"), 1000U);
     EXPECT_EQ(readJson(out / "two" / "job.json")["fabric"], "silk");
     // The job's project is the manifest's with its fabric: a version-2 project naming it.
     EXPECT_NE(readText(out / "two" / "two.atelier").find("\"silk\""), std::string::npos);
