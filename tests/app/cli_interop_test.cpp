@@ -143,7 +143,8 @@ long duplicatedPositions(const sim::MatX3& x) {
 TEST(CliInterop, TheDrapedGarmentIsOneSurface) {
     const test::TempDir dir;
     const CliRun run =
-        runCli(dir, "drape " + inQuotes(SKIRT) + " --particle-distance 20 --threads 1 --out " +
+        runCli(dir, "drape " + inQuotes(SKIRT) +
+                        " --particle-distance 40 --time-limit 0.6 --threads 1 --out " +
                         inQuotes(dir / "skirt.obj") + " --frames-dir " + inQuotes(dir / "frames") +
                         " --report " + inQuotes(dir / "r.json"));
     ASSERT_EQ(run.exitCode, 0) << run.stderrText;
