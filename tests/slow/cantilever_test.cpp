@@ -69,7 +69,7 @@ double effectiveRatio(double angleDeg) {
 }
 
 TEST(Cantilever, TipLineAngleFollowsTheHeavyElasticaOnEveryMesh) {
-    const io::TempDir dir;
+    const test::TempDir dir;
     const std::string command = std::string("\"") + ATELIER_CLI +
                                 "\" bench cantilever --ratios 1,2,4,8,16,32,50 "
                                 "--particle-distance 10 --mesh regular,irregular,rotated --out \"" +
