@@ -353,8 +353,8 @@ void DihedralBending::evaluateHinges(const MatX3& x, const MatX3& v, bool hessia
             return; // zero gradient: the hinge contributes nothing
         }
         const double d = dihedralAngle(c[0], c[1], c[2], c[3]) - m_restAngle[h];
-        m_psi[h] = std::sin(d);
-        m_cos[h] = std::cos(d);
+        m_psi[h] = 2.0 * std::sin(0.5 * d);
+        m_cos[h] = std::cos(0.5 * d);
         const double s = gradientScale(g, h);
         const auto cv = corners(v, h);
         double rate = 0;
@@ -384,9 +384,7 @@ void DihedralBending::addForces(const MatX3& x, const MatX3& v, MatX3& f) const 
     parallelFor(nh, [&](std::int64_t hh) {
         const int h = static_cast<int>(hh);
         // ∂E/∂θ_h (see the header) plus the fold-rate damping.
-        const double mhh = hingeStiffness(h);
-        const double force = m_cos[h] * coupled(h, m_psi) + mhh * (1.0 - m_cos[h]) * m_psi[h] +
-                             m_damping * coupled(h, m_rate);
+        const double force = m_cos[h] * coupled(h, m_psi) + m_damping * coupled(h, m_rate);
         for (std::size_t a = 0; a < 4; ++a) {
             buffer.row(4 * hh + static_cast<std::int64_t>(a)) =
                 -force * m_grad[static_cast<std::size_t>(hh)][a].transpose();
@@ -402,12 +400,11 @@ double DihedralBending::energy(const MatX3& x) const {
         const int h = static_cast<int>(hh);
         d[h] = angle(x, h) - m_restAngle[h];
     });
-    const VecX psi = d.array().sin().matrix();
+    const VecX psi = 2.0 * (0.5 * d.array()).sin().matrix();
     VecX e = VecX::Zero(nh);
     parallelFor(nh, [&](std::int64_t hh) {
         const int h = static_cast<int>(hh);
-        const double s = std::sin(0.5 * d[h]);
-        e[h] = 0.5 * psi[h] * coupled(h, psi) + 2.0 * hingeStiffness(h) * s * s * s * s;
+        e[h] = 0.5 * psi[h] * coupled(h, psi);
     });
     return e.sum();
 }
@@ -442,13 +439,12 @@ void DihedralBending::addJacobian(const MatX3& x, const MatX3& v, double kx, dou
         Eigen::Matrix<double, 12, 12> K;
         if (exact) {
             const double psiSum = coupled(h, m_psi);
-            const double second = -m_psi[h] * psiSum + mhh * (m_psi[h] * m_psi[h] + m_cos[h]);
+            const double second = -0.25 * m_psi[h] * psiSum + mhh * m_cos[h] * m_cos[h];
             K = -second * ggT;
             const auto c = corners(x, h);
             Eigen::Matrix<double, 12, 12> H;
             if (grad.squaredNorm() > 0 && dihedralAngleHessian(c, H)) {
-                const double force = m_cos[h] * psiSum + mhh * (1.0 - m_cos[h]) * m_psi[h] +
-                                     m_damping * coupled(h, m_rate);
+                const double force = m_cos[h] * psiSum + m_damping * coupled(h, m_rate);
                 // s_h from the gradient's norm against the unscaled one.
                 std::array<Vec3, 4> g0;
                 dihedralAngleGradient(c, g0);
@@ -456,7 +452,7 @@ void DihedralBending::addJacobian(const MatX3& x, const MatX3& v, double kx, dou
                 K -= force * s * H + (m_damping * mhh) * grad * m_hessianV[k].transpose();
             }
         } else {
-            K = -mhh * std::max(0.0, m_cos[h]) * ggT;
+            K = -mhh * m_cos[h] * m_cos[h] * ggT;
         }
         const Eigen::Matrix<double, 12, 12> total = kx * K - (kv * m_damping * mhh) * ggT;
         for (int a = 0; a < 4; ++a) {
@@ -491,8 +487,8 @@ void DihedralBending::addJacobian(const MatX3& x, const MatX3& v, double kx, dou
                 const auto hj = static_cast<std::size_t>(hinge[j]);
                 const Eigen::Matrix<double, 12, 1> gi = gradient(hi);
                 const Eigen::Matrix<double, 12, 1> gj = gradient(hj);
-                const double ci = exact ? m_cos[hinge[i]] : std::max(0.0, m_cos[hinge[i]]);
-                const double cj = exact ? m_cos[hinge[j]] : std::max(0.0, m_cos[hinge[j]]);
+                const double ci = m_cos[hinge[i]];
+                const double cj = m_cos[hinge[j]];
                 Eigen::Matrix<double, 12, 12> K = -(mij * ci * cj) * gi * gj.transpose();
                 if (exact) {
                     K -= (m_damping * mij) * gi * m_hessianV[hj].transpose();
