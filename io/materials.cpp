@@ -47,10 +47,6 @@ void readMaterial(ObjectReader& reader, sim::Material& material, bool requireAll
     field("shear_n_per_m", material.shear, true, NO_MAX, requireAll);
     field("poisson", material.poisson, false, 1.0, requireAll);
     field("bending_n_m", material.bending, false, NO_MAX, requireAll);
-    // Per-direction rigidities are optional everywhere (absent = bending_n_m).
-    field("bending_weft_n_m", material.bendingWeft, false, NO_MAX, false);
-    field("bending_warp_n_m", material.bendingWarp, false, NO_MAX, false);
-    field("bending_bias_n_m", material.bendingBias, false, NO_MAX, false);
     field("damping_s", material.damping, false, NO_MAX, requireAll);
     field("static_friction", material.staticFriction, false, NO_MAX, requireAll);
     field("kinetic_friction", material.kineticFriction, false, NO_MAX, requireAll);

@@ -44,11 +44,9 @@ constexpr std::array<sim::StretchModel, 3> MODELS = {
 bool sameParameters(const sim::Material& a, const sim::Material& b) {
     return a.density == b.density && a.stretchWeft == b.stretchWeft &&
            a.stretchWarp == b.stretchWarp && a.shear == b.shear && a.poisson == b.poisson &&
-           a.bending == b.bending && a.bendingWeft == b.bendingWeft &&
-           a.bendingWarp == b.bendingWarp && a.bendingBias == b.bendingBias &&
-           a.damping == b.damping && a.staticFriction == b.staticFriction &&
-           a.kineticFriction == b.kineticFriction && a.plasticYieldAngle == b.plasticYieldAngle &&
-           a.plasticRate == b.plasticRate;
+           a.bending == b.bending && a.damping == b.damping &&
+           a.staticFriction == b.staticFriction && a.kineticFriction == b.kineticFriction &&
+           a.plasticYieldAngle == b.plasticYieldAngle && a.plasticRate == b.plasticRate;
 }
 
 // Unit conversions, chosen so that whole values come out exact (10 mm → 0.01, 90° → π/2).
@@ -408,15 +406,6 @@ ordered_json materialJson(const patterns::GarmentMaterial& material) {
     out["shear_n_per_m"] = number(m.shear);
     out["poisson"] = number(m.poisson);
     out["bending_n_m"] = number(m.bending);
-    if (m.bendingWeft > 0) {
-        out["bending_weft_n_m"] = number(m.bendingWeft);
-    }
-    if (m.bendingWarp > 0) {
-        out["bending_warp_n_m"] = number(m.bendingWarp);
-    }
-    if (m.bendingBias > 0) {
-        out["bending_bias_n_m"] = number(m.bendingBias);
-    }
     out["damping_s"] = number(m.damping);
     out["static_friction"] = number(m.staticFriction);
     out["kinetic_friction"] = number(m.kineticFriction);

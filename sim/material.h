@@ -14,15 +14,7 @@ struct Material {
     double shear = 500;        ///< in-plane shear modulus [N/m]
     double poisson =
         0.3; ///< Poisson ratio ν_weft,warp (contraction along warp per weft strain) [-]
-    /// Bending rigidity per unit width B [N·m]: moment per width = B·curvature (what a
-    /// cantilever tester such as ASTM D1388 reports; KES-F B [gf·cm²/cm] × 9.81e-5).
-    double bending = 1e-5;
-    /// Per-direction bending rigidities [N·m]; 0 = `bending`. Weft: a strip cut along the weft
-    /// (x), bent along its length; warp: along y; bias: a strip cut at 45° (sets the twisting
-    /// rigidity, see sim/forces/bending.h; needs bias >= (weft + warp)/4).
-    double bendingWeft = 0;
-    double bendingWarp = 0;
-    double bendingBias = 0;
+    double bending = 1e-5; ///< bending stiffness [N·m]
     double damping =
         2e-4; ///< strain-rate damping: time constant of stiffness-proportional viscosity [s]
     double staticFriction = 0.4;  ///< Coulomb static friction coefficient [-]

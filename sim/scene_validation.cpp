@@ -45,18 +45,6 @@ std::optional<std::string> validateCloths(const SceneSpec& s) {
         if (!(m.bending >= 0) || !(m.damping >= 0) || !std::isfinite(m.bending + m.damping)) {
             return who + ": bending and damping must be non-negative and finite";
         }
-        if (!(m.bendingWeft >= 0) || !(m.bendingWarp >= 0) || !(m.bendingBias >= 0) ||
-            !std::isfinite(m.bendingWeft + m.bendingWarp + m.bendingBias)) {
-            return who + ": per-direction bending rigidities must be non-negative and finite";
-        }
-        if (m.bendingBias > 0) {
-            const double weft = m.bendingWeft > 0 ? m.bendingWeft : m.bending;
-            const double warp = m.bendingWarp > 0 ? m.bendingWarp : m.bending;
-            if (m.bendingBias < 0.25 * (weft + warp)) {
-                return who + ": bias bending rigidity must be at least (weft + warp)/4 (a "
-                             "negative twisting rigidity otherwise)";
-            }
-        }
         const double nu21 = m.poisson * m.stretchWarp / m.stretchWeft;
         if (!(m.poisson >= 0) || !(m.poisson * nu21 < 1.0) ||
             (c.model == StretchModel::Volino && m.poisson >= 0.5)) {

@@ -33,73 +33,41 @@ bool dihedralAngleGradient(const std::array<Vec3, 4>& x, std::array<Vec3, 4>& gr
 /// closed-form gradient: exact to rounding, symmetrised. Returns false (and zero) when degenerate.
 bool dihedralAngleHessian(const std::array<Vec3, 4>& x, Eigen::Matrix<double, 12, 12>& hessian);
 
-/// Bending rigidities per unit width of a material in its frame (weft = x, warp = y), and the
-/// plate's stiffness matrix D for the curvature vector (κ_xx, κ_xy, κ_yy) [1/m].
-struct BendingRigidity {
-    double weft = 0; ///< B₁: moment per width per curvature bending along the weft (κ_xx) [N·m]
-    double warp = 0; ///< B₂: the same along the warp (κ_yy) [N·m]
-    /// D₆₆: twisting rigidity [N·m]: B_bias − (B₁ + B₂)/4, with B_bias the rigidity of a strip
-    /// cut at 45°; ½√(B₁B₂) when no bias value is given (= B/2: isotropic when B₁ = B₂).
-    double twist = 0;
-};
-
-/// The rigidities `material` asks for: `bending` in every direction unless `bendingWeft`,
-/// `bendingWarp` or `bendingBias` (> 0) replace it along their direction. D₆₆ is clamped at 0
-/// (scene validation refuses a bias below (B₁ + B₂)/4).
-BendingRigidity bendingRigidity(const Material& material);
-
-/// Continuum plate bending on a triangle mesh from its hinge (dihedral) angles, with
-/// `material.bending` (`bending_n_m`) the bending rigidity per unit width B [N·m] (moment per
-/// width = B·curvature, as cantilever testers report it) and an orthotropic plate energy in the
-/// material frame (ν = 0 between the bending directions):
-/// \f[ E = \sum_T \bar A_T\,\tfrac12\big(B_1\kappa_{xx}^2 + 4D_{66}\kappa_{xy}^2 +
-///     B_2\kappa_{yy}^2\big) \f]
-/// with κ_T the constant curvature (second fundamental form, in rest coordinates) of triangle T.
-/// ν = 0 makes a free edge carry no moment with zero normal curvature, which is what the border
-/// treatment below assumes.
+/// Discrete-shells bending (Grinspun, Hirani, Desbrun & Schröder 2003 "Discrete shells";
+/// Bridson et al. 2003) on every interior edge (hinge) h:
+/// \f[ E_h = k\,w_h\,\big(1 - \cos(\theta_h - \bar\theta_h)\big)
+///     \approx \tfrac12\,k\,w_h\,(\theta_h - \bar\theta_h)^2,\qquad
+///     w_h = \frac{3\,|\bar e_h|^2}{\bar A_0 + \bar A_1} \f]
+/// with k = `material.bending` [N·m], |ē| the rest edge length and Ā₀, Ā₁ the rest areas of the
+/// two triangles, i.e. \f$ E_h = \tfrac32 k (\theta-\bar\theta)^2 |\bar e|^2/(\bar A_0+\bar A_1)
+/// \f$. This is the continuum plate energy ½·k·(2H)² over the hinge's share A_h = (Ā₀+Ā₁)/3 of the
+/// surface, with the hinge's integrated mean curvature ∫H dA = ½·θ·|ē| (Grinspun et al. 2003,
+/// 2006): per hinge the standard discrete-shells scaling, so k is the continuum stiffness of
+/// each hinge's fold. Summed over a mesh, discrete shells is mesh-dependent; the effective
+/// stiffness measured against the continuum ½k∫κ² (ν = 0) is ≈1.5·k on equilateral meshes
+/// (isotropic), ≈2.9·k for weft/warp cylinders and ≈4.5·k at 45° on makeRectangle's regular
+/// grid, and much more on meshes with slivers (see bending_test.cpp).
 ///
-/// κ_T is the Grinspun et al. 2006 ("Computing discrete shape operators on general meshes")
-/// edge-based shape operator, which is also the curvature of the rotation-free BST plate
-/// triangle (Oñate & Zárate 2000): by Green's theorem Ā_T κ_T = ∮ n ⊗ ∇z, with the gradient
-/// on each edge interpolated between the centroids of the two triangles it joins, so that the
-/// jump θ_h across hinge h counts with h_T/(h_T + h_other):
-/// \f[ \kappa_T = \sum_{h \in T} w_h\,\theta_h\,\bar n_h \bar n_h^\top,\qquad
-///     w_h = \frac{2}{h_0 + h_1} = \frac{|\bar e_h|}{\bar A_0 + \bar A_1} \f]
-/// (n̄_h the edge's in-plane normal, h₀, h₁ the rest heights of the two wings over the edge; a
-/// free border adds nothing). The energy is ½(θ−θ̄)ᵀM(θ−θ̄) with M = Σ_T Ā_T GᵀDG, G the 3×3
-/// map θ_T ↦ κ_T (positive semi-definite, coupling the hinges of each triangle). w_h stays
-/// bounded on slivers, where the plain 1/(2Ā_T) form grows without bound.
-/// Measured (bending_test.cpp, docs/decisions/020-continuum-bending.md): exact for any
-/// constant curvature on grids whose neighbouring triangles are point reflections across
-/// their edge (a cylinder rolled along either axis of makeRectangle's grid stores ½B∫κ² but
-/// for the border column); on makeRectangle's criss-cross grid a roll at 45° stores 1.475× that
-/// (mirror-image neighbours); a simply supported strip's midspan deflection converges (1.013,
-/// 1.003, 1.001 of 5wL⁴/384B at 10, 5, 2.5 mm); the heavy cantilever hangs 1.0–4.9° (Delaunay
-/// meshes) and 1.9–7.0° (criss-cross grid) below the exact elastica at 10 mm, mostly from the
-/// clamp, and within 1.7° on Delaunay meshes at 5 mm (docs/benchmarks.md).
-/// Discrete shells' diagonal weight 3|ē|²/(Ā₀+Ā₁) stored 1.5–4.5× depending on mesh and
-/// direction.
-///
-/// Large folds: with d = θ − θ̄ and ψ = 2 sin(d/2),
-/// \f[ E = \tfrac12\psi^\top M\psi \f]
-/// = ½dᵀMd + O(d⁴), non-negative, monotone in each |d| up to π and periodic: when a hinge folds
-/// through itself θ wraps from π to −π, where its own torque M_hh·2sin(d/2)·cos(d/2) is
-/// continuous (0) as discrete shells' M_hh(1 − cos d) was; only the coupling to its neighbours'
-/// torques (M_hj·ψ_h) changes sign there. ψ = sin d instead (continuous everywhere) softens past
-/// 90° and made the 20 mm tshirt drape restless (not at rest in 4 s; with 2 sin(d/2) it rests
-/// at 0.87 s, docs/benchmarks.md).
+/// The cosine form (= ½ k w (2 sin(Δθ/2))²) equals the quadratic discrete-shells energy to
+/// within 5% in torque for |θ − θ̄| < 30° and, unlike it, is periodic: when a hinge folds
+/// through itself θ wraps from π to −π, and the quadratic energy's force would jump there
+/// (from −k w π ∇θ to +k w π ∇θ), which no error-controlled integrator can step across (a
+/// jerked sheet folds that way). With the cosine the torque k w sin(θ − θ̄) is continuous.
 ///
 /// Degenerate wings: |∇θ| at a wing tip is 1/height, unbounded as a triangle collapses into a
 /// needle (a violently stretched sheet does that), and a force that grows without bound near a
-/// configuration stalls any error-controlled step. Each hinge's ∇θ is therefore scaled by
-/// s_h = min(1, cap/max_a|∇θ_a|) with cap = 50/(rest wing height): continuous, 1 whenever no
-/// wing is below 1/50 of its rest height, and bounded beyond (Grinspun et al. 2003, §2.2.1).
-/// The Jacobian uses the same scale.
+/// configuration stalls any error-controlled step. The force is therefore scaled by
+/// min(1, cap/max_a|∇θ_a|) with cap = 50/(rest wing height): continuous, equal to the
+/// energy's gradient whenever no wing is below 1/50 of its rest height, and bounded beyond
+/// (the seed paper, §2.2.1: "remove all the singular configurations where the forces are
+/// infinite"). The Jacobian uses the same scale.
 ///
-/// Damping is strain-rate (fold-rate) damping with τ = `material.damping` [s] and the
-/// stiffness as its matrix: f = −τ Σ_ij M_ij θ̇_j ∇θ_i with θ̇ = ∇θ·v. Jacobian `Exact`: all
-/// terms (∇θ∇θᵀ, ∇²θ); `Definite`: ∂f/∂x ≈ −GᵀCMCG with c = cos(d/2) ≥ 0 and G the stacked
-/// ∇θ (symmetric, negative semi-definite), ∂f/∂v exact (−τGᵀMG).
+/// Damping is strain-rate (fold-rate) damping with τ = `material.damping` [s]:
+/// \f[ f = -k\,w_h\,\big(\sin(\theta - \bar\theta) + \tau\,\dot\theta\big)\,\nabla\theta,\qquad
+///     \dot\theta = \nabla\theta\cdot v \f]
+/// Jacobian `Exact`: ∂f/∂x = −k w (cos Δθ ∇θ∇θᵀ + (sin Δθ + τθ̇)∇²θ + τ∇θ(∇²θ v)ᵀ),
+/// ∂f/∂v = −k w τ ∇θ∇θᵀ. `Definite`: ∂f/∂x ≈ −k w max(cos Δθ, 0) ∇θ∇θᵀ (Gauss–Newton, NSD),
+/// same ∂f/∂v.
 ///
 /// Plasticity (when enabled and `material.plasticYieldAngle` > 0): after each accepted step the
 /// rest angle follows the part of θ − θ̄ beyond the yield angle θ_y:
@@ -124,17 +92,13 @@ class DihedralBending : public ForceModel {
 
     /// (|H|) current rest angles θ̄ [rad] (they change with plasticity).
     const VecX& restAngles() const { return m_restAngle; }
-    /// M_hh: the stiffness of hinge h alone, ∂²E/∂θ_h² at rest [N·m].
-    double hingeStiffness(int h) const { return m_value[static_cast<std::size_t>(m_start[h])]; }
+    /// (|H|) weights w_h [-] (see the class comment).
+    const VecX& weights() const { return m_weight; }
     /// Dihedral angle of hinge h at x [rad].
     double angle(const MatX3& x, int h) const;
 
   private:
     std::array<Vec3, 4> corners(const MatX3& x, int h) const;
-    /// Per-hinge state at (x, v): ψ, cos d, scaled gradients, θ̇ (and ∇²θ·v when `hessianV`).
-    void evaluateHinges(const MatX3& x, const MatX3& v, bool hessianV) const;
-    /// Σ_j M_hj·values_j over the hinges coupled to h.
-    double coupled(int h, const VecX& values) const;
 
     int m_offset;
     Eigen::Matrix<int, Eigen::Dynamic, 4, Eigen::RowMajor> m_hinges; ///< (|H|×4) local
@@ -142,30 +106,17 @@ class DihedralBending : public ForceModel {
     double gradientScale(const std::array<Vec3, 4>& g, int h) const;
     VecX m_gradientCap; ///< (|H|) largest |∇θ| a corner may feel [1/m]
     static constexpr double GRADIENT_CAP = 50.0;
-    /// M in CSR by hinge: the diagonal first in each row [N·m].
-    std::vector<int> m_start;    ///< (|H|+1)
-    std::vector<int> m_column;   ///< hinge of each entry
-    std::vector<double> m_value; ///< M_hj
-    /// Triangles holding two or more hinges: their 6-vertex stencils (the triangle's corners,
-    /// then the vertex across each edge, −1 on a border) carry the cross-hinge Jacobian blocks.
-    std::vector<std::array<int, 3>> m_stencilHinges; ///< hinge on each edge, −1 on a border
-    /// Stencil slot of each hinge corner: (triangle, edge, corner) → 0..5.
-    std::vector<std::array<std::array<int, 4>, 3>> m_stencilSlot;
-    std::vector<std::array<double, 9>> m_stencilM; ///< M_T between the triangle's edges
     mutable MatX3 m_buffer; ///< (|H|·4 × 3) per-corner forces; one evaluating thread per model
-    mutable std::vector<Mat3> m_blocks;        ///< (|H|·16) Jacobian blocks of each hinge
-    mutable std::vector<Mat3> m_stencilBlocks; ///< (|T₂|·36) cross-hinge blocks
-    /// Per-hinge state of the last evaluation: one evaluating thread per model.
-    mutable VecX m_psi, m_cos, m_rate; ///< 2sin(d/2), cos(d/2), θ̇ with the scaled gradient [1/s]
-    mutable std::vector<std::array<Vec3, 4>> m_grad;              ///< s_h∇θ_h
-    mutable std::vector<Eigen::Matrix<double, 12, 1>> m_hessianV; ///< s_h∇²θ_h·v
-    VecX m_restAngle;                                             ///< (|H|) θ̄ [rad]
-    double m_damping;                                             ///< τ [s]
+    mutable std::vector<Mat3>
+        m_blocks;       ///< (|H|·16) Jacobian blocks; one assembling thread per model
+    VecX m_weight;      ///< (|H|) w_h
+    VecX m_restAngle;   ///< (|H|) θ̄ [rad]
+    double m_stiffness; ///< k [N·m]
+    double m_damping;   ///< τ [s]
     bool m_plasticity;
     double m_yieldAngle;  ///< [rad]
     double m_plasticRate; ///< [1/s]
     ElementGather m_gather;
-    ElementGather m_stencilGather;
 };
 
 } // namespace atelier::sim
