@@ -244,7 +244,8 @@ TEST_F(RenderBatchCli, SeamAndContactOverlays) {
                             " --size 128x128 --view front --overlay contact --contact-thickness "
                             "0.5");
     ASSERT_EQ(run.exitCode, 0) << run.stderrText;
-    const std::uint8_t* clear = picture("clear.png").at(64, 64);
+    const io::RgbaImage clearImage = picture("clear.png");
+    const std::uint8_t* clear = clearImage.at(64, 64);
     EXPECT_LT(std::abs(clear[0] - clear[2]), 40) << "farther than 0.5 mm: not in contact";
     // 1 mm is above 0.9 mm but within the contact layer over it (25% more): resting, green.
     run = runCli(m_dir, "render " + q(m_dir / "items/panels.obj") + " --out " +
@@ -252,7 +253,8 @@ TEST_F(RenderBatchCli, SeamAndContactOverlays) {
                             " --size 128x128 --view front --overlay contact --contact-thickness "
                             "0.9");
     ASSERT_EQ(run.exitCode, 0) << run.stderrText;
-    const std::uint8_t* resting = picture("resting.png").at(64, 64);
+    const io::RgbaImage restingImage = picture("resting.png");
+    const std::uint8_t* resting = restingImage.at(64, 64);
     EXPECT_GT(resting[1], resting[0] + 30) << "green";
     const CliRun noBody = runCli(m_dir, "render " + q(m_dir / "items/broken.obj") + " --out " +
                                             q(m_dir / "x.png") + " --overlay contact");
