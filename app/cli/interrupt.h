@@ -7,7 +7,9 @@
 namespace atelier::app {
 
 /// Catches SIGINT and SIGTERM from construction to destruction (then the previous handlers
-/// are back). One at a time; a new guard clears an earlier interruption.
+/// are back). Guards nest: main() holds the outermost one, so that a signal while the program
+/// starts or parses its arguments is kept for the command, which stops before its first step.
+/// Only the outermost guard clears an earlier interruption. Main thread only.
 class InterruptGuard {
   public:
     InterruptGuard();
@@ -25,6 +27,7 @@ class InterruptGuard {
   private:
     void (*m_previousInt)(int) = nullptr;
     void (*m_previousTerm)(int) = nullptr;
+    bool m_installed = false;
 };
 
 } // namespace atelier::app

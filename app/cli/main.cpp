@@ -1,6 +1,7 @@
 /// atelier-cli: headless Atelier. Subcommands are registered from app/cli/*_command.cpp.
 
 #include "app/cli/commands.h"
+#include "app/cli/interrupt.h"
 #include "app/cli/limits_option.h"
 
 #include <CLI/CLI.hpp>
@@ -40,6 +41,8 @@ int run(int argc, char** argv) {
 } // namespace
 
 int main(int argc, char** argv) {
+    // Before anything else: a signal at any moment from here on stops the command cleanly.
+    const atelier::app::InterruptGuard interrupts;
     try {
         return run(argc, argv);
     } catch (const std::exception& e) {
