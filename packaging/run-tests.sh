@@ -30,7 +30,11 @@ bash packaging/deb/build-and-check.sh build/ci
 
 echo "== AddressSanitizer + UndefinedBehaviorSanitizer build"
 cmake --preset asan
-cmake --build --preset asan -j "$JOBS"
+if [ -n "${ATELIER_ASAN_CTEST_ARGS:-}" ]; then
+    cmake --build build/asan -j "$JOBS" # every target: the tests asked for may be any tier's
+else
+    cmake --build --preset asan -j "$JOBS" # the unit, bench and fuzz tiers' executables only
+fi
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 echo "== Tests (ASan + UBSan)"
