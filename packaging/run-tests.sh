@@ -12,23 +12,26 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+# Each stage's header says how long the run has taken so far (CI has 40 min on 2 cores).
+stage() { echo "== $1 [$((SECONDS / 60)) min $((SECONDS % 60)) s]"; }
+
 bash packaging/install-deps.sh
 
-echo "== Format (.clang-format)"
+stage "Format (.clang-format)"
 bash packaging/check-format.sh
 
 JOBS=${ATELIER_JOBS:-$(nproc)}
 export CTEST_OUTPUT_ON_FAILURE=1
 
-echo "== Release build (-Wall -Wextra -Wpedantic -Werror)"
+stage "Release build (-Wall -Wextra -Wpedantic -Werror)"
 cmake --preset ci
 cmake --build --preset ci -j "$JOBS"
-echo "== Tests (Release): unit and slow tiers"
+stage "Tests (Release): unit and slow tiers"
 ctest --preset ci -j "$JOBS"
-echo "== Debian package: build, install with apt, smoke-test, remove"
+stage "Debian package: build, install with apt, smoke-test, remove"
 bash packaging/deb/build-and-check.sh build/ci
 
-echo "== AddressSanitizer + UndefinedBehaviorSanitizer build"
+stage "AddressSanitizer + UndefinedBehaviorSanitizer build"
 cmake --preset asan
 if [ -n "${ATELIER_ASAN_CTEST_ARGS:-}" ]; then
     cmake --build build/asan -j "$JOBS" # every target: the tests asked for may be any tier's
@@ -37,13 +40,14 @@ else
 fi
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
-echo "== Tests (ASan + UBSan)"
+stage "Tests (ASan + UBSan)"
 ctest --preset asan -j "$JOBS" ${ATELIER_ASAN_CTEST_ARGS:--L "unit|bench"}
-echo "== Fuzzing (ASan + UBSan): mutated scenes, projects and meshes, a bounded run"
+stage "Fuzzing (ASan + UBSan): mutated scenes, projects and meshes, a bounded run"
 ctest --preset asan -L fuzz
 
-echo "== ThreadSanitizer build (the threads tier only)"
+stage "ThreadSanitizer build (the threads tier only)"
 cmake --preset tsan
 cmake --build --preset tsan -j "$JOBS"
-echo "== Tests (TSan)"
+stage "Tests (TSan)"
 TSAN_OPTIONS=${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1} ctest --preset tsan
+stage "Done"
