@@ -176,7 +176,7 @@ std::vector<double> crossings(const std::vector<Vec2>& poly, const Vec2& origin,
             continue;
         }
         const Vec2 w = a - origin;
-        const double u = (dir.x() * w.y() - dir.y() * w.x()) / denom; // along the edge
+        const double u = (dir.y() * w.x() - dir.x() * w.y()) / denom; // along the edge
         if (u >= 0 && u < 1) {
             out.push_back((w.x() * e.y() - w.y() * e.x()) / denom);
         }

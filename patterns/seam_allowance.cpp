@@ -75,6 +75,20 @@ std::vector<Vec2> rawOffset(const std::vector<Vec2>& loop, double distance, doub
     return withoutRepeats(raw);
 }
 
+/// Drops the points that lie within `tolerance` of the chord joining their neighbours (the
+/// offsets of nearly straight stretches come as three nearly collinear points per vertex).
+std::vector<Vec2> withoutCollinear(const std::vector<Vec2>& loop, double tolerance) {
+    std::vector<Vec2> out;
+    out.reserve(loop.size());
+    for (std::size_t i = 0; i < loop.size(); ++i) {
+        const Vec2& next = loop[(i + 1) % loop.size()];
+        if (out.empty() || distanceToSegment(loop[i], out.back(), next) > tolerance) {
+            out.push_back(loop[i]);
+        }
+    }
+    return out.size() >= 3 ? out : loop;
+}
+
 /// A piece of the raw offset between two of its vertices or crossings.
 struct Piece {
     Vec2 from, to;
@@ -283,8 +297,9 @@ std::vector<std::vector<Vec2>> offsetPolyline(const std::vector<Vec2>& loop, dou
         // `distance` from the edge or corner it comes from.
         loops.push_back(rawOffset(clean, distance, tolerance));
     }
-    if (reversed) {
-        for (std::vector<Vec2>& l : loops) {
+    for (std::vector<Vec2>& l : loops) {
+        l = withoutCollinear(l, 1e-3 * tolerance);
+        if (reversed) {
             std::reverse(l.begin(), l.end());
         }
     }

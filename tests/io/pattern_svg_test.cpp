@@ -29,7 +29,19 @@ using test::samplePath;
 using test::XmlNode;
 
 Segment line(Vec2 a, Vec2 b) {
-    return Segment{SegmentKind::Line, a, b};
+    Segment s;
+    s.start = a;
+    s.end = b;
+    return s;
+}
+
+Segment curve(SegmentKind kind, Vec2 a, Vec2 b, Vec2 c1, Vec2 c2 = Vec2::Zero(), double bulge = 0) {
+    Segment s = line(a, b);
+    s.kind = kind;
+    s.control1 = c1;
+    s.control2 = c2;
+    s.bulge = bulge;
+    return s;
 }
 
 /// Two panels: "<a&b>", with a cubic, a quadratic and an arc of 225°, drawn as Front; and a
@@ -42,9 +54,9 @@ patterns::Garment handMade() {
     a.name = "<a&b>";
     a.material = "main";
     a.outline = {line({0, 0}, {0.2, 0}),
-                 Segment{SegmentKind::Arc, {0.2, 0}, {0.2, 0.2}, {}, {}, 1.5},
-                 Segment{SegmentKind::Cubic, {0.2, 0.2}, {0, 0.2}, {0.15, 0.3}, {0.05, 0.3}},
-                 Segment{SegmentKind::Quadratic, {0, 0.2}, {0, 0}, {-0.05, 0.1}}};
+                 curve(SegmentKind::Arc, {0.2, 0}, {0.2, 0.2}, Vec2::Zero(), Vec2::Zero(), 1.5),
+                 curve(SegmentKind::Cubic, {0.2, 0.2}, {0, 0.2}, {0.15, 0.3}, {0.05, 0.3}),
+                 curve(SegmentKind::Quadratic, {0, 0.2}, {0, 0}, {-0.05, 0.1})};
     a.notches = {{0, 0.5}, {2, 0.25}};
     patterns::Panel b;
     b.name = "darted";
@@ -254,8 +266,27 @@ void checkPattern(const PatternSvg& svg, const patterns::Garment& garment, doubl
         EXPECT_GE(box.lo.x(), svg.panels[i].minX - 1e-3);
         EXPECT_LE(box.hi.x(), svg.panels[i].maxX + 1e-3);
         boxes.push_back(box);
-        // Grain line and seam marks drawn.
-        EXPECT_EQ(pathsOfClass(group, "grain-line").size(), 1U);
+        // The grain line along the warp (mirrored for a Back panel; y down the sheet), from
+        // inside the outline; the label inside it too.
+        const auto grain = pathsOfClass(group, "grain-line");
+        ASSERT_EQ(grain.size(), 1U);
+        const auto arrow = sampled(*grain[0]);
+        ASSERT_GE(arrow.size(), 1U);
+        const Vec2 along = (arrow[0].points.back() - arrow[0].points.front()).normalized();
+        const double sx = panel.side == patterns::PanelSide::Back ? -1 : 1;
+        const Vec2 warp(sx * std::cos(panel.grainAngle), -std::sin(panel.grainAngle));
+        EXPECT_NEAR(std::abs(along.dot(warp)), 1, 1e-6);
+        EXPECT_TRUE(patterns::insidePolyline(edges[0], arrow[0].points.front()));
+        EXPECT_TRUE(patterns::insidePolyline(edges[0], arrow[0].points.back()));
+        for (const XmlNode* t : group.all("text")) {
+            if (t->attribute("class") == "label") {
+                const auto lines = t->all("tspan");
+                ASSERT_EQ(lines.size(), 3U);
+                const Vec2 at(std::stod(lines[1]->attribute("x")),
+                              std::stod(lines[1]->attribute("y")));
+                EXPECT_TRUE(patterns::insidePolyline(edges[0], at));
+            }
+        }
     }
     Box square;
     for (const XmlNode* path : calibration->all("path")) {
