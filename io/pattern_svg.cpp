@@ -165,30 +165,45 @@ void addLine(Path& path, const Vec2& a, const Vec2& b) {
     path.cmds.push_back(line);
 }
 
-/// Where the line `origin + s·dir` crosses the closed polyline, sorted by s.
-std::vector<double> crossings(const std::vector<Vec2>& poly, const Vec2& origin, const Vec2& dir) {
+/// A panel's fabric: the outline's polyline, then its holes' [m].
+using Fabric = std::vector<std::vector<Vec2>>;
+
+/// Whether `p` lies in the fabric (inside the outline, outside every hole).
+bool inFabric(const Fabric& fabric, const Vec2& p) {
+    bool inside = false;
+    for (const std::vector<Vec2>& loop : fabric) {
+        inside ^= patterns::insidePolyline(loop, p);
+    }
+    return inside;
+}
+
+/// Where the line `origin + s·dir` crosses the fabric's edges, sorted by s: between the
+/// first and second, third and fourth... it runs in the fabric.
+std::vector<double> crossings(const Fabric& fabric, const Vec2& origin, const Vec2& dir) {
     std::vector<double> out;
-    for (std::size_t i = 0; i < poly.size(); ++i) {
-        const Vec2& a = poly[i];
-        const Vec2 e = poly[(i + 1) % poly.size()] - a;
-        const double denom = dir.x() * e.y() - dir.y() * e.x();
-        if (denom == 0) {
-            continue;
-        }
-        const Vec2 w = a - origin;
-        const double u = (dir.y() * w.x() - dir.x() * w.y()) / denom; // along the edge
-        if (u >= 0 && u < 1) {
-            out.push_back((w.x() * e.y() - w.y() * e.x()) / denom);
+    for (const std::vector<Vec2>& poly : fabric) {
+        for (std::size_t i = 0; i < poly.size(); ++i) {
+            const Vec2& a = poly[i];
+            const Vec2 e = poly[(i + 1) % poly.size()] - a;
+            const double denom = dir.x() * e.y() - dir.y() * e.x();
+            if (denom == 0) {
+                continue;
+            }
+            const Vec2 w = a - origin;
+            const double u = (dir.y() * w.x() - dir.x() * w.y()) / denom; // along the edge
+            if (u >= 0 && u < 1) {
+                out.push_back((w.x() * e.y() - w.y() * e.x()) / denom);
+            }
         }
     }
     std::sort(out.begin(), out.end());
     return out;
 }
 
-/// The inside stretch [s0, s1] of the line `origin + s·dir` that holds s = 0, if any.
-std::optional<std::pair<double, double>> insideStretch(const std::vector<Vec2>& poly,
-                                                       const Vec2& origin, const Vec2& dir) {
-    const std::vector<double> s = crossings(poly, origin, dir);
+/// The stretch [s0, s1] of the line `origin + s·dir` in the fabric that holds s = 0, if any.
+std::optional<std::pair<double, double>> insideStretch(const Fabric& fabric, const Vec2& origin,
+                                                       const Vec2& dir) {
+    const std::vector<double> s = crossings(fabric, origin, dir);
     for (std::size_t i = 0; i + 1 < s.size(); i += 2) {
         if (s[i] <= 0 && s[i + 1] >= 0) {
             return std::make_pair(s[i], s[i + 1]);
@@ -197,9 +212,10 @@ std::optional<std::pair<double, double>> insideStretch(const std::vector<Vec2>& 
     return std::nullopt;
 }
 
-/// A point well inside the polyline: the middle of the widest inside stretch of the horizontal
-/// through the area centroid (the centroid itself can lie outside a concave outline) [m].
-Vec2 labelPoint(const std::vector<Vec2>& poly) {
+/// A point well in the fabric: the middle of the widest stretch in it of the horizontal through
+/// the outline's area centroid (which can lie outside a concave outline, or in a hole) [m].
+Vec2 labelPoint(const Fabric& fabric) {
+    const std::vector<Vec2>& poly = fabric.front();
     Vec2 centroid = Vec2::Zero();
     double area = 0;
     for (std::size_t i = 0; i < poly.size(); ++i) {
@@ -209,7 +225,7 @@ Vec2 labelPoint(const std::vector<Vec2>& poly) {
         centroid += c * (a + b);
     }
     centroid = area != 0 ? Vec2(centroid / (3 * area)) : poly.front();
-    const std::vector<double> s = crossings(poly, centroid, Vec2(1, 0));
+    const std::vector<double> s = crossings(fabric, centroid, Vec2(1, 0));
     double best = -1, at = 0;
     for (std::size_t i = 0; i + 1 < s.size(); i += 2) {
         if (s[i + 1] - s[i] > best) {
@@ -365,7 +381,11 @@ Result<Drawing> drawPanel(const patterns::Garment& garment, std::size_t index,
         6.0,
         {panel.name, fabricText(garment, panel),
          panel.side == patterns::PanelSide::Back ? "cut 1 mirrored (fabric face down)" : "cut 1"}};
-    const Vec2 centre = labelPoint(poly);
+    Fabric fabric = {poly};
+    for (const Loop& hole : panel.holes) {
+        fabric.push_back(patterns::loopPolyline(hole, tolerance));
+    }
+    const Vec2 centre = labelPoint(fabric);
     double labelWidth = 0;
     for (const std::string& line : label.lines) {
         labelWidth = std::max(labelWidth, textWidth(line, label.size));
@@ -375,14 +395,14 @@ Result<Drawing> drawPanel(const patterns::Garment& garment, std::size_t index,
     Vec2 grainAt = centre;
     for (double side : {1.0, -1.0}) {
         const Vec2 candidate = centre + side * (0.5 * labelWidth + 6.0) * mm * across;
-        if (patterns::insidePolyline(poly, candidate)) {
+        if (inFabric(fabric, candidate)) {
             grainAt = candidate;
             break;
         }
     }
     label.at = frame.map(centre);
     d.texts.push_back(label);
-    if (const auto stretch = insideStretch(poly, grainAt, grain)) {
+    if (const auto stretch = insideStretch(fabric, grainAt, grain)) {
         const double mid = 0.5 * (stretch->first + stretch->second);
         const double half = 0.35 * (stretch->second - stretch->first);
         const Vec2 a = frame.map(grainAt + (mid - half) * grain);

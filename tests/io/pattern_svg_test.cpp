@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
 #include <limits>
 #include <string>
 #include <vector>
@@ -237,6 +238,10 @@ void checkPattern(const PatternSvg& svg, const patterns::Garment& garment, doubl
         }
         // 0.02 mm curve tolerance of the offset, 0.001 mm rounding, chords of the samples.
         EXPECT_LT(worst, 0.05) << "over " << points << " points";
+        std::string key = "cut_line_error_mm_" + garment.name + "_" + panel.name;
+        std::replace_if(
+            key.begin(), key.end(), [](char c) { return !std::isalnum(c); }, '_');
+        ::testing::Test::RecordProperty(key, std::to_string(worst));
         EXPECT_EQ(inside, 0);
         if (allowanceMm > 0) {
             // The outline lies inside the outermost cut loop.
@@ -267,7 +272,7 @@ void checkPattern(const PatternSvg& svg, const patterns::Garment& garment, doubl
         EXPECT_LE(box.hi.x(), svg.panels[i].maxX + 1e-3);
         boxes.push_back(box);
         // The grain line along the warp (mirrored for a Back panel; y down the sheet), from
-        // inside the outline; the label inside it too.
+        // in the fabric; the label in it too.
         const auto grain = pathsOfClass(group, "grain-line");
         ASSERT_EQ(grain.size(), 1U);
         const auto arrow = sampled(*grain[0]);
@@ -276,15 +281,15 @@ void checkPattern(const PatternSvg& svg, const patterns::Garment& garment, doubl
         const double sx = panel.side == patterns::PanelSide::Back ? -1 : 1;
         const Vec2 warp(sx * std::cos(panel.grainAngle), -std::sin(panel.grainAngle));
         EXPECT_NEAR(std::abs(along.dot(warp)), 1, 1e-6);
-        EXPECT_TRUE(patterns::insidePolyline(edges[0], arrow[0].points.front()));
-        EXPECT_TRUE(patterns::insidePolyline(edges[0], arrow[0].points.back()));
+        EXPECT_TRUE(inFabric(arrow[0].points.front()));
+        EXPECT_TRUE(inFabric(arrow[0].points.back()));
         for (const XmlNode* t : group.all("text")) {
             if (t->attribute("class") == "label") {
                 const auto lines = t->all("tspan");
                 ASSERT_EQ(lines.size(), 3U);
                 const Vec2 at(std::stod(lines[1]->attribute("x")),
                               std::stod(lines[1]->attribute("y")));
-                EXPECT_TRUE(patterns::insidePolyline(edges[0], at));
+                EXPECT_TRUE(inFabric(at));
             }
         }
     }
