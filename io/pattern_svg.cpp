@@ -277,6 +277,18 @@ Result<Drawing> drawPanel(const patterns::Garment& garment, std::size_t index,
     if (poly.size() < 3) {
         return Error{"", where, "the outline encloses nothing"};
     }
+    // The offset's cost grows with the square of the points (each piece's distance to every
+    // edge).
+    std::size_t points = poly.size();
+    for (const Loop& hole : panel.holes) {
+        points += patterns::loopPolyline(hole, tolerance).size();
+    }
+    if (points > MAX_PANEL_POINTS) {
+        return Error{"", where,
+                     "its outline and holes need " + std::to_string(points) +
+                         " points to draw within the curve tolerance, more than " +
+                         std::to_string(MAX_PANEL_POINTS)};
+    }
     const bool ccw = patterns::polylineArea(poly) > 0;
     const PanelFrame frame{panel.side == patterns::PanelSide::Back ? -1.0 : 1.0};
 

@@ -23,6 +23,7 @@
 
 #include "patterns/garment.h"
 
+#include <cstddef>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -55,9 +56,14 @@ struct PatternSvg {
 /// The largest seam allowance accepted [mm].
 inline constexpr double MAX_SEAM_ALLOWANCE_MM = 500.0;
 
+/// The most points a panel's outline and holes may take as polylines (at the curve
+/// tolerance): the offset's time grows with their square. The samples' largest panel takes
+/// 261; 10,000 took 1.8 s, 20,000 7.5 s (docs/benchmarks.md).
+inline constexpr std::size_t MAX_PANEL_POINTS = 10000;
+
 /// The pattern of `garment` as SVG. A seam allowance that is negative, not finite or above
-/// MAX_SEAM_ALLOWANCE_MM, a garment without panels, or a seam or notch naming a panel or
-/// segment that does not exist is an error.
+/// MAX_SEAM_ALLOWANCE_MM, a garment without panels, a panel over MAX_PANEL_POINTS, or a seam
+/// or notch naming a panel or segment that does not exist is an error.
 Result<PatternSvg> patternSvg(const patterns::Garment& garment, const PatternSvgOptions& options);
 
 /// Writes `patternSvg(garment, options)` to `path` atomically.

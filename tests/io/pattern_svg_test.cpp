@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cctype>
 #include <limits>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -411,6 +412,28 @@ TEST(PatternSvg, BadOptionsAndGarmentsAreErrors) {
     const auto svg = patternSvg(broken, {});
     ASSERT_FALSE(svg.ok());
     EXPECT_EQ(svg.error().where, "seam \"side \"1\" & <2>\"");
+}
+
+/// A regular polygon of `n` corners and radius 0.5 m as line segments.
+patterns::Panel polygonPanel(int n) {
+    patterns::Panel panel;
+    panel.name = "polygon";
+    for (int k = 0; k < n; ++k) {
+        const double a0 = 2 * std::numbers::pi * k / n, a1 = 2 * std::numbers::pi * (k + 1) / n;
+        panel.outline.push_back(
+            line(0.5 * Vec2(std::cos(a0), std::sin(a0)), 0.5 * Vec2(std::cos(a1), std::sin(a1))));
+    }
+    return panel;
+}
+
+TEST(PatternSvg, APanelOverThePointLimitIsRefusedBeforeTheOffset) {
+    patterns::Garment garment;
+    garment.panels = {polygonPanel(static_cast<int>(MAX_PANEL_POINTS) + 1)};
+    const auto svg = patternSvg(garment, {});
+    ASSERT_FALSE(svg.ok());
+    EXPECT_EQ(svg.error().where, "panel \"polygon\"");
+    EXPECT_NE(svg.error().message.find("more than 10000"), std::string::npos)
+        << svg.error().message;
 }
 
 TEST(PatternSvg, WrittenAtomicallyAndRefusedWhereTheFolderIsMissing) {
