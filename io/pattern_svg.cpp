@@ -277,8 +277,6 @@ Result<Drawing> drawPanel(const patterns::Garment& garment, std::size_t index,
     if (poly.size() < 3) {
         return Error{"", where, "the outline encloses nothing"};
     }
-    // The offset's cost grows with the square of the points (each piece's distance to every
-    // edge).
     std::size_t points = poly.size();
     for (const Loop& hole : panel.holes) {
         points += patterns::loopPolyline(hole, tolerance).size();

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <unordered_map>
+#include <utility>
 
 namespace atelier::patterns {
 
@@ -89,6 +91,75 @@ std::vector<Vec2> withoutCollinear(const std::vector<Vec2>& loop, double toleran
     return out.size() >= 3 ? out : loop;
 }
 
+/// Answers "is any edge of a closed polyline nearer than r to p?" for one fixed r by looking
+/// only at the edges filed in the grid cells around p: the edges are cut into pieces no longer
+/// than a cell, each filed under the cells its bounding box touches.
+class NearEdges {
+  public:
+    NearEdges(const std::vector<Vec2>& loop, double r) : m_r(r) {
+        Vec2 lo = loop.front(), hi = loop.front();
+        for (const Vec2& p : loop) {
+            lo = lo.cwiseMin(p);
+            hi = hi.cwiseMax(p);
+        }
+        // At least r, so that a query looks at 3 × 3 cells; at most 1024 cells across.
+        m_cell = std::max({r, (hi - lo).maxCoeff() / 1024, 1e-9});
+        m_origin = lo;
+        for (std::size_t i = 0; i < loop.size(); ++i) {
+            const Vec2 a = loop[i], b = loop[(i + 1) % loop.size()];
+            const int pieces = std::max(1, static_cast<int>(std::ceil((b - a).norm() / m_cell)));
+            for (int k = 0; k < pieces; ++k) {
+                const Vec2 p0 = a + (b - a) * (static_cast<double>(k) / pieces);
+                const Vec2 p1 = a + (b - a) * (static_cast<double>(k + 1) / pieces);
+                const int edge = static_cast<int>(m_edges.size());
+                m_edges.push_back({p0, p1});
+                const auto [x0, y0] = cellOf(p0.cwiseMin(p1));
+                const auto [x1, y1] = cellOf(p0.cwiseMax(p1));
+                for (long long x = x0; x <= x1; ++x) {
+                    for (long long y = y0; y <= y1; ++y) {
+                        m_cells[key(x, y)].push_back(edge);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Whether an edge lies nearer than r to p.
+    bool anyNearer(const Vec2& p) const {
+        const auto [x0, y0] = cellOf(p - Vec2(m_r, m_r));
+        const auto [x1, y1] = cellOf(p + Vec2(m_r, m_r));
+        for (long long x = x0; x <= x1; ++x) {
+            for (long long y = y0; y <= y1; ++y) {
+                const auto it = m_cells.find(key(x, y));
+                if (it == m_cells.end()) {
+                    continue;
+                }
+                for (int e : it->second) {
+                    const auto& [a, b] = m_edges[static_cast<std::size_t>(e)];
+                    if (distanceToSegment(p, a, b) < m_r) {
+                        return true;
+                    }
+                }
+            }
+        }
+        return false;
+    }
+
+  private:
+    std::pair<long long, long long> cellOf(const Vec2& p) const {
+        return {static_cast<long long>(std::floor((p.x() - m_origin.x()) / m_cell)),
+                static_cast<long long>(std::floor((p.y() - m_origin.y()) / m_cell))};
+    }
+    static long long key(long long x, long long y) {
+        return (x + (1LL << 20)) << 32 | (y + (1LL << 20));
+    }
+
+    double m_r, m_cell = 1;
+    Vec2 m_origin = Vec2::Zero();
+    std::vector<std::pair<Vec2, Vec2>> m_edges;
+    std::unordered_map<long long, std::vector<int>> m_cells;
+};
+
 /// A piece of the raw offset between two of its vertices or crossings.
 struct Piece {
     Vec2 from, to;
@@ -97,13 +168,13 @@ struct Piece {
     bool visited = false;
 };
 
-/// Splits `raw` at its self-crossings, keeps the pieces at least `minDistance` from `loop` on the
-/// offset side, and chains them into closed loops; nullopt when a chain does not close (a
-/// crossing exactly at a vertex or along a shared line).
-std::optional<std::vector<std::vector<Vec2>>> trimOffset(const std::vector<Vec2>& loop,
-                                                         const std::vector<Vec2>& raw,
-                                                         double minDistance, bool keepInside) {
+/// Splits `raw` at its self-crossings, keeps the pieces at least `minDistance` from `loop`, and
+/// chains them into closed loops; nullopt when a chain does not close (a crossing exactly at a
+/// vertex or along a shared line).
+std::optional<std::vector<std::vector<Vec2>>>
+trimOffset(const std::vector<Vec2>& loop, const std::vector<Vec2>& raw, double minDistance) {
     const std::size_t m = raw.size();
+    const NearEdges near(loop, minDistance);
     struct Cut {
         double s;
         int node;
@@ -163,8 +234,11 @@ std::optional<std::vector<std::vector<Vec2>>> trimOffset(const std::vector<Vec2>
             const int node1 = last ? static_cast<int>((j + 1) % m) : cuts[j][c].node;
             Piece piece{a + s0 * d, a + s1 * d, node0, node1};
             const Vec2 mid = 0.5 * (piece.from + piece.to);
-            piece.keep = distanceToPolyline(loop, mid) >= minDistance &&
-                         insidePolyline(loop, mid) == keepInside;
+            // No side test is needed: a point of the raw offset that is at least the distance
+            // from every edge lies on the offset side, for the straight line to the edge or
+            // corner it comes from leaves that edge or corner to that side and does not cross
+            // the loop (a crossing would be nearer).
+            piece.keep = !near.anyNearer(mid);
             startsAt[static_cast<std::size_t>(node0)].push_back(static_cast<int>(pieces.size()));
             pieces.push_back(piece);
             s0 = s1;
@@ -284,8 +358,7 @@ std::vector<std::vector<Vec2>> offsetPolyline(const std::vector<Vec2>& loop, dou
     // ninth digit moves it off.
     for (double scale : {1.0, 1.0 + 1e-9, 1.0 - 1e-9}) {
         const double d = distance * scale;
-        const auto trimmed = trimOffset(clean, rawOffset(clean, d, tolerance), d * (1 - 1e-9),
-                                        side == OffsetSide::Inside);
+        const auto trimmed = trimOffset(clean, rawOffset(clean, d, tolerance), d * (1 - 1e-9));
         if (trimmed) {
             loops = *trimmed;
             resolved = true;
@@ -297,6 +370,12 @@ std::vector<std::vector<Vec2>> offsetPolyline(const std::vector<Vec2>& loop, dou
         // `distance` from the edge or corner it comes from.
         loops.push_back(rawOffset(clean, distance, tolerance));
     }
+    // A loop smaller than the tolerance squared is a fold of the offset at an inner corner
+    // turning so little that its depth is below the distance's rounding (a regular polygon of
+    // 100,000 corners, offset inward, gave one per corner).
+    std::erase_if(loops, [&](const std::vector<Vec2>& l) {
+        return std::abs(polylineArea(l)) < tolerance * tolerance;
+    });
     for (std::vector<Vec2>& l : loops) {
         l = withoutCollinear(l, 1e-3 * tolerance);
         if (reversed) {

@@ -432,7 +432,7 @@ TEST(PatternSvg, APanelOverThePointLimitIsRefusedBeforeTheOffset) {
     const auto svg = patternSvg(garment, {});
     ASSERT_FALSE(svg.ok());
     EXPECT_EQ(svg.error().where, "panel \"polygon\"");
-    EXPECT_NE(svg.error().message.find("more than 10000"), std::string::npos)
+    EXPECT_NE(svg.error().message.find("more than 20000"), std::string::npos)
         << svg.error().message;
 }
 
