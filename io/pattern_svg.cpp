@@ -588,6 +588,32 @@ Drawing calibrationSquare() {
     return d;
 }
 
+/// Items placed left to right in shelves no wider than `inner`, tallest first (`order`).
+struct Packing {
+    std::vector<Vec2> corners; ///< each item's top-left corner, from the first shelf's [mm]
+    double width = 0, height = 0;
+};
+
+Packing packShelves(const std::vector<Vec2>& sizes, const std::vector<std::size_t>& order,
+                    double inner, double gap) {
+    Packing p;
+    p.corners.resize(sizes.size(), Vec2::Zero());
+    double x = 0, y = 0, shelf = 0;
+    for (std::size_t i : order) {
+        if (x > 0 && x + sizes[i].x() > inner) {
+            y += shelf + gap;
+            x = 0;
+            shelf = 0;
+        }
+        p.corners[i] = Vec2(x, y);
+        x += sizes[i].x() + gap;
+        p.width = std::max(p.width, x - gap);
+        shelf = std::max(shelf, sizes[i].y());
+    }
+    p.height = y + shelf;
+    return p;
+}
+
 } // namespace
 
 std::string xmlEscape(const std::string& text) {
@@ -626,6 +652,9 @@ Result<PatternSvg> patternSvg(const patterns::Garment& garment, const PatternSvg
                       options.seamAllowanceMm, MAX_SEAM_ALLOWANCE_MM);
         return Error{"", "", text};
     }
+    if (!(options.sheetWidthMm >= 0 && std::isfinite(options.sheetWidthMm))) {
+        return Error{"", "", "the sheet width must be 0 (chosen) or more"};
+    }
     if (!(options.gapMm >= 0) || !(options.curveToleranceMm > 0)) {
         return Error{"", "", "the gap must be 0 or more and the curve tolerance above 0"};
     }
@@ -662,8 +691,8 @@ Result<PatternSvg> patternSvg(const patterns::Garment& garment, const PatternSvg
     }
     items.push_back(calibrationSquare());
 
-    // Shelves, tallest first, on a sheet about as wide as the panels' total area is square
-    // (but never narrower than the widest panel).
+    // Shelves, tallest first: on the sheet width asked for, or on the width (from the widest
+    // item to all in one row) that gives the smallest sheet.
     const double gap = options.gapMm;
     char header[256];
     std::snprintf(header, sizeof header,
@@ -671,37 +700,65 @@ Result<PatternSvg> patternSvg(const patterns::Garment& garment, const PatternSvg
                   options.seamAllowanceMm);
     const std::string headerLine = garment.name.empty() ? header : garment.name + ": " + header;
     const double headerSize = 5.0;
-    double area = 0, widest = textWidth(headerLine, headerSize);
+    const double top = gap + 1.2 * headerSize + gap;
+    std::vector<Vec2> sizes;
+    std::size_t widestItem = 0;
     for (const Drawing& d : items) {
-        const Vec2 size = d.max - d.min;
-        area += (size.x() + gap) * (size.y() + gap);
-        widest = std::max(widest, size.x());
+        sizes.emplace_back(d.max - d.min);
+        if (sizes.back().x() > sizes[widestItem].x()) {
+            widestItem = sizes.size() - 1;
+        }
     }
-    const double sheetInner = std::max(widest, 1.2 * std::sqrt(area));
     std::vector<std::size_t> order(items.size());
     std::iota(order.begin(), order.end(), 0);
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-        return items[a].max.y() - items[a].min.y() > items[b].max.y() - items[b].min.y();
-    });
-    const double top = gap + 1.2 * headerSize + gap;
-    std::vector<Vec2> offsets(items.size());
-    double x = 0, y = 0, shelf = 0, right = widest;
-    for (std::size_t i : order) {
-        const Vec2 size = items[i].max - items[i].min;
-        if (x > 0 && x + size.x() > sheetInner) {
-            y += shelf + gap;
-            x = 0;
-            shelf = 0;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return sizes[a].y() > sizes[b].y(); });
+    Packing packing;
+    if (options.sheetWidthMm > 0) {
+        const double inner = options.sheetWidthMm - 2 * gap;
+        if (sizes[widestItem].x() > inner) {
+            char text[256];
+            std::snprintf(text, sizeof text,
+                          "is %.0f mm wide with its seam allowance and marks, more than the "
+                          "%g mm sheet less its %g mm margins",
+                          sizes[widestItem].x(), options.sheetWidthMm, gap);
+            return Error{"",
+                         items[widestItem].id == "calibration"
+                             ? std::string("the calibration square")
+                             : "panel \"" + items[widestItem].title + "\"",
+                         text};
         }
-        offsets[i] = Vec2(gap + x, top + y) - items[i].min;
-        x += size.x() + gap;
-        right = std::max(right, x - gap);
-        shelf = std::max(shelf, size.y());
+        packing = packShelves(sizes, order, inner, gap);
+        packing.width = inner;
+    } else {
+        std::vector<double> widths = {sizes[widestItem].x()};
+        double row = -gap;
+        for (std::size_t i : order) {
+            row += sizes[i].x() + gap;
+            if (row > widths.front()) {
+                widths.push_back(row);
+            }
+        }
+        for (double inner : widths) {
+            Packing candidate = packShelves(sizes, order, inner, gap);
+            candidate.width = std::max(candidate.width, textWidth(headerLine, headerSize));
+            const auto area = [&](const Packing& p) {
+                return (p.width + 2 * gap) * (p.height + top + gap);
+            };
+            if (packing.corners.empty() || area(candidate) < area(packing)) {
+                packing = std::move(candidate);
+            }
+        }
+    }
+    std::vector<Vec2> offsets(items.size());
+    for (std::size_t i = 0; i < items.size(); ++i) {
+        offsets[i] = Vec2(gap, top) + packing.corners[i] - items[i].min;
     }
 
     PatternSvg out;
-    out.widthMm = std::ceil(gap + right + gap);
-    out.heightMm = std::ceil(top + y + shelf + gap);
+    out.widthMm =
+        options.sheetWidthMm > 0 ? options.sheetWidthMm : std::ceil(gap + packing.width + gap);
+    out.heightMm = std::ceil(top + packing.height + gap);
     SvgOut svg;
     svg << "<?xml version=\"1.0\" encoding=\"UTF-8\" standalone=\"no\"?>\n"
         << "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"" << out.widthMm

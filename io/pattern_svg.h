@@ -17,7 +17,8 @@
 /// - `<text class="label">`: the panel's name, fabric, and "cut 1" (or "cut 1 mirrored" for a
 ///   PanelSide::Back panel, which is drawn mirrored as it is cut).
 /// Pattern y (up) points down the sheet. Panels are packed in shelves, tallest first, with a
-/// 100 mm calibration square (`<g id="calibration">`); no two panels' drawings overlap.
+/// 100 mm calibration square (`<g id="calibration">`), on a sheet of the width asked for or
+/// of the width that makes the sheet smallest; no two panels' drawings overlap.
 
 #include "io/result.h"
 
@@ -33,6 +34,9 @@ namespace atelier::io {
 struct PatternSvgOptions {
     /// Cut line outside the sewing line [mm]; 0 = the outline is the cut line.
     double seamAllowanceMm = 10.0;
+    /// Width of the sheet, e.g. a plotter's roll [mm]; 0 = the width from the widest panel to
+    /// all in one row that gives the smallest sheet.
+    double sheetWidthMm = 0.0;
     /// Space between panels and around the sheet [mm].
     double gapMm = 10.0;
     /// Largest distance between a curve and the polyline of its offset [mm].
@@ -62,8 +66,9 @@ inline constexpr double MAX_SEAM_ALLOWANCE_MM = 500.0;
 inline constexpr std::size_t MAX_PANEL_POINTS = 20000;
 
 /// The pattern of `garment` as SVG. A seam allowance that is negative, not finite or above
-/// MAX_SEAM_ALLOWANCE_MM, a garment without panels, a panel over MAX_PANEL_POINTS, or a seam
-/// or notch naming a panel or segment that does not exist is an error.
+/// MAX_SEAM_ALLOWANCE_MM, a garment without panels, a panel over MAX_PANEL_POINTS or wider
+/// than the sheet asked for, or a seam or notch naming a panel or segment that does not exist
+/// is an error.
 Result<PatternSvg> patternSvg(const patterns::Garment& garment, const PatternSvgOptions& options);
 
 /// Writes `patternSvg(garment, options)` to `path` atomically.

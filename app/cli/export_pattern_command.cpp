@@ -1,4 +1,5 @@
-/// `atelier-cli export-pattern PROJECT.atelier --out PATTERN.svg [--seam-allowance MM]`: the
+/// `atelier-cli export-pattern PROJECT.atelier --out PATTERN.svg [--seam-allowance MM]
+/// [--sheet-width MM]`: the
 /// garment's 2D pattern at real size as SVG, for printing and plotting (io/pattern_svg.h).
 
 #include "app/cli/commands.h"
@@ -26,6 +27,7 @@ struct ExportPatternOptions {
     std::string project;
     std::string out;
     double seamAllowanceMm = io::PatternSvgOptions{}.seamAllowanceMm;
+    double sheetWidthMm = 0;         ///< 0 = chosen
     std::vector<std::string> limits; ///< --limit NAME=VALUE
 };
 
@@ -33,6 +35,11 @@ int runExportPattern(const ExportPatternOptions& options) {
     if (!(options.seamAllowanceMm >= 0 && options.seamAllowanceMm <= io::MAX_SEAM_ALLOWANCE_MM)) {
         std::fprintf(stderr, "error: --seam-allowance %g: must be from 0 to %g mm\n",
                      options.seamAllowanceMm, io::MAX_SEAM_ALLOWANCE_MM);
+        return EXIT_BAD_INPUT;
+    }
+    if (!(options.sheetWidthMm >= 0 && std::isfinite(options.sheetWidthMm))) {
+        std::fprintf(stderr, "error: --sheet-width %g: must be 0 (chosen) or more mm\n",
+                     options.sheetWidthMm);
         return EXIT_BAD_INPUT;
     }
     if (auto problem = checkOutputs({{"project", options.project}}, {{"--out", options.out}})) {
@@ -56,6 +63,7 @@ int runExportPattern(const ExportPatternOptions& options) {
     }
     io::PatternSvgOptions svgOptions;
     svgOptions.seamAllowanceMm = options.seamAllowanceMm;
+    svgOptions.sheetWidthMm = options.sheetWidthMm;
     auto svg = io::patternSvg(project.value().garment, svgOptions);
     if (!svg.ok()) {
         Error e = svg.error();
@@ -85,6 +93,9 @@ void addExportPatternCommand(CLI::App& app) {
     cmd->add_option("--out,-o", options->out, "The pattern (.svg)")->required();
     cmd->add_option("--seam-allowance", options->seamAllowanceMm,
                     "Cut line outside the sewing line [mm]; 0 = cut on the outline")
+        ->capture_default_str();
+    cmd->add_option("--sheet-width", options->sheetWidthMm,
+                    "Sheet (plotter roll) width [mm]; 0 = the width giving the smallest sheet")
         ->capture_default_str();
     addLimitOption(cmd, &options->limits);
     cmd->callback([options] {

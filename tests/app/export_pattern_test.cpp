@@ -54,6 +54,10 @@ TEST(CliExportPattern, BadInputExitsWithTwoAndSaysWhy) {
         {"export-pattern " + skirt + " --out " + inQuotes(out) + " --seam-allowance nan",
          "--seam-allowance"},
         {"export-pattern " + skirt, "--out"},
+        {"export-pattern " + skirt + " --out " + inQuotes(out) + " --sheet-width 200",
+         "mm sheet less its 10 mm margins"},
+        {"export-pattern " + skirt + " --out " + inQuotes(out) + " --sheet-width -5",
+         "--sheet-width -5: must be 0"},
     };
     for (const Case& c : cases) {
         SCOPED_TRACE(c.args);

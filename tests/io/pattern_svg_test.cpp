@@ -335,6 +335,26 @@ TEST(PatternSvg, HandMadePanelsAtSeveralAllowances) {
     }
 }
 
+TEST(PatternSvg, ASheetWidthAskedForIsKeptOrRefusedNamingTheWidestPanel) {
+    const patterns::Garment& trousers = test::sampleGarments().at("trousers");
+    PatternSvgOptions options;
+    options.sheetWidthMm = 914; // a 36-inch plotter roll
+    const auto svg = patternSvg(trousers, options);
+    ASSERT_TRUE(svg.ok()) << svg.error().toString();
+    EXPECT_EQ(svg.value().widthMm, 914);
+    checkPattern(svg.value(), trousers, 10.0);
+    // The chosen width gives a smaller sheet than the roll.
+    const auto chosen = patternSvg(trousers, {});
+    ASSERT_TRUE(chosen.ok());
+    EXPECT_LT(chosen.value().widthMm * chosen.value().heightMm,
+              svg.value().widthMm * svg.value().heightMm);
+    options.sheetWidthMm = 300;
+    const auto narrow = patternSvg(trousers, options);
+    ASSERT_FALSE(narrow.ok());
+    EXPECT_EQ(narrow.error().where.rfind("panel \"", 0), 0U) << narrow.error().toString();
+    EXPECT_NE(narrow.error().message.find("300 mm sheet"), std::string::npos);
+}
+
 TEST(PatternSvg, NamesAreEscapedAndReadBackWhole) {
     const patterns::Garment garment = handMade();
     const auto svg = patternSvg(garment, {});
