@@ -10,6 +10,7 @@ PACKAGES=(
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   dpkg-dev python3-yaml slurm-wlm munge
+  librsvg2-bin
 )
 
 missing=()

@@ -49,4 +49,8 @@ void addBatchCommand(CLI::App& app);
 /// `atelier-cli batch-summary DIR [--manifest M]` (batch_summary.cpp).
 void addBatchSummaryCommand(CLI::App& app);
 
+/// `atelier-cli export-pattern PROJECT.atelier --out PATTERN.svg [--seam-allowance MM]`
+/// (export_pattern_command.cpp).
+void addExportPatternCommand(CLI::App& app);
+
 } // namespace atelier::app

@@ -26,6 +26,7 @@ int run(int argc, char** argv) {
     atelier::app::addBodyCommand(app);
     atelier::app::addBatchCommand(app);
     atelier::app::addBatchSummaryCommand(app);
+    atelier::app::addExportPatternCommand(app);
     atelier::app::addLimitsCommand(app);
 
     try {
