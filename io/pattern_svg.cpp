@@ -1,6 +1,7 @@
 #include "io/pattern_svg.h"
 
 #include "io/atomic_file.h"
+#include "io/xml_text.h"
 
 #include "patterns/curve.h"
 #include "patterns/seam_allowance.h"
@@ -615,35 +616,6 @@ Packing packShelves(const std::vector<Vec2>& sizes, const std::vector<std::size_
 }
 
 } // namespace
-
-std::string xmlEscape(const std::string& text) {
-    std::string out;
-    out.reserve(text.size());
-    for (char c : text) {
-        switch (c) {
-        case '&':
-            out += "&amp;";
-            break;
-        case '<':
-            out += "&lt;";
-            break;
-        case '>':
-            out += "&gt;";
-            break;
-        case '"':
-            out += "&quot;";
-            break;
-        case '\'':
-            out += "&apos;";
-            break;
-        default:
-            // XML 1.0 holds no control characters but tab, line feed and carriage return.
-            out += static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\n' && c != '\r' ? ' '
-                                                                                               : c;
-        }
-    }
-    return out;
-}
 
 Result<PatternSvg> patternSvg(const patterns::Garment& garment, const PatternSvgOptions& options) {
     if (!(options.seamAllowanceMm >= 0 && options.seamAllowanceMm <= MAX_SEAM_ALLOWANCE_MM)) {

@@ -76,8 +76,4 @@ Result<PatternSvg> writePatternSvg(const std::filesystem::path& path,
                                    const patterns::Garment& garment,
                                    const PatternSvgOptions& options);
 
-/// `text` with `&`, `<`, `>`, `"` and `'` as entities and the control characters XML cannot
-/// hold as spaces: safe in element text and in attribute values.
-std::string xmlEscape(const std::string& text);
-
 } // namespace atelier::io

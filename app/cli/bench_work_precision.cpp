@@ -7,6 +7,7 @@
 
 #include "io/atomic_file.h"
 #include "io/scene_file.h"
+#include "io/xml_text.h"
 
 #include "sim/core/parallel.h"
 #include "sim/simulation.h"
@@ -114,58 +115,6 @@ std::string formatNumber(double value) {
     return buf;
 }
 
-/// Length of the valid UTF-8 sequence starting at s[i], or 0 when it is not one.
-std::size_t utf8Length(const std::string& s, std::size_t i) {
-    const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(s[k]); };
-    const unsigned char c = byte(i);
-    const std::size_t n = c < 0x80           ? 1
-                          : (c >> 5) == 0x6  ? 2
-                          : (c >> 4) == 0xE  ? 3
-                          : (c >> 3) == 0x1E ? 4
-                                             : 0;
-    if (n == 0 || i + n > s.size()) {
-        return 0;
-    }
-    for (std::size_t k = 1; k < n; ++k) {
-        if ((byte(i + k) >> 6) != 0x2) {
-            return 0;
-        }
-    }
-    return n;
-}
-
-/// Text for an SVG element: markup escaped, control characters (not allowed in XML 1.0, even
-/// escaped) as spaces, bytes that are not UTF-8 as U+FFFD.
-std::string xmlEscape(const std::string& s) {
-    std::string out;
-    for (std::size_t i = 0; i < s.size();) {
-        const std::size_t n = utf8Length(s, i);
-        if (n != 1) {
-            out += n == 0 ? std::string("\xEF\xBF\xBD") : s.substr(i, n);
-            i += std::max<std::size_t>(n, 1);
-            continue;
-        }
-        const char c = s[i++];
-        switch (c) {
-        case '&':
-            out += "&amp;";
-            break;
-        case '<':
-            out += "&lt;";
-            break;
-        case '>':
-            out += "&gt;";
-            break;
-        case '"':
-            out += "&quot;";
-            break;
-        default:
-            out += static_cast<unsigned char>(c) < 0x20 ? ' ' : c;
-        }
-    }
-    return out;
-}
-
 const char* integratorColour(const std::string& name) {
     static const std::map<std::string, const char*> colours = {
         {"euler", "#d62728"}, {"midpoint", "#ff7f0e"},       {"rk4", "#2ca02c"},
@@ -249,7 +198,7 @@ std::string workPrecisionSvg(const std::vector<WorkPrecisionRow>& rows, const st
       << "\" font-family=\"sans-serif\" font-size=\"12\">\n";
     s << "<rect x=\"0\" y=\"0\" width=\"" << W << "\" height=\"" << H << "\" fill=\"white\"/>\n";
     s << "<text x=\"" << LEFT + plotW / 2 << "\" y=\"" << TOP / 2 + 5
-      << "\" text-anchor=\"middle\" font-size=\"14\">" << xmlEscape(title) << "</text>\n";
+      << "\" text-anchor=\"middle\" font-size=\"14\">" << io::xmlEscape(title) << "</text>\n";
 
     // Grid, decade ticks and labels.
     s << "<g stroke=\"#dddddd\" stroke-width=\"1\">\n";
@@ -305,7 +254,7 @@ std::string workPrecisionSvg(const std::vector<WorkPrecisionRow>& rows, const st
     for (std::size_t k = 0; k < names.size(); ++k) {
         const std::string& name = names[k];
         const char* colour = integratorColour(name);
-        s << "<g class=\"series\" id=\"" << xmlEscape(name) << "\">\n";
+        s << "<g class=\"series\" id=\"" << io::xmlEscape(name) << "\">\n";
         std::ostringstream points;
         points.precision(6);
         int count = 0;
@@ -326,11 +275,11 @@ std::string workPrecisionSvg(const std::vector<WorkPrecisionRow>& rows, const st
             const double Y = py(r.rmsError);
             if (r.stable) {
                 s << "<circle cx=\"" << X << "\" cy=\"" << Y << "\" r=\"3.5\" fill=\"" << colour
-                  << "\"><title>" << xmlEscape(name) << " " << formatNumber(r.setting)
+                  << "\"><title>" << io::xmlEscape(name) << " " << formatNumber(r.setting)
                   << "</title></circle>\n";
             } else {
                 s << "<path d=\"M" << X - 4 << "," << Y - 4 << " l8,8 m0,-8 l-8,8\" stroke=\""
-                  << colour << "\" stroke-width=\"1.5\"><title>" << xmlEscape(name) << " "
+                  << colour << "\" stroke-width=\"1.5\"><title>" << io::xmlEscape(name) << " "
                   << formatNumber(r.setting) << " (unstable)</title></path>\n";
             }
         }
@@ -341,7 +290,7 @@ std::string workPrecisionSvg(const std::vector<WorkPrecisionRow>& rows, const st
           << "\" stroke=\"" << colour << "\" stroke-width=\"1.5\"/>\n";
         s << "<circle cx=\"" << LX + 12 << "\" cy=\"" << LY << "\" r=\"3.5\" fill=\"" << colour
           << "\"/>\n";
-        s << "<text x=\"" << LX + 32 << "\" y=\"" << LY + 4 << "\">" << xmlEscape(name)
+        s << "<text x=\"" << LX + 32 << "\" y=\"" << LY + 4 << "\">" << io::xmlEscape(name)
           << "</text>\n";
         s << "</g>\n";
     }

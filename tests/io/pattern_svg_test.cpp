@@ -6,6 +6,7 @@
 #include "io/pattern_svg.h"
 #include "io/svg_reader.h"
 #include "io/temp_dir.h"
+#include "io/xml_text.h"
 
 #include "patterns/curve.h"
 #include "patterns/sample_garments.h"
@@ -373,6 +374,8 @@ TEST(PatternSvg, NamesAreEscapedAndReadBackWhole) {
     ASSERT_EQ(seamLabels.size(), 2U);
     EXPECT_EQ(seamLabels[0], "side \"1\" & <2>");
     EXPECT_EQ(xmlEscape(std::string("a\x01<\"'>&") + "\t"), "a &lt;&quot;&apos;&gt;&amp;\t");
+    // Bytes that are not UTF-8 become U+FFFD; valid sequences pass.
+    EXPECT_EQ(xmlEscape("\xC3\xA9t\xE9"), "\xC3\xA9t\xEF\xBF\xBD");
 }
 
 TEST(PatternSvg, CurvesAreTrueCurvesAndBackPanelsAreMirrored) {
