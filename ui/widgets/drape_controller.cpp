@@ -154,9 +154,15 @@ void DrapeController::unpin(int vertex) {
     });
 }
 
-std::vector<int> DrapeController::pinnedVertices() const {
+std::vector<int> DrapeController::pinnedVertices(double time) const {
     const std::lock_guard lock(m_mutex);
-    return m_pinned;
+    std::vector<int> out;
+    for (const auto& [vertex, release] : m_pinned) {
+        if (time < release) {
+            out.push_back(vertex);
+        }
+    }
+    return out;
 }
 
 patterns::GarmentDocument DrapeController::document() const {
@@ -165,9 +171,9 @@ patterns::GarmentDocument DrapeController::document() const {
 }
 
 void DrapeController::publishPins() {
-    std::vector<int> pinned;
+    std::vector<std::pair<int, double>> pinned;
     for (const patterns::HeldPin& h : m_session->assembled().pins) {
-        pinned.push_back(h.hold.vertex);
+        pinned.emplace_back(h.hold.vertex, h.hold.releaseTime);
     }
     {
         const std::lock_guard lock(m_mutex);

@@ -18,6 +18,8 @@
 #include <memory>
 #include <mutex>
 #include <thread>
+#include <utility>
+#include <vector>
 
 namespace atelier::ui {
 
@@ -77,9 +79,10 @@ class DrapeController : public QObject {
     /// Removes the pin holding `vertex` from the drape and the document; the drape runs so the
     /// cloth can move again.
     void unpin(int vertex);
-    /// Global vertices held by the garment's pins, as of the last pin command or prepare (any
-    /// thread).
-    std::vector<int> pinnedVertices() const;
+    /// Global vertices held by the garment's pins at simulated time `time` [s] (a snapshot's:
+    /// a pin whose release time has passed is left out), as of the last pin command or prepare
+    /// (any thread). All of them by default.
+    std::vector<int> pinnedVertices(double time = -1) const;
     /// The project's garment document as the window has edited it (any thread).
     patterns::GarmentDocument document() const;
 
@@ -122,8 +125,9 @@ class DrapeController : public QObject {
     std::atomic<bool> m_stepped{false};
     QString m_path;                              ///< guarded by m_mutex
     std::shared_ptr<const StaticScene> m_static; ///< guarded by m_mutex
-    std::vector<int> m_pinned;                   ///< guarded by m_mutex
-    patterns::GarmentDocument m_document;        ///< guarded by m_mutex
+    /// Pinned vertices and their release times [s] (simulated); guarded by m_mutex.
+    std::vector<std::pair<int, double>> m_pinned;
+    patterns::GarmentDocument m_document; ///< guarded by m_mutex
 
     mutable std::mutex m_mutex;
     std::condition_variable m_wake;

@@ -183,7 +183,8 @@ void Viewport::draw() {
                                           live ? m_snapshot.clothNormals : sim::MatX3());
     }
     m_drawnVersion = live ? m_snapshot.version : 0;
-    const std::vector<int> pinned = m_drape->pinnedVertices();
+    // Pins still holding at the drawn snapshot's time (a released pin's head goes).
+    const std::vector<int> pinned = m_drape->pinnedVertices(live ? m_snapshot.time : 0.0);
     sim::MatX3 pins(static_cast<Eigen::Index>(pinned.size()), 3);
     Eigen::Index n = 0;
     for (const int v : pinned) {
