@@ -673,10 +673,11 @@ Result<Edit> addPin(GarmentDocument& d, PanelId panel, const doc::Pin& pin) {
                     return editError(panelWhere(panel), "the pin's point is not inside the panel");
                 }
             }
-            if ((pin.position && !pin.position->allFinite()) || !(pin.releaseTime >= 0)) {
+            if ((pin.position && !(pin.position->cwiseAbs().maxCoeff() <= MAX_PIN_POSITION)) ||
+                !(pin.releaseTime >= 0)) {
                 return editError(panelWhere(panel),
-                                 "a pin's position must be finite and its release "
-                                 "time at least 0");
+                                 "a pin's position must be within 10 m of the "
+                                 "body's origin and its release time at least 0");
             }
             doc::Pin added = pin;
             added.id = doc.newId<PinId>();

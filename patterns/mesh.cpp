@@ -334,8 +334,10 @@ std::vector<GarmentIssue> validateGarment(const Garment& garment) {
                 issues.push_back({w + "/at", std::string("pin point ") + at +
                                                  " is not inside panel \"" + panel.name + "\""});
             }
-            if (pin.position && !pin.position->allFinite()) {
-                issues.push_back({w + "/position_mm", "must be finite"});
+            if (pin.position && !(pin.position->cwiseAbs().maxCoeff() <= MAX_PIN_POSITION)) {
+                issues.push_back({w + "/position_mm",
+                                  "must be finite and within 10 m of the body's origin "
+                                  "(positions are millimetres)"});
             }
             if (!(pin.releaseTime >= 0)) {
                 issues.push_back({w + "/release_s", "must be a time of at least 0"});

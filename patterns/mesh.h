@@ -76,6 +76,11 @@ std::vector<GarmentIssue> validateGarment(const Garment& garment);
 /// 0.24 mm.
 inline constexpr double PIN_CONTOUR_TOLERANCE = 0.001;
 
+/// How far from the body's origin a pin may hold its vertex, per coordinate [m]: farther is a
+/// unit mistake, and a vertex dragged there stretches its panel across everything (a pin 1000 km
+/// away slowed a 40 mm drape to 6 s a step).
+inline constexpr double MAX_PIN_POSITION = 10.0;
+
 /// Whether `point` [m] lies inside the panel as drawn, or within PIN_CONTOUR_TOLERANCE of its
 /// outline or a hole's contour (curves flattened at 32 chords; not inside a hole).
 bool insidePanel(const Panel& panel, const Vec2& point);

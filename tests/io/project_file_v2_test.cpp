@@ -333,6 +333,8 @@ TEST(ProjectFileV2, PinsRoundTripAndBadPinsNameTheirPointer) {
              "/panels/1/pins/1/release_s", "at least 0"},
             {"position not a point", bad("/panels/1/pins/1/position_mm", json::parse("[1, 2]")),
              "/panels/1/pins/1/position_mm", ""},
+            {"position too far", bad("/panels/1/pins/1/position_mm", json::parse("[0, 2e7, 0]")),
+             "/panels/1/pins/1/position_mm", "within 10 m of the body's origin"},
             {"duplicate id", bad("/panels/1/pins/1/id", 900), "/panels/1/pins/1/id",
              "duplicate id 900"},
             {"unknown key", bad("/panels/1/pins/1/panel", 1), "/panels/1/pins/1/panel",
