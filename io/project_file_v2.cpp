@@ -3,7 +3,9 @@
 // leaves it; seams, darts and notches name panel and edge ids.
 #include "io/project_json.h"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
 #include <map>
 #include <optional>
@@ -183,6 +185,40 @@ class DocumentReader {
             n.finish();
             panel.notches.push_back(notch);
         });
+        forEachIn(r, "pins", [&](const json& v, const std::string& p) { readPin(v, p, panel); });
+    }
+
+    /// `{"id", "at": [x, y] | "notch": id, "position_mm": [x, y, z], "release_s": t}`; whether
+    /// the point lies inside the panel is patterns::validateGarment's check.
+    void readPin(const json& value, const std::string& ptr, doc::Panel& panel) {
+        ObjectReader r(value, ptr);
+        doc::Pin pin;
+        pin.id = claim<patterns::PinId>(r, "id");
+        if (r.has("at") == r.has("notch")) {
+            throw JsonError{ptr, "a pin needs either \"at\" (a point of the panel, mm) or "
+                                 "\"notch\" (a notch id), not both"};
+        }
+        if (r.has("at")) {
+            pin.point = point(r, "at");
+        } else {
+            pin.notch = patterns::NotchId{idValue(r, "notch")};
+            if (std::none_of(panel.notches.begin(), panel.notches.end(),
+                             [&](const doc::Notch& n) { return n.id == pin.notch; })) {
+                r.fail("notch", "panel " + inQuotes(panel.name) + " has no notch with id " +
+                                    std::to_string(pin.notch.value));
+            }
+        }
+        if (r.has("position_mm")) {
+            pin.position = r.vec3("position_mm") * 1e-3;
+        }
+        if (const auto release = r.optionalNumber("release_s")) {
+            if (!(*release >= 0)) {
+                r.fail("release_s", "must be a time of at least 0 s");
+            }
+            pin.releaseTime = *release;
+        }
+        r.finish();
+        panel.pins.push_back(pin);
     }
 
     doc::Panel readPanel(const json& value, const std::string& ptr) {
@@ -312,6 +348,27 @@ ordered_json panelJson(const doc::Panel& panel) {
         out["notches"].push_back(std::move(n));
     }
     out["placement"] = placementJson(panel.placement);
+    // Written only when there are pins, so files from before pins keep their bytes.
+    if (!panel.pins.empty()) {
+        out["pins"] = ordered_json::array();
+        for (const doc::Pin& pin : panel.pins) {
+            ordered_json e = ordered_json::object();
+            e["id"] = pin.id.value;
+            if (pin.notch) {
+                e["notch"] = pin.notch.value;
+            } else {
+                e["at"] = pointMm(pin.point);
+            }
+            if (pin.position) {
+                e["position_mm"] = {mm(pin.position->x()), mm(pin.position->y()),
+                                    mm(pin.position->z())};
+            }
+            if (std::isfinite(pin.releaseTime)) {
+                e["release_s"] = number(pin.releaseTime);
+            }
+            out["pins"].push_back(std::move(e));
+        }
+    }
     return out;
 }
 

@@ -2,6 +2,8 @@
 
 #include "patterns/placement.h"
 
+#include "sim/constraints/kinematic.h"
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -149,7 +151,80 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
     scene.integrator.kind = settings.integrator;
     scene.integrator.dt = settings.dt;
     scene.duration = settings.timeLimit;
+    pinGarment(garment, mesh, settings, 0.0, out);
     return std::nullopt;
+}
+
+void pinGarment(const Garment& garment, const GarmentMesh& mesh, const DrapeSettings& settings,
+                double drapeTime, AssembledGarment& out) {
+    sim::SceneSpec& scene = out.scene;
+    scene.pins.clear();
+    scene.drives.clear();
+    out.pins.clear();
+    std::vector<char> held(out.panelOffsets.empty() ? 0 : out.panelOffsets.back(), 0);
+    for (std::size_t p = 0; p < garment.panels.size() && p < mesh.panels.size(); ++p) {
+        const Panel& panel = garment.panels[p];
+        const PanelMesh& pm = mesh.panels[p];
+        const sim::ClothSpec& cloth = scene.cloths[p];
+        for (std::size_t k = 0; k < panel.pins.size(); ++k) {
+            const Pin& pin = panel.pins[k];
+            const double release = pin.releaseTime - drapeTime;
+            if (!(release > 0) || pm.pattern.rows() == 0) {
+                continue;
+            }
+            int vertex = -1;
+            if (pin.notch >= 0 && pin.notch < static_cast<int>(pm.notchVertices.size())) {
+                vertex = pm.notchVertices[static_cast<std::size_t>(pin.notch)];
+            } else {
+                (pm.pattern.rowwise() - pin.point.transpose())
+                    .rowwise()
+                    .squaredNorm()
+                    .minCoeff(&vertex);
+            }
+            const int global = out.panelOffsets[p] + vertex;
+            if (held[static_cast<std::size_t>(global)] != 0) {
+                continue;
+            }
+            held[static_cast<std::size_t>(global)] = 1;
+            HeldPin h;
+            h.panel = static_cast<int>(p);
+            h.pin = static_cast<int>(k);
+            h.hold.vertex = global;
+            h.hold.releaseTime = std::isfinite(release) ? release : 1e300;
+            const sim::Vec3 start = cloth.position.row(vertex).transpose();
+            h.hold.times = {0.0};
+            h.hold.positions = {start};
+            const double arrival = settings.sewingTime - drapeTime;
+            if (pin.position) {
+                if (arrival > 0) {
+                    h.hold.times.push_back(arrival);
+                    h.hold.positions.push_back(*pin.position);
+                } else {
+                    h.hold.positions = {*pin.position};
+                }
+            }
+            if (!pin.position && !std::isfinite(release)) {
+                scene.pins.push_back(global);
+            } else {
+                scene.drives.push_back(h.hold);
+            }
+            out.pins.push_back(std::move(h));
+        }
+    }
+}
+
+PinFigures pinFigures(const AssembledGarment& assembled, const sim::MatX3& x, double time) {
+    PinFigures f;
+    for (const HeldPin& h : assembled.pins) {
+        if (!sim::driveActive(h.hold, time) || h.hold.vertex >= x.rows()) {
+            continue;
+        }
+        ++f.holding;
+        const sim::Vec3 at = sim::samplePath(h.hold, time).position;
+        f.largestDisplacement =
+            std::max(f.largestDisplacement, (x.row(h.hold.vertex).transpose() - at).norm());
+    }
+    return f;
 }
 
 std::vector<ForcedWeld> forcedWelds(const Garment& garment, const AssembledGarment& assembled,

@@ -13,6 +13,14 @@
 
 namespace atelier::patterns {
 
+/// A garment pin resolved to a vertex: `hold.vertex` (global) follows `hold`'s path in the
+/// simulation's time (still, or moving to the pin's position) until `hold.releaseTime`.
+struct HeldPin {
+    int panel = 0; ///< garment panel index
+    int pin = 0;   ///< index in the panel's pins
+    sim::Drive hold;
+};
+
 /// The scene of a drape and how its cloths map back to the garment.
 struct AssembledGarment {
     sim::SceneSpec scene;
@@ -21,6 +29,8 @@ struct AssembledGarment {
     /// Per scene seam pair: its entry in GarmentMesh::seamOfPair (the garment seam, or
     /// −1 − panel for a dart).
     std::vector<int> pairSeam;
+    /// The garment's pins resolved to vertices (pinGarment).
+    std::vector<HeldPin> pins;
 };
 
 /// Builds the scene: one cloth per panel (rest shape in its material frame, start positions
@@ -30,6 +40,24 @@ struct AssembledGarment {
 std::optional<std::string> assembleGarment(const Garment& garment, const GarmentMesh& mesh,
                                            const Body& body, const DrapeSettings& settings,
                                            AssembledGarment& out);
+
+/// Holds the garment's pins on `out`'s scene, whose cloths start where the simulation starts,
+/// at drape time `drapeTime` [s] (0 for a new drape; later when a drape is rebuilt from where
+/// it is). Each pin holds the panel vertex nearest its point (or its notch's vertex); a pin
+/// with a position moves there in a straight line, arriving at the end of the sewing time; a
+/// pin released before `drapeTime` is left out; a vertex pinned twice is held by the first.
+/// Still pins for good become engine pins (inverse mass 0), the others drives. Replaces the
+/// scene's pins and drives.
+void pinGarment(const Garment& garment, const GarmentMesh& mesh, const DrapeSettings& settings,
+                double drapeTime, AssembledGarment& out);
+
+/// The garment pins holding at simulation time `time` [s], and the largest distance of a
+/// pinned vertex from where its pin holds it at positions x (|V|×3) [m] (0 when none).
+struct PinFigures {
+    int holding = 0;
+    double largestDisplacement = 0;
+};
+PinFigures pinFigures(const AssembledGarment& assembled, const sim::MatX3& x, double time);
 
 /// A seam (or dart) that sewing did not close: its widest pair welded by force.
 struct ForcedWeld {

@@ -1,6 +1,7 @@
 #include "patterns/document.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <set>
 
@@ -164,6 +165,19 @@ void dumpPanel(std::string& out, const doc::Panel& p) {
         appendNumber(out, n.t);
         out += '\n';
     }
+    for (const doc::Pin& pin : p.pins) {
+        out += "  pin";
+        appendId(out, pin.id.value);
+        appendVec(out, pin.point);
+        appendId(out, pin.notch.value);
+        if (pin.position) {
+            appendNumber(out, pin.position->x());
+            appendNumber(out, pin.position->y());
+            appendNumber(out, pin.position->z());
+        }
+        appendNumber(out, pin.releaseTime);
+        out += '\n';
+    }
 }
 
 } // namespace
@@ -262,6 +276,13 @@ doc::Panel panelFromDrawing(GarmentDocument& d, const Panel& drawn) {
         const NotchId id = d.newId<NotchId>();
         p.notches.push_back({id, edgeAt(n.segment), n.t});
     }
+    for (const patterns::Pin& pin : drawn.pins) {
+        const PinId id = d.newId<PinId>();
+        const NotchId notch = pin.notch >= 0 && pin.notch < static_cast<int>(p.notches.size())
+                                  ? p.notches[static_cast<std::size_t>(pin.notch)].id
+                                  : NotchId{};
+        p.pins.push_back({id, pin.point, notch, pin.position, pin.releaseTime});
+    }
     p.grainAngle = drawn.grainAngle;
     p.material = drawn.material;
     p.side = drawn.side;
@@ -328,6 +349,15 @@ Garment toGarment(const GarmentDocument& d) {
         }
         for (const doc::Notch& n : p.notches) {
             out.notches.push_back({outlineEdgeIndex(p, n.edge), n.t});
+        }
+        for (const doc::Pin& pin : p.pins) {
+            patterns::Pin drawn{pin.point, -1, pin.position, pin.releaseTime};
+            for (std::size_t n = 0; n < p.notches.size() && pin.notch; ++n) {
+                if (p.notches[n].id == pin.notch) {
+                    drawn.notch = static_cast<int>(n);
+                }
+            }
+            out.pins.push_back(drawn);
         }
         out.grainAngle = p.grainAngle;
         out.material = p.material;
@@ -416,6 +446,17 @@ Result<void> checkDocument(const GarmentDocument& d) {
             claim(n.id.value, w);
             if (outlineEdgeIndex(p, n.edge) < 0 || !(n.t >= 0 && n.t <= 1)) {
                 fail(w, "notch #" + std::to_string(n.id.value) + ": not on an outline edge");
+            }
+        }
+        for (const doc::Pin& pin : p.pins) {
+            claim(pin.id.value, w);
+            const bool notchFound =
+                !pin.notch || std::any_of(p.notches.begin(), p.notches.end(),
+                                          [&](const doc::Notch& n) { return n.id == pin.notch; });
+            if (!notchFound || !pin.point.allFinite() ||
+                (pin.position && !pin.position->allFinite()) || std::isnan(pin.releaseTime)) {
+                fail(w, "pin #" + std::to_string(pin.id.value) +
+                            ": not on a notch of the panel, or a value not finite");
             }
         }
     }

@@ -14,6 +14,8 @@
 
 #include <compare>
 #include <cstdint>
+#include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,6 +37,7 @@ using LineId = Id<struct LineTag>;
 using DartId = Id<struct DartTag>;
 using NotchId = Id<struct NotchTag>;
 using SeamId = Id<struct SeamTag>;
+using PinId = Id<struct PinTag>;
 
 namespace doc {
 
@@ -95,6 +98,16 @@ struct Notch {
     double t = 0.5;
 };
 
+/// A point of the panel held while the garment drapes (as patterns::Pin): the vertex nearest
+/// `point`, or the vertex of notch `notch` when set.
+struct Pin {
+    PinId id;
+    Vec2 point = Vec2::Zero();    ///< in the pattern plane [m]; unused with a notch
+    NotchId notch;                ///< a notch of the panel, or none
+    std::optional<Vec3> position; ///< where it is held, body frame [m]; none: where placed
+    double releaseTime = std::numeric_limits<double>::infinity(); ///< drape time [s]
+};
+
 struct Panel {
     PanelId id;
     std::string name; ///< unique in the document; nothing refers to it
@@ -103,6 +116,7 @@ struct Panel {
     std::vector<InternalLine> internalLines;
     std::vector<Dart> darts;
     std::vector<Notch> notches;
+    std::vector<Pin> pins;
     double grainAngle = 1.5707963267948966; ///< warp direction [rad from +x]
     std::string material;                   ///< a fabric of the document's materials
     PanelSide side = PanelSide::Front;
@@ -174,7 +188,8 @@ doc::Panel panelFromDrawing(GarmentDocument& document, const Panel& drawn);
 
 /// Checks every reference: ids unique and below `nextId`, seams on existing panels' outline
 /// edges with t in [0, 1], darts on consecutive outline edges, notches on outline edges,
-/// contours of ≥ 3 points, panel names unique and non-empty.
+/// contours of ≥ 3 points, panel names unique and non-empty, pins on a notch of their panel
+/// (or at a finite point) with a finite position and a release time that is not NaN.
 Result<void> checkDocument(const GarmentDocument& document);
 
 /// A deterministic text dump of the whole document, ids included, every number written

@@ -1,6 +1,7 @@
 #include "patterns/document_edit.h"
 
 #include "patterns/curve.h"
+#include "patterns/mesh.h"
 
 #include <algorithm>
 #include <cmath>
@@ -582,6 +583,9 @@ Result<Edit> mirrorPanel(GarmentDocument& d, PanelId panel) {
                       for (doc::Notch& n : p->notches) {
                           n.t = 1 - n.t;
                       }
+                      for (doc::Pin& pin : p->pins) {
+                          pin.point.x() = 2 * axis - pin.point.x();
+                      }
                       p->grainAngle = M_PI - p->grainAngle;
                       for (doc::Seam& s : doc.seams) {
                           for (auto* side : {&s.a, &s.b}) {
@@ -646,6 +650,55 @@ Result<Edit> placePanel(GarmentDocument& d, PanelId panel, const Placement& plac
                       p->placement = placement;
                       return 0U;
                   });
+}
+
+Result<Edit> addPin(GarmentDocument& d, PanelId panel, const doc::Pin& pin) {
+    return record(
+        d, "pin panel #" + std::to_string(panel.value), {panel}, {},
+        [&](GarmentDocument& doc) -> Result<std::uint32_t> {
+            doc::Panel* p = doc.panel(panel);
+            if (p == nullptr) {
+                return editError(panelWhere(panel), "no such panel");
+            }
+            if (pin.notch) {
+                if (std::none_of(p->notches.begin(), p->notches.end(),
+                                 [&](const doc::Notch& n) { return n.id == pin.notch; })) {
+                    return editError(panelWhere(panel),
+                                     "no notch #" + std::to_string(pin.notch.value));
+                }
+            } else {
+                GarmentDocument one;
+                one.panels.push_back(*p);
+                if (!insidePanel(toGarment(one).panels.front(), pin.point)) {
+                    return editError(panelWhere(panel), "the pin's point is not inside the panel");
+                }
+            }
+            if ((pin.position && !(pin.position->cwiseAbs().maxCoeff() <= MAX_PIN_POSITION)) ||
+                !(pin.releaseTime >= 0)) {
+                return editError(panelWhere(panel),
+                                 "a pin's position must be within 10 m of the "
+                                 "body's origin and its release time at least 0");
+            }
+            doc::Pin added = pin;
+            added.id = doc.newId<PinId>();
+            p->pins.push_back(added);
+            return added.id.value;
+        });
+}
+
+Result<Edit> removePin(GarmentDocument& d, PanelId panel, PinId pin) {
+    return record(
+        d, "unpin #" + std::to_string(pin.value), {panel}, {},
+        [&](GarmentDocument& doc) -> Result<std::uint32_t> {
+            doc::Panel* p = doc.panel(panel);
+            if (p == nullptr) {
+                return editError(panelWhere(panel), "no such panel");
+            }
+            if (std::erase_if(p->pins, [&](const doc::Pin& q) { return q.id == pin; }) == 0) {
+                return editError(panelWhere(panel), "no pin #" + std::to_string(pin.value));
+            }
+            return 0U;
+        });
 }
 
 } // namespace atelier::patterns

@@ -99,4 +99,12 @@ Result<Edit> renamePanel(GarmentDocument& document, PanelId panel, std::string n
 /// Places a panel on a body slot.
 Result<Edit> placePanel(GarmentDocument& document, PanelId panel, const Placement& placement);
 
+/// Pins a point of a panel (`pin`'s id is ignored; a new one is handed out and is `created`).
+/// The point must lie inside the panel, or the notch be one of the panel's; a position must be
+/// finite and a release time at least 0.
+Result<Edit> addPin(GarmentDocument& document, PanelId panel, const doc::Pin& pin);
+
+/// Removes a pin of a panel.
+Result<Edit> removePin(GarmentDocument& document, PanelId panel, PinId pin);
+
 } // namespace atelier::patterns

@@ -150,6 +150,10 @@ Result<void> DrapeSession::build(const Start& start) {
             scene.cloths[p].position = start.positions[p];
         }
     }
+    if (!start.positions.empty()) {
+        // The pins hold from where the cloth is now, their paths and releases in drape time.
+        pinGarment(m_project.garment, m_mesh, m_project.drape, time(), assembled);
+    }
     auto simulation = std::make_unique<sim::Simulation>(scene);
     if (!simulation->error().empty()) {
         return sessionError(simulation->error());
@@ -392,7 +396,70 @@ DrapeFigures DrapeSession::figures() const {
     f.startPenetration = m_startPenetration;
     f.forcedWelds = forcedWelds(m_project.garment, m_assembled, s.stats().forcedWeldGaps);
     f.seamPairs = static_cast<long>(m_assembled.scene.seams.size());
+    const PinFigures pins = pinFigures(m_assembled, s.positions(), s.time());
+    f.pins = pins.holding;
+    f.pinDisplacementMax = pins.largestDisplacement;
     return f;
+}
+
+Result<PinnedVertex> DrapeSession::pinVertex(int vertex) {
+    if (!m_simulation || m_phase.load() == DrapePhase::Failed) {
+        return sessionError("nothing is draped to pin");
+    }
+    const std::vector<int>& offsets = m_assembled.panelOffsets;
+    if (vertex < 0 || offsets.empty() || vertex >= offsets.back()) {
+        return sessionError("no garment vertex " + std::to_string(vertex));
+    }
+    if (m_simulation->pinned(vertex) ||
+        std::any_of(m_assembled.pins.begin(), m_assembled.pins.end(),
+                    [&](const HeldPin& h) { return h.hold.vertex == vertex; })) {
+        return sessionError("vertex " + std::to_string(vertex) + " is already pinned");
+    }
+    const auto panel = static_cast<std::size_t>(
+        std::upper_bound(offsets.begin(), offsets.end(), vertex) - offsets.begin() - 1);
+    const int local = vertex - offsets[panel];
+    if (!m_simulation->pin(vertex)) {
+        return sessionError("the engine could not pin vertex " + std::to_string(vertex));
+    }
+    Pin pin;
+    pin.point = m_mesh.panels[panel].pattern.row(local).transpose();
+    pin.position = m_simulation->positions().row(vertex).transpose();
+    std::vector<Pin>& pins = m_project.garment.panels[panel].pins;
+    pins.push_back(pin);
+    HeldPin held;
+    held.panel = static_cast<int>(panel);
+    held.pin = static_cast<int>(pins.size()) - 1;
+    held.hold.vertex = vertex;
+    held.hold.times = {0.0};
+    held.hold.positions = {*pin.position};
+    m_assembled.pins.push_back(held);
+    return PinnedVertex{held.panel, held.pin, pin};
+}
+
+Result<PinnedVertex> DrapeSession::unpinVertex(int vertex) {
+    const auto it = std::find_if(m_assembled.pins.begin(), m_assembled.pins.end(),
+                                 [&](const HeldPin& h) { return h.hold.vertex == vertex; });
+    if (!m_simulation || it == m_assembled.pins.end()) {
+        return sessionError("vertex " + std::to_string(vertex) + " is not pinned");
+    }
+    const HeldPin held = *it;
+    std::vector<Pin>& pins = m_project.garment.panels[static_cast<std::size_t>(held.panel)].pins;
+    const Pin removed = pins[static_cast<std::size_t>(held.pin)];
+    pins.erase(pins.begin() + held.pin);
+    if (m_simulation->unpin(vertex)) {
+        m_assembled.pins.erase(it);
+        for (HeldPin& h : m_assembled.pins) {
+            if (h.panel == held.panel && h.pin > held.pin) {
+                --h.pin;
+            }
+        }
+    } else if (auto r = continueDrape("unpinned"); !r.ok()) {
+        // A drive (a pin that moves or lets go) is not an engine pin: the drape continues
+        // from where it is without it.
+        pins.insert(pins.begin() + held.pin, removed);
+        return r.error();
+    }
+    return PinnedVertex{held.panel, held.pin, removed};
 }
 
 // ---- Edits ----

@@ -78,6 +78,18 @@ struct DrapeFigures {
     double minAngleDeg = 0; ///< smallest triangle angle of the meshes [deg]
     int panelsMeshed = 0;   ///< panels triangulated by the last prepare (the rest reused)
     std::string error;      ///< why the drape failed, if it did
+    int pins = 0;           ///< garment pins holding now
+    /// Largest distance of a pinned vertex from where its pin holds it now [m]: 0 unless the
+    /// engine let a held vertex move.
+    double pinDisplacementMax = 0;
+};
+
+/// A pin the window added or removed: garment panel index, its index in the panel's pins, and
+/// the pin.
+struct PinnedVertex {
+    int panel = 0;
+    int index = 0;
+    Pin pin;
 };
 
 /// Supplies the body a project drapes on (the io layer loads mesh bodies and builds the
@@ -142,6 +154,16 @@ class DrapeSession {
     void setPublishing(bool on);
     /// Any thread may read() the latest snapshot from here, across restarts.
     sim::SnapshotBuffer& snapshots() { return m_snapshots; }
+
+    /// Pins garment vertex `vertex` (global) where it is now: the engine holds it from the next
+    /// step, and the project's garment gains the pin (the vertex's pattern point, held at its
+    /// present position) so that rebuilds keep it. Errors when nothing is draped, the vertex is
+    /// not the garment's or is already pinned.
+    Result<PinnedVertex> pinVertex(int vertex);
+    /// Removes the garment pin holding `vertex`: an engine pin lets go from the next step; a
+    /// pin that moves or lets go later (a drive) continues the drape without it. Returns the
+    /// pin removed.
+    Result<PinnedVertex> unpinVertex(int vertex);
 
     // ---- Edits that keep the drape (as commercial tools do) ----
     // Each builds a new simulation from the current positions: velocities, grabs, pins and

@@ -6,6 +6,7 @@
 #include "sim/core/types.h"
 #include "sim/material.h"
 
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -58,6 +59,19 @@ struct Notch {
     double t = 0.5; ///< curve parameter on the segment [0, 1]
 };
 
+/// A point of a panel held while the garment drapes: the mesh vertex nearest `point` (or the
+/// vertex of notch `notch`) is held where the panel is placed, or moved to `position`, until
+/// `releaseTime`. A held vertex has inverse mass 0: nothing the cloth does moves it.
+struct Pin {
+    Vec2 point = Vec2::Zero(); ///< in the pattern plane, as drawn [m]; unused with a notch
+    int notch = -1;            ///< index of one of the panel's notches, or −1 (use `point`)
+    /// Where the vertex is held, in the body's frame [m]: reached in a straight line over the
+    /// sewing time from where it is placed. None: held where it is placed.
+    std::optional<Vec3> position;
+    /// Drape time at which the pin lets go [s]; infinity: never.
+    double releaseTime = std::numeric_limits<double>::infinity();
+};
+
 /// Which side of the fabric faces away from the body. A `Back` panel is the mirror image of
 /// its drawing (cut from the fabric turned over), so one drawing gives left and right pieces.
 enum class PanelSide { Front, Back };
@@ -77,6 +91,7 @@ struct Panel {
     std::vector<InternalLine> internalLines;
     std::vector<Dart> darts;
     std::vector<Notch> notches;
+    std::vector<Pin> pins;
     /// Direction of the warp (grain line) in the pattern plane [rad from +x]; the material
     /// frame is weft = warp rotated by −90°.
     double grainAngle = 1.5707963267948966;

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
 #include <set>
@@ -203,6 +204,35 @@ double snap(const std::set<double>& ts, double t) {
 
 } // namespace
 
+bool insidePanel(const Panel& panel, const Vec2& point) {
+    // A point on a contour counts as inside: pins go on corners and edges as often as not.
+    const auto nearContour = [&](const std::vector<Vec2>& poly) {
+        for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+            const Vec2 d = poly[i] - poly[j];
+            const double t =
+                std::clamp((point - poly[j]).dot(d) / std::max(d.squaredNorm(), 1e-30), 0.0, 1.0);
+            if ((poly[j] + t * d - point).norm() <= PIN_CONTOUR_TOLERANCE) {
+                return true;
+            }
+        }
+        return false;
+    };
+    if (!point.allFinite() || panel.outline.empty()) {
+        return false;
+    }
+    const std::vector<Vec2> outline = flatten(panel.outline, 32).points;
+    if (!insidePolygon(outline, point) && !nearContour(outline)) {
+        return false;
+    }
+    return std::none_of(panel.holes.begin(), panel.holes.end(), [&](const Loop& hole) {
+        if (hole.empty()) {
+            return false;
+        }
+        const std::vector<Vec2> poly = flatten(hole, 32).points;
+        return insidePolygon(poly, point) && !nearContour(poly);
+    });
+}
+
 std::vector<GarmentIssue> validateGarment(const Garment& garment) {
     std::vector<GarmentIssue> issues;
     for (std::size_t p = 0; p < garment.panels.size(); ++p) {
@@ -290,6 +320,27 @@ std::vector<GarmentIssue> validateGarment(const Garment& garment) {
                 issues.push_back({w + "/segment", "no such outline segment"});
             } else if (!(notch.t >= 0 && notch.t <= 1)) {
                 issues.push_back({w + "/t", "must be within [0, 1]"});
+            }
+        }
+        for (std::size_t k = 0; k < panel.pins.size(); ++k) {
+            const Pin& pin = panel.pins[k];
+            const std::string w = pointer(pi, "/pins/" + std::to_string(k));
+            if (pin.notch >= static_cast<int>(panel.notches.size())) {
+                issues.push_back({w + "/notch", "no such notch on panel \"" + panel.name + "\""});
+            } else if (pin.notch < 0 && !insidePanel(panel, pin.point)) {
+                char at[96];
+                std::snprintf(at, sizeof at, "(%.6g, %.6g) mm", pin.point.x() * 1e3,
+                              pin.point.y() * 1e3);
+                issues.push_back({w + "/at", std::string("pin point ") + at +
+                                                 " is not inside panel \"" + panel.name + "\""});
+            }
+            if (pin.position && !(pin.position->cwiseAbs().maxCoeff() <= MAX_PIN_POSITION)) {
+                issues.push_back({w + "/position_mm",
+                                  "must be finite and within 10 m of the body's origin "
+                                  "(positions are millimetres)"});
+            }
+            if (!(pin.releaseTime >= 0)) {
+                issues.push_back({w + "/release_s", "must be a time of at least 0"});
             }
         }
         if (!std::isfinite(panel.grainAngle)) {

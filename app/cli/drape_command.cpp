@@ -183,6 +183,9 @@ io::ReportFields drapeReportFields(const DrapeOptions& options,
         {"drape_time_s", f.time}, // simulated time reached, however the drape ended
         {"kinetic_energy_per_vertex_j", f.kineticEnergyPerVertex},
         {"start_penetration_m", f.startPenetration},
+        {"pins", static_cast<std::int64_t>(f.pins)},
+        // Largest distance of a pinned vertex from where its pin holds it: 0 when pins hold.
+        {"pin_displacement_max_m", f.pinDisplacementMax},
         {"warnings", static_cast<std::int64_t>(warnings.size())},
         {"warning_messages", warnings},
         {"total_wall_time_s", totalSeconds},

@@ -7,6 +7,8 @@
 #include "ui/render/ambient_occlusion.h"
 #include "ui/render/overlays.h"
 
+#include "sim/constraints/kinematic.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -39,6 +41,7 @@ render::Scene garmentScene(const DrapedGarment& g) {
         }
     }
     scene.meshes.push_back(std::move(garment));
+    scene.pins = g.pins;
     if (g.bodyTriangles.rows() > 0) {
         render::DrawMesh body;
         body.kind = render::MeshKind::Body;
@@ -110,6 +113,19 @@ DrapedGarment sessionGarment(const patterns::DrapeSession& session) {
     g.uvs = obj.options.uvs;
     g.bodyPositions = session.body().vertices;
     g.bodyTriangles = session.body().triangles;
+    // Pins still holding (a released pin no longer marks the cloth).
+    const patterns::AssembledGarment& assembled = session.assembled();
+    const double time = session.simulation() != nullptr ? session.simulation()->time() : 0.0;
+    std::vector<int> held;
+    for (const patterns::HeldPin& pin : assembled.pins) {
+        if (sim::driveActive(pin.hold, time) && pin.hold.vertex < g.positions.rows()) {
+            held.push_back(pin.hold.vertex);
+        }
+    }
+    g.pins.resize(static_cast<Eigen::Index>(held.size()), 3);
+    for (std::size_t k = 0; k < held.size(); ++k) {
+        g.pins.row(static_cast<Eigen::Index>(k)) = g.positions.row(held[k]);
+    }
     // Seam edges: boundary edges of a panel whose two ends are sewn by one seam (or dart).
     const patterns::GarmentMesh& mesh = session.mesh();
     const std::vector<int>& offsets = session.assembled().panelOffsets;

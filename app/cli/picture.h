@@ -46,6 +46,7 @@ struct DrapedGarment {
     sim::MatX2i seams; ///< (|E|×2) seam edges known from a project; empty = found by position
     sim::MatX3 bodyPositions;  ///< (|B|×3) [m], or empty
     sim::MatX3i bodyTriangles; ///< or empty
+    sim::MatX3 pins;           ///< (|P|×3) pinned vertices [m], marked with pinheads; or empty
 };
 
 /// The garment of a drape session as it is now (seams from its sewing), and its body.

@@ -45,6 +45,7 @@ struct BatchOptions {
     double strainRangePct = 10;
     double weaveMm = 0;            ///< --weave [mm]
     bool ambientOcclusion = false; ///< --ambient-occlusion
+    bool noPins = false;           ///< --no-pins
     double contactThicknessMm = -1;
     int threads = 0;
     double timeLimit = -1;
@@ -157,6 +158,7 @@ std::optional<std::string> parseOptions(const BatchOptions& o, PictureOptions& p
     pictures.strainRange = o.strainRangePct / 100;
     pictures.weavePeriodMm = o.weaveMm;
     pictures.ambientOcclusion = o.ambientOcclusion;
+    pictures.render.pins = !o.noPins;
     if (o.contactThicknessMm > 0) {
         pictures.contactThickness = o.contactThicknessMm / 1000;
     }
@@ -367,6 +369,8 @@ void addRenderBatchCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--overlay", options->overlay,
                     "wireframe, strain, seams or contact (as for render)");
+    cmd->add_flag("--no-pins", options->noPins,
+                  "Leave out the pinheads drawn where a project's pins hold the cloth");
     cmd->add_flag("--ambient-occlusion", options->ambientOcclusion,
                   "Darken creases, armpits and cloth close to the body (computed per vertex on "
                   "the CPU before drawing)");

@@ -41,6 +41,7 @@ struct RenderCommandOptions {
     double strainRangePct = 10;     ///< --strain-range [%]
     double weaveMm = 0;             ///< --weave [mm]; 0 = none
     bool ambientOcclusion = false;  ///< --ambient-occlusion
+    bool noPins = false;            ///< --no-pins
     double contactThicknessMm = -1; ///< --contact-thickness [mm]; < 0 = the project's or 4 mm
     std::string framesDir;          ///< --frames-dir: render every frame OBJ in it
     std::string body;               ///< --body: the body of the frames (static)
@@ -80,6 +81,7 @@ std::optional<std::string> parsePictureOptions(const RenderCommandOptions& o, Pi
     out.strainRange = o.strainRangePct / 100;
     out.weavePeriodMm = o.weaveMm;
     out.ambientOcclusion = o.ambientOcclusion;
+    out.render.pins = !o.noPins;
     if (o.contactThicknessMm > 0) {
         out.contactThickness = o.contactThicknessMm / 1000;
     }
@@ -334,6 +336,8 @@ void addRenderCommand(CLI::App& app) {
     cmd->add_flag("--ambient-occlusion", options->ambientOcclusion,
                   "Darken creases, armpits and cloth close to the body (computed per vertex on "
                   "the CPU before drawing)");
+    cmd->add_flag("--no-pins", options->noPins,
+                  "Leave out the pinheads drawn where a project's pins hold the cloth");
     cmd->add_option("--weave", options->weaveMm,
                     "A plain weave drawn through the pattern UVs, threads this far apart [mm] "
                     "(warp along the UVs' v axis)")

@@ -48,6 +48,20 @@ TEST(Cli, SimulateWritesMeshAndReport) {
     }
 }
 
+TEST(Cli, TheDrapeReportCountsPinsAndTheirDisplacement) {
+    test::TempDir dir;
+    const auto report = dir / "report.json";
+    const CliRun run =
+        runCli(dir, "drape \"" ATELIER_SOURCE_DIR "/assets/examples/apron-on-pins.atelier\" "
+                    "--particle-distance 40 --time-limit 0.3 --threads 1 --report \"" +
+                        report.string() + "\"");
+    ASSERT_TRUE(std::filesystem::exists(report)) << run.stderrText;
+    const auto json = nlohmann::json::parse(test::readText(report));
+    EXPECT_EQ(json["pins"], 2);
+    EXPECT_EQ(json["pin_displacement_max_m"], 0.0) << "pinned vertices never move";
+    EXPECT_EQ(json["finite"], true);
+}
+
 TEST(Cli, BadSceneExitsWithTwoAndNamesTheJsonPath) {
     test::TempDir dir;
     std::string text = TINY_SCENE;

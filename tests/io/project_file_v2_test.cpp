@@ -10,8 +10,10 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <filesystem>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace atelier::io {
@@ -282,6 +284,69 @@ TEST(ProjectFileV2, GeometryIssuesNameVersion2Pointers) {
     ASSERT_FALSE(result.ok());
     EXPECT_EQ(result.error().where.rfind("/panels/0/holes/0/contour/", 0), 0U)
         << result.error().toString();
+}
+
+TEST(ProjectFileV2, PinsRoundTripAndBadPinsNameTheirPointer) {
+    json doc = v2Json();
+    const json notch = doc["panels"][0]["notches"][0]["id"];
+    doc["panels"][1]["pins"] = json::parse(R"([{"id": 900, "at": [-200, 400]},
+        {"id": 901, "at": [0, 200], "position_mm": [10, 1200.5, 150], "release_s": 1.5}])");
+    doc["panels"][0]["pins"] = json::array({{{"id", 902}, {"notch", notch}}});
+    doc["next_id"] = 903;
+    const auto read = parse(doc.dump());
+    ASSERT_TRUE(read.ok()) << read.error().toString();
+    const patterns::Project& p = read.value();
+    ASSERT_EQ(p.document.panels[1].pins.size(), 2U);
+    const patterns::doc::Pin& moving = p.document.panels[1].pins[1];
+    EXPECT_EQ(moving.id.value, 901U);
+    EXPECT_EQ(moving.point, patterns::Vec2(0, 0.2));
+    ASSERT_TRUE(moving.position.has_value());
+    EXPECT_NEAR((*moving.position - sim::Vec3(0.01, 1.2005, 0.15)).norm(), 0, 1e-12);
+    EXPECT_EQ(moving.releaseTime, 1.5);
+    EXPECT_FALSE(std::isfinite(p.document.panels[1].pins[0].releaseTime));
+    EXPECT_EQ(p.document.panels[0].pins[0].notch.value, notch.get<std::uint32_t>());
+    ASSERT_EQ(p.garment.panels[0].pins.size(), 1U);
+    EXPECT_EQ(p.garment.panels[0].pins[0].notch, 0);
+    // Save, load, save: the same bytes; pins only where a panel has them.
+    const std::string saved = formatProject(p);
+    EXPECT_EQ(formatProject(parse(saved).value()), saved);
+    EXPECT_EQ(json::parse(saved)["panels"][1]["pins"], doc["panels"][1]["pins"]);
+    EXPECT_FALSE(json::parse(formatProject(parse(V1).value()))["panels"][0].contains("pins"))
+        << "a project without pins is saved as before";
+
+    const auto bad = [&](const std::string& pointer, const json& value) {
+        json d = doc;
+        d[json::json_pointer(pointer)] = value;
+        return parse(d.dump());
+    };
+    const std::vector<std::tuple<const char*, Result<patterns::Project>, const char*, const char*>>
+        cases = {
+            {"point outside", bad("/panels/1/pins/0/at", json::parse("[-300, 400]")),
+             "/panels/1/pins/0/at", "pin point (-300, 400) mm is not inside panel \"back\""},
+            {"unknown notch", bad("/panels/0/pins/0/notch", 999), "/panels/0/pins/0/notch",
+             "panel \"front\" has no notch with id 999"},
+            {"point and notch", bad("/panels/0/pins/0/at", json::parse("[0, 10]")),
+             "/panels/0/pins/0", "either \"at\""},
+            {"neither", bad("/panels/1/pins/0", json::parse(R"({"id": 900})")), "/panels/1/pins/0",
+             "either \"at\""},
+            {"negative release", bad("/panels/1/pins/1/release_s", -1),
+             "/panels/1/pins/1/release_s", "at least 0"},
+            {"position not a point", bad("/panels/1/pins/1/position_mm", json::parse("[1, 2]")),
+             "/panels/1/pins/1/position_mm", ""},
+            {"position too far", bad("/panels/1/pins/1/position_mm", json::parse("[0, 2e7, 0]")),
+             "/panels/1/pins/1/position_mm", "within 10 m of the body's origin"},
+            {"duplicate id", bad("/panels/1/pins/1/id", 900), "/panels/1/pins/1/id",
+             "duplicate id 900"},
+            {"unknown key", bad("/panels/1/pins/1/panel", 1), "/panels/1/pins/1/panel",
+             "unknown key"},
+        };
+    for (const auto& [label, result, where, fragment] : cases) {
+        SCOPED_TRACE(label);
+        ASSERT_FALSE(result.ok());
+        EXPECT_EQ(result.error().where, where) << result.error().toString();
+        EXPECT_NE(result.error().message.find(fragment), std::string::npos)
+            << result.error().toString();
+    }
 }
 
 } // namespace

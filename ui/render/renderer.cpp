@@ -2,6 +2,7 @@
 
 #include "ui/render/renderer.h"
 
+#include "ui/render/pin_markers.h"
 #include "ui/render/shaders.h"
 
 #include "sim/mesh/vertex_normals.h"
@@ -279,6 +280,7 @@ struct Renderer::Impl {
     std::vector<GpuMesh> meshes;
     std::vector<GpuLines> lines;
     Eigen::AlignedBox3d bounds;
+    sim::MatX3 pins;               ///< marked over each picture (Scene::pins)
     Eigen::AlignedBox3d footprint; ///< the vertices in the lowest 10% of the content's height
     Targets targets;
 
@@ -371,8 +373,13 @@ Result<void> Renderer::setScene(const Scene& scene) {
     for (const DrawLines& lines : scene.lines) {
         m_impl->lines.push_back(upload(lines));
     }
+    m_impl->pins = scene.pins;
     m_impl->refreshBounds();
     return {};
+}
+
+void Renderer::setPins(const sim::MatX3& pins) {
+    m_impl->pins = pins;
 }
 
 void Renderer::Impl::refreshBounds() {
@@ -624,6 +631,9 @@ Result<io::RgbaImage> Renderer::render(const RenderOptions& options, const Camer
         char hex[16];
         std::snprintf(hex, sizeof hex, "0x%04x", error);
         return glError(std::string("drawing failed (GL error ") + hex + ")");
+    }
+    if (options.pins && m_impl->pins.rows() > 0) {
+        drawPinMarkers(image, camera, m_impl->pins);
     }
     return image;
 }

@@ -6,7 +6,8 @@
 /// Look: smooth normals; a key light from the upper left, a cool fill from the right and a rim
 /// from behind (fixed to the camera, so every view is lit alike), hemisphere ambient (sky
 /// above, warm ground below); garments two-sided, body slightly glossy; a soft shadow on the
-/// floor under the content; optionally the garment's triangles as a wireframe overlay.
+/// floor under the content; optionally the garment's triangles as a wireframe overlay; pinheads
+/// over the picture where the scene has pins.
 
 #include "ui/render/camera.h"
 #include "ui/render/scene.h"
@@ -29,6 +30,7 @@ struct RenderOptions {
     bool wireframe = false;   ///< draw the garments' triangle edges over them
     bool groundShadow = true; ///< a soft shadow on the floor (y = the content's lowest point)
     int samples = 4;          ///< MSAA samples per pixel (clamped to what GL offers; 1 = none)
+    bool pins = true;         ///< mark the scene's pins with pinheads (Scene::pins)
 };
 
 class Renderer {
@@ -49,6 +51,8 @@ class Renderer {
     /// smooth normals computed from the triangles. The framing bounds follow the new positions.
     Result<void> updatePositions(int meshIndex, const sim::MatX3& positions,
                                  const sim::MatX3& normals = {});
+    /// Replaces the pinned points marked over the pictures (Scene::pins, (|P|×3) [m]).
+    void setPins(const sim::MatX3& pins);
     /// The box framing the views: every uploaded mesh vertex (empty when there is none).
     const Eigen::AlignedBox3d& bounds() const;
     /// Draws the uploaded scene from `options.view` and returns the picture (top row first).

@@ -62,6 +62,9 @@ struct DrawLines {
 struct Scene {
     std::vector<DrawMesh> meshes;
     std::vector<DrawLines> lines; ///< drawn after the meshes; not part of the framing bounds
+    /// (|P|×3) pinned points [m], marked with a pinhead over the picture (pin_markers.h);
+    /// not part of the framing bounds.
+    sim::MatX3 pins;
 };
 
 /// The axis-aligned box around every vertex of the scene (empty when it has none).

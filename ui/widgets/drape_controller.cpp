@@ -3,6 +3,8 @@
 #include "io/body_file.h"
 #include "io/project_file.h"
 
+#include "patterns/document_edit.h"
+
 #include <QMetaObject>
 
 namespace atelier::ui {
@@ -96,6 +98,91 @@ void DrapeController::release() {
     });
 }
 
+void DrapeController::pin(int vertex) {
+    post([this, vertex] {
+        auto pinned = m_session->pinVertex(vertex);
+        if (!pinned.ok()) {
+            const QString message = QString::fromStdString(pinned.error().toString());
+            QMetaObject::invokeMethod(this, [this, message] { emit failed(message); });
+            return;
+        }
+        const patterns::PinnedVertex& p = pinned.value();
+        const auto panel = static_cast<std::size_t>(p.panel);
+        patterns::doc::Pin pin;
+        pin.point = p.pin.point;
+        pin.position = p.pin.position;
+        // The session's garment and the document list a panel's pins in the same order.
+        m_project.garment.panels[panel].pins.push_back(p.pin);
+        if (auto edit =
+                patterns::addPin(m_project.document, m_project.document.panels[panel].id, pin);
+            !edit.ok()) {
+            // A vertex's own pattern point always lies on its panel: this does not happen.
+            const QString message = QString::fromStdString(edit.error().toString());
+            QMetaObject::invokeMethod(this, [this, message] { emit failed(message); });
+        }
+        publishPins();
+    });
+}
+
+void DrapeController::unpin(int vertex) {
+    post([this, vertex] {
+        const sim::Simulation* before = m_session->simulation();
+        auto unpinned = m_session->unpinVertex(vertex);
+        if (m_session->simulation() != before) {
+            m_grab = 0; // the drape was rebuilt without the pin: it holds no grab
+        }
+        if (!unpinned.ok()) {
+            const QString message = QString::fromStdString(unpinned.error().toString());
+            QMetaObject::invokeMethod(this, [this, message] { emit failed(message); });
+            return;
+        }
+        const patterns::PinnedVertex& p = unpinned.value();
+        const auto panel = static_cast<std::size_t>(p.panel);
+        auto& garmentPins = m_project.garment.panels[panel].pins;
+        auto& docPanel = m_project.document.panels[panel];
+        if (p.index < static_cast<int>(garmentPins.size()) &&
+            p.index < static_cast<int>(docPanel.pins.size())) {
+            garmentPins.erase(garmentPins.begin() + p.index);
+            (void)patterns::removePin(m_project.document, docPanel.id,
+                                      docPanel.pins[static_cast<std::size_t>(p.index)].id);
+        }
+        publishPins();
+        if (m_session->phase() != patterns::DrapePhase::Failed) {
+            m_session->wake(); // the cloth it held may fall
+            m_running.store(true);
+        }
+    });
+}
+
+std::vector<int> DrapeController::pinnedVertices(double time) const {
+    const std::lock_guard lock(m_mutex);
+    std::vector<int> out;
+    for (const auto& [vertex, release] : m_pinned) {
+        if (time < release) {
+            out.push_back(vertex);
+        }
+    }
+    return out;
+}
+
+patterns::GarmentDocument DrapeController::document() const {
+    const std::lock_guard lock(m_mutex);
+    return m_document;
+}
+
+void DrapeController::publishPins() {
+    std::vector<std::pair<int, double>> pinned;
+    for (const patterns::HeldPin& h : m_session->assembled().pins) {
+        pinned.emplace_back(h.hold.vertex, h.hold.releaseTime);
+    }
+    {
+        const std::lock_guard lock(m_mutex);
+        m_pinned = std::move(pinned);
+        m_document = m_project.document;
+    }
+    QMetaObject::invokeMethod(this, [this] { emit pinsChanged(); });
+}
+
 bool DrapeController::snapshot(sim::Snapshot& out) {
     if (!m_stepped.load()) {
         return false;
@@ -178,6 +265,7 @@ void DrapeController::prepareOnWorker() {
     scene->bodyTriangles = m_session->body().triangles;
     scene->garment = garment;
     m_phase.store(static_cast<int>(m_session->phase()));
+    publishPins();
     QString path;
     {
         const std::lock_guard lock(m_mutex);

@@ -18,6 +18,8 @@
 #include <memory>
 #include <mutex>
 #include <thread>
+#include <utility>
+#include <vector>
 
 namespace atelier::ui {
 
@@ -70,6 +72,20 @@ class DrapeController : public QObject {
     /// Lets go of the cloth.
     void release();
 
+    /// Pins garment vertex `vertex` (global, as StaticScene's arrays) where it is now: the
+    /// engine holds it from the next step and the project's document gains the pin (its
+    /// pattern point, held at its present position), so saving or resetting keeps it.
+    void pin(int vertex);
+    /// Removes the pin holding `vertex` from the drape and the document; the drape runs so the
+    /// cloth can move again.
+    void unpin(int vertex);
+    /// Global vertices held by the garment's pins at simulated time `time` [s] (a snapshot's:
+    /// a pin whose release time has passed is left out), as of the last pin command or prepare
+    /// (any thread). All of them by default.
+    std::vector<int> pinnedVertices(double time = -1) const;
+    /// The project's garment document as the window has edited it (any thread).
+    patterns::GarmentDocument document() const;
+
     /// Copies the latest published snapshot (any thread); false when none since the prepare.
     bool snapshot(sim::Snapshot& out);
     /// The drape's figures now (any thread).
@@ -88,12 +104,16 @@ class DrapeController : public QObject {
     void finished(const QString& how);
     /// A sewing event (seams sewn, gravity on, at rest, ...), for the status bar.
     void event(const QString& message);
+    /// A pin was added or removed (pinnedVertices() and document() have changed).
+    void pinsChanged();
 
   private:
     void post(std::function<void()> command);
     void loop();
     void openOnWorker(const QString& path);
     void prepareOnWorker();
+    /// Copies the pinned vertices and the document for other threads (worker thread).
+    void publishPins();
 
     /// One session for the window's life (its snapshot buffer is read from the UI thread);
     /// opening a project gives it the new project. Stepped on the worker thread only.
@@ -105,6 +125,9 @@ class DrapeController : public QObject {
     std::atomic<bool> m_stepped{false};
     QString m_path;                              ///< guarded by m_mutex
     std::shared_ptr<const StaticScene> m_static; ///< guarded by m_mutex
+    /// Pinned vertices and their release times [s] (simulated); guarded by m_mutex.
+    std::vector<std::pair<int, double>> m_pinned;
+    patterns::GarmentDocument m_document; ///< guarded by m_mutex
 
     mutable std::mutex m_mutex;
     std::condition_variable m_wake;

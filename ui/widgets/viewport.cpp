@@ -1,6 +1,7 @@
 #include "ui/widgets/viewport.h"
 
 #include "ui/render/headless_context.h"
+#include "ui/render/pin_markers.h"
 #include "ui/render/renderer.h"
 #include "ui/render/scene.h"
 
@@ -62,6 +63,7 @@ Viewport::Viewport(DrapeController* drape, QWidget* parent) : QWidget(parent), m
     setAttribute(Qt::WA_OpaquePaintEvent);
     setMinimumSize(320, 320);
     connect(&m_poll, &QTimer::timeout, this, &Viewport::poll);
+    connect(m_drape, &DrapeController::pinsChanged, this, [this] { update(); });
     m_poll.start(33);
     m_fpsClock.start();
 }
@@ -181,6 +183,16 @@ void Viewport::draw() {
                                           live ? m_snapshot.clothNormals : sim::MatX3());
     }
     m_drawnVersion = live ? m_snapshot.version : 0;
+    // Pins still holding at the drawn snapshot's time (a released pin's head goes).
+    const std::vector<int> pinned = m_drape->pinnedVertices(live ? m_snapshot.time : 0.0);
+    sim::MatX3 pins(static_cast<Eigen::Index>(pinned.size()), 3);
+    Eigen::Index n = 0;
+    for (const int v : pinned) {
+        if (v >= 0 && v < m_drawnPositions.rows()) {
+            pins.row(n++) = m_drawnPositions.row(v);
+        }
+    }
+    m_renderer->setPins(pins.topRows(n));
 
     render::RenderOptions options;
     options.width = w;
@@ -282,8 +294,53 @@ bool Viewport::pick(const QPointF& at, sim::ClothPoint& point, Eigen::Vector3f& 
     return true;
 }
 
+std::optional<QPointF> Viewport::drawnAt(int vertex) const {
+    if (vertex < 0 || vertex >= m_drawnPositions.rows()) {
+        return std::nullopt;
+    }
+    const auto at = render::projectToPixel(camera(), m_drawnPositions.row(vertex).transpose(),
+                                           width(), height());
+    if (!at) {
+        return std::nullopt;
+    }
+    return QPointF(at->x(), at->y());
+}
+
+bool Viewport::togglePinAt(const QPointF& at) {
+    // A pinhead under the click unpins (heads are drawn over everything, so they win).
+    const double radius = render::pinRadiusPx(height()) + 2;
+    int nearest = -1;
+    double best = radius;
+    for (const int v : m_drape->pinnedVertices()) {
+        if (const auto p = drawnAt(v)) {
+            const double d = std::hypot(p->x() - at.x(), p->y() - at.y());
+            if (d <= best) {
+                best = d;
+                nearest = v;
+            }
+        }
+    }
+    if (nearest >= 0) {
+        m_drape->unpin(nearest);
+        return true;
+    }
+    sim::ClothPoint point;
+    Eigen::Vector3f hit;
+    if (!pick(at, point, hit)) {
+        return false;
+    }
+    int corner = 0;
+    point.barycentric.maxCoeff(&corner);
+    m_drape->pin(m_static->garmentTriangles(point.triangle, corner));
+    return true;
+}
+
 void Viewport::mousePressEvent(QMouseEvent* event) {
     m_lastMouse = event->position().toPoint();
+    if (event->button() == Qt::LeftButton && (event->modifiers() & Qt::AltModifier)) {
+        togglePinAt(event->position());
+        return;
+    }
     sim::ClothPoint point;
     Eigen::Vector3f hit;
     if (event->button() == Qt::LeftButton && pick(event->position(), point, hit)) {

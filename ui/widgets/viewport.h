@@ -5,7 +5,9 @@
 /// when the drape publishes a new snapshot (polled 30 times a second), orbits with the left
 /// mouse button, pans with the right (or middle) one and zooms with the wheel; the named views
 /// frame the content. Left-dragging the cloth grabs it (the drape runs and follows the mouse
-/// in the plane facing the camera); left-dragging elsewhere orbits.
+/// in the plane facing the camera); left-dragging elsewhere orbits. Alt+click on the cloth pins
+/// the vertex nearest the click where it is now; Alt+click on a pinhead unpins it. Pins are
+/// drawn as pinheads (render/pin_markers.h), always visible.
 
 #include "ui/render/camera.h"
 #include "ui/widgets/drape_controller.h"
@@ -16,6 +18,7 @@
 #include <QWidget>
 
 #include <memory>
+#include <optional>
 
 namespace atelier::render {
 class HeadlessContext;
@@ -38,6 +41,12 @@ class Viewport : public QWidget {
     double drawMilliseconds() const { return m_drawMs; }
     /// The last picture drawn (for File > Save picture and tests).
     QImage picture() const { return m_picture; }
+    /// Pins the cloth vertex nearest the garment point under `at` (widget coordinates), or
+    /// unpins the pin whose head is under it; what Alt+click does. False when there is neither.
+    bool togglePinAt(const QPointF& at);
+    /// Where garment vertex `vertex` was drawn last, in widget coordinates; nullopt when it
+    /// is not drawn.
+    std::optional<QPointF> drawnAt(int vertex) const;
     /// The renderer's error, if it could not start (no OpenGL 3.3).
     QString rendererError() const { return m_error; }
 

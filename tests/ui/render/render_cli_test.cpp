@@ -167,5 +167,51 @@ TEST_F(RenderCli, DrapeWritesAThumbnailAndRenderDrapesAProject) {
     EXPECT_EQ(image.value().width, 40);
 }
 
+/// Pixels of the pinhead's red (render/pin_markers.h): saturated, unlike the panel tones.
+int pinRedPixels(const io::RgbaImage& image) {
+    int n = 0;
+    for (int y = 0; y < image.height; ++y) {
+        for (int x = 0; x < image.width; ++x) {
+            const std::uint8_t* p = image.at(x, y);
+            n += p[0] > 170 && p[1] < 60 && p[2] < 70 ? 1 : 0;
+        }
+    }
+    return n;
+}
+
+TEST_F(RenderCli, AProjectsPinsAreDrawnAsPinheadsUnlessTurnedOff) {
+    if (!m_noContext.empty()) {
+        GTEST_SKIP() << m_noContext;
+    }
+    const std::string source = ATELIER_SOURCE_DIR;
+    const std::string drape = " --size 128x128 --view front --particle-distance 40 "
+                              "--time-limit 0.05 --threads 1";
+    const auto pinned = m_dir / "pinned.png";
+    CliRun run = runCli(m_dir, "render " + q(source + "/assets/examples/apron-on-pins.atelier") +
+                                   " --out " + q(pinned) + drape);
+    ASSERT_EQ(run.exitCode, 0) << run.stderrText;
+    auto image = io::readPng(pinned);
+    ASSERT_TRUE(image.ok());
+    // Two heads of radius 4 px: about 2 × π × 2.5² of pure red inside their white rings.
+    EXPECT_GE(pinRedPixels(image.value()), 12) << "two pinheads";
+    EXPECT_LE(pinRedPixels(image.value()), 2 * 80);
+
+    const auto hidden = m_dir / "hidden.png";
+    run = runCli(m_dir, "render " + q(source + "/assets/examples/apron-on-pins.atelier") +
+                            " --out " + q(hidden) + drape + " --no-pins");
+    ASSERT_EQ(run.exitCode, 0) << run.stderrText;
+    image = io::readPng(hidden);
+    ASSERT_TRUE(image.ok());
+    EXPECT_EQ(pinRedPixels(image.value()), 0);
+
+    const auto unpinned = m_dir / "unpinned.png";
+    run = runCli(m_dir, "render " + q(source + "/assets/garments/skirt.atelier") + " --out " +
+                            q(unpinned) + drape);
+    ASSERT_EQ(run.exitCode, 0) << run.stderrText;
+    image = io::readPng(unpinned);
+    ASSERT_TRUE(image.ok());
+    EXPECT_EQ(pinRedPixels(image.value()), 0) << "a project without pins has no pinheads";
+}
+
 } // namespace
 } // namespace atelier

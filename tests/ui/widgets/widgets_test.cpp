@@ -174,6 +174,93 @@ TEST(Viewport, DrawsTheGarmentOnItsBody) {
     EXPECT_TRUE(s.clothPositions.allFinite());
 }
 
+TEST(Viewport, AltClickPinsTheClothAndUnpinsAPinhead) {
+    {
+        auto context = render::HeadlessContext::create();
+        if (!context.ok()) {
+            GTEST_SKIP() << "no EGL context here: " << context.error().toString();
+        }
+    }
+    MainWindow window(GARMENTS);
+    window.resize(900, 600);
+    window.show();
+    QSignalSpy ready(&window, &MainWindow::projectReady);
+    window.openProject(GARMENTS + "/skirt.atelier");
+    ASSERT_TRUE(waitFor([&] { return ready.count() == 1; }, 120));
+    ASSERT_TRUE(waitFor([&] { return !window.viewport().picture().isNull(); }, 30))
+        << window.viewport().rendererError().toStdString();
+    DrapeController& drape = window.drape();
+    EXPECT_TRUE(drape.pinnedVertices().empty());
+    const auto scene = drape.staticScene();
+
+    // Alt+click in the middle of the picture, on the cloth, pins the nearest vertex there.
+    QSignalSpy pinsChanged(&drape, &DrapeController::pinsChanged);
+    const QImage before = window.viewport().picture().convertToFormat(QImage::Format_RGB32);
+    QPoint onCloth(-1, -1);
+    for (int y = before.height() / 2; y < before.height() && onCloth.x() < 0; ++y) {
+        for (int x = 0; x < before.width(); ++x) {
+            const QColor c = before.pixelColor(x, y);
+            if (c.red() > c.green() + 40 && c.red() > c.blue() + 40) {
+                onCloth = QPoint(x, y) / window.viewport().devicePixelRatioF();
+                break;
+            }
+        }
+    }
+    ASSERT_GE(onCloth.x(), 0);
+    QTest::mouseClick(&window.viewport(), Qt::LeftButton, Qt::AltModifier, onCloth);
+    ASSERT_TRUE(waitFor([&] { return pinsChanged.count() >= 1; }, 30));
+    const std::vector<int> pinned = drape.pinnedVertices();
+    ASSERT_EQ(pinned.size(), 1U);
+    const int vertex = pinned.front();
+    EXPECT_FALSE(drape.running()) << "pinning alone does not start the drape";
+    int documentPins = 0;
+    for (const patterns::doc::Panel& p : drape.document().panels) {
+        documentPins += static_cast<int>(p.pins.size());
+    }
+    EXPECT_EQ(documentPins, 1) << "the pin is in the document";
+
+    // The viewport draws its pinhead where the vertex is.
+    window.viewport().update();
+    ASSERT_TRUE(waitFor(
+        [&] {
+            const auto at = window.viewport().drawnAt(vertex);
+            if (!at) {
+                return false;
+            }
+            const QImage picture =
+                window.viewport().picture().convertToFormat(QImage::Format_RGB32);
+            const QPoint px = (*at * window.viewport().devicePixelRatioF()).toPoint();
+            const QColor c = picture.pixelColor(px);
+            return c.red() > 170 && c.green() < 60 && c.blue() < 70;
+        },
+        10))
+        << "a pinhead at the pinned vertex";
+
+    // The drape runs; the pinned vertex stays exactly where it was pinned.
+    drape.start();
+    ASSERT_TRUE(waitFor([&] { return drape.progress().steps >= 10; }, 120));
+    drape.pause();
+    ASSERT_TRUE(waitFor([&] { return !drape.running(); }, 5));
+    sim::Snapshot s;
+    ASSERT_TRUE(drape.snapshot(s));
+    EXPECT_EQ(s.clothPositions.row(vertex), scene->startPositions.row(vertex));
+    EXPECT_TRUE(s.clothPositions.allFinite());
+
+    // Alt+click on the pinhead unpins it, in the drape and the document.
+    window.viewport().update();
+    waitFor([] { return false; }, 0.2);
+    const auto head = window.viewport().drawnAt(vertex);
+    ASSERT_TRUE(head.has_value());
+    QTest::mouseClick(&window.viewport(), Qt::LeftButton, Qt::AltModifier, head->toPoint());
+    ASSERT_TRUE(waitFor([&] { return drape.pinnedVertices().empty(); }, 30));
+    documentPins = 0;
+    for (const patterns::doc::Panel& p : drape.document().panels) {
+        documentPins += static_cast<int>(p.pins.size());
+    }
+    EXPECT_EQ(documentPins, 0);
+    drape.pause();
+}
+
 } // namespace
 } // namespace atelier::ui
 
