@@ -53,4 +53,8 @@ void addBatchSummaryCommand(CLI::App& app);
 /// (export_pattern_command.cpp).
 void addExportPatternCommand(CLI::App& app);
 
+/// `atelier-cli import garmentcode SPEC.json --out PROJECT.atelier [--fabric NAME]`
+/// (import_command.cpp).
+void addImportCommand(CLI::App& app);
+
 } // namespace atelier::app

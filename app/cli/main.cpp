@@ -27,6 +27,7 @@ int run(int argc, char** argv) {
     atelier::app::addBatchCommand(app);
     atelier::app::addBatchSummaryCommand(app);
     atelier::app::addExportPatternCommand(app);
+    atelier::app::addImportCommand(app);
     atelier::app::addLimitsCommand(app);
 
     try {
