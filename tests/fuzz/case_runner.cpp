@@ -1,6 +1,7 @@
 #include "case_runner.h"
 
 #include "io/body_file.h"
+#include "io/garmentcode.h"
 #include "io/materials.h"
 #include "io/project_file.h"
 #include "io/scene_file.h"
@@ -95,13 +96,9 @@ double triangleEstimate(const patterns::Garment& garment, double particleDistanc
     return triangles;
 }
 
-int runProject(const fs::path& file, const BodyCache& bodies, const RunLimits& limits,
-               std::string& message) {
-    auto loaded = io::loadProject(file);
-    if (!loaded.ok()) {
-        return refused(loaded.error(), message);
-    }
-    patterns::Project project = std::move(loaded).value();
+/// Drapes a loaded project a few steps.
+int drapeProject(patterns::Project project, const fs::path& file, const BodyCache& bodies,
+                 const RunLimits& limits, std::string& message) {
     project.drape.particleDistance =
         std::max(project.drape.particleDistance, limits.minParticleDistance);
     const double estimate = triangleEstimate(project.garment, project.drape.particleDistance);
@@ -137,6 +134,30 @@ int runProject(const fs::path& file, const BodyCache& bodies, const RunLimits& l
     message = "draped " + std::to_string(steps) + " steps, phase " +
               std::string(patterns::phaseName(session.phase()));
     return status(CaseEnd::Ran);
+}
+
+int runProject(const fs::path& file, const BodyCache& bodies, const RunLimits& limits,
+               std::string& message) {
+    auto loaded = io::loadProject(file);
+    if (!loaded.ok()) {
+        return refused(loaded.error(), message);
+    }
+    return drapeProject(std::move(loaded).value(), file, bodies, limits, message);
+}
+
+/// Imports a GarmentCode specification onto the default body and drapes it a few steps.
+int runGarmentCode(const fs::path& file, const BodyCache& bodies, const RunLimits& limits,
+                   std::string& message) {
+    const patterns::Body* body = bodies.find(patterns::BodySource{});
+    if (body == nullptr) {
+        message = "no default body to place the panels on";
+        return status(CaseEnd::Exception);
+    }
+    auto imported = io::importGarmentCode(file, *body);
+    if (!imported.ok()) {
+        return refused(imported.error(), message);
+    }
+    return drapeProject(std::move(imported).value().project, file, bodies, limits, message);
 }
 
 /// Reads the file and checks the measurements together (fitting the mannequin to them takes
@@ -201,6 +222,8 @@ int runCase(InputKind kind, const fs::path& mainFile, const BodyCache& bodies,
             return runMeasurements(mainFile, message);
         case InputKind::Fabrics:
             return runFabrics(mainFile, message);
+        case InputKind::GarmentCode:
+            return runGarmentCode(mainFile, bodies, limits, message);
         }
     } catch (const std::exception& e) {
         message = std::string("uncaught exception: ") + e.what();

@@ -1,7 +1,8 @@
 #pragma once
-/// A fuzz case: the main input (a scene, a project, a fabric preset file or a measurements
-/// file) and the files beside it that it names (OBJ meshes, a materials file), as text. Cases
-/// are read from the seed corpus and the regression folder and written to a folder to run.
+/// A fuzz case: the main input (a scene, a project, a fabric preset file, a measurements
+/// file or a GarmentCode specification) and the files beside it that it names (OBJ meshes, a
+/// materials file), as text. Cases are read from the seed corpus and the regression folder and
+/// written to a folder to run.
 
 #include <filesystem>
 #include <map>
@@ -16,10 +17,10 @@ namespace atelier::fuzz {
 inline constexpr const char* FIFO_NAME = "fifo";
 
 /// What the main file is, and so which io loader reads it.
-enum class InputKind { Scene, Project, Fabrics, Measurements };
+enum class InputKind { Scene, Project, Fabrics, Measurements, GarmentCode };
 
 /// The file name ending that says a file's kind: `.scene.json`, `.atelier`, `.fabrics.json`,
-/// `.measurements.json`.
+/// `.measurements.json`, `.garmentcode.json`.
 std::string_view kindSuffix(InputKind kind);
 /// The kind a file name ends with, if any.
 std::optional<InputKind> kindOfName(std::string_view fileName);
