@@ -148,11 +148,21 @@ Vec2 controlPoint(const Vec2& c, const Vec2& start, const Vec2& end, const Conte
     return start + c.x() * along + c.y() * across;
 }
 
+/// A number as JSON writes it (`100`, `0.25`), for messages.
+std::string num(double v) {
+    return json(v).dump();
+}
+
+/// A length in whole millimetres (`312 mm`), for messages.
+std::string millimetres(double metres) {
+    return std::to_string(std::lround(metres * 1000)) + " mm";
+}
+
 void checkCoordinate(const Vec2& p, const std::string& pointer, const Context& ctx) {
     if (!(p.cwiseAbs().maxCoeff() <= ctx.limits->maxSceneCoordinate)) {
-        fail(pointer, "coordinate beyond " + std::to_string(ctx.limits->maxSceneCoordinate) +
-                          " m (units_in_meter " + std::to_string(ctx.unitsInMeter) +
-                          "; the limit max-scene-coordinate-m)");
+        fail(pointer, "coordinate beyond " + num(ctx.limits->maxSceneCoordinate) +
+                          " m after units_in_meter " + num(ctx.unitsInMeter) +
+                          " (the limit scene-coordinate-m)");
     }
 }
 
@@ -331,7 +341,8 @@ SpecPanel readPanel(const std::string& name, const json& value, const std::strin
     panel.translation =
         detail::vec3At(member(value, pointer, "translation"), tp) / ctx.unitsInMeter;
     if (!(panel.translation.cwiseAbs().maxCoeff() <= ctx.limits->maxSceneCoordinate)) {
-        fail(tp, "translation beyond " + std::to_string(ctx.limits->maxSceneCoordinate) + " m");
+        fail(tp, "translation beyond " + num(ctx.limits->maxSceneCoordinate) +
+                     " m (the limit scene-coordinate-m)");
     }
     const std::string rp = childPointer(pointer, "rotation");
     const Vec3 deg =
@@ -745,10 +756,9 @@ GarmentCodeImport build(const json& root, const std::string& name, const pattern
             if (std::abs(la - lb) > STITCH_LENGTH_RATIO * std::max(la, lb)) {
                 ctx.warnings.push_back(
                     "stitch " + std::to_string(i) + ": " +
-                    edgeName(a, static_cast<std::size_t>(ei[0])) + " (" + std::to_string(la) +
-                    " m) and " + edgeName(b, static_cast<std::size_t>(ei[1])) + " (" +
-                    std::to_string(lb) +
-                    " m) differ by more than 20% in length; sewn with that ease");
+                    edgeName(a, static_cast<std::size_t>(ei[0])) + " (" + millimetres(la) +
+                    ") and " + edgeName(b, static_cast<std::size_t>(ei[1])) + " (" +
+                    millimetres(lb) + ") differ by more than 20% in length; sewn with that ease");
             }
             garment.seams.push_back(std::move(seam));
             stitched.push_back({pi, ei});

@@ -11,6 +11,8 @@
 
 #include "io/atomic_file.h"
 #include "io/batch_manifest.h"
+#include "io/body_file.h"
+#include "io/garmentcode.h"
 #include "io/materials.h"
 #include "io/project_file.h"
 
@@ -19,10 +21,13 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <iterator>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -41,10 +46,50 @@ struct BatchOptions {
     bool dryRun = false;
 };
 
-/// The job's project as the job drapes it: the manifest's project with the job's body, fabric
-/// and settings, in canonical form (version 2), its body mesh path made absolute.
+/// A GarmentCode specification (a `.json` project of a job) imported onto the job's body: the
+/// mannequin its project would have (each body made once per run), or the default mannequin
+/// for a body mesh. Warnings are printed once per specification and body.
+Result<patterns::Project> importedProject(const io::BatchJob& job) {
+    static std::vector<std::pair<patterns::BodySource, patterns::Body>> bodies;
+    static std::set<std::pair<std::string, std::string>> warned;
+    patterns::BodySource source;
+    if (job.body && job.body->meshPath.empty()) {
+        source = *job.body;
+    }
+    auto cached = std::find_if(bodies.begin(), bodies.end(),
+                               [&](const auto& b) { return b.first == source; });
+    if (cached == bodies.end()) {
+        auto made = io::makeBody(source, job.project.string());
+        if (!made.ok()) {
+            return made.error();
+        }
+        bodies.emplace_back(source, std::move(made.value().body));
+        cached = std::prev(bodies.end());
+    }
+    auto imported = io::importGarmentCode(job.project, cached->second);
+    if (!imported.ok()) {
+        return imported.error();
+    }
+    std::string bodyKey = source.base;
+    for (const auto& [name, value] : source.measurements) {
+        bodyKey += " " + name + "=" + std::to_string(value);
+    }
+    if (warned.insert({job.project.string(), bodyKey}).second) {
+        for (const std::string& w : imported.value().warnings) {
+            std::cerr << "warning: " << job.project.string() << ": " << w << "\n";
+        }
+    }
+    patterns::Project project = std::move(imported.value().project);
+    project.body = source;
+    return project;
+}
+
+/// The job's project as the job drapes it: the manifest's project (or a GarmentCode
+/// specification imported) with the job's body, fabric and settings, in canonical form
+/// (version 2), its body mesh path made absolute.
 Result<std::string> jobProjectText(const io::BatchJob& job) {
-    auto loaded = io::loadProject(job.project);
+    auto loaded =
+        job.project.extension() == ".json" ? importedProject(job) : io::loadProject(job.project);
     if (!loaded.ok()) {
         return loaded.error();
     }
