@@ -9,8 +9,8 @@
 /// panel keeps its drawing; its slot, side, rotation and offset are chosen so that the panels
 /// sit around our body as they sat around theirs: sleeves (panels far to the side) on the arm
 /// slots, the rest on the torso or waist slots by the direction from the garment's axis,
-/// heights anchored at the shoulder (torso), the waist (waist slots) or the shoulder joint
-/// (arms).
+/// heights anchored at the shoulder (torso), the waist (waist slots) or 3 cm below the shoulder
+/// joint (arms).
 
 #include "io/limits.h"
 #include "io/result.h"
@@ -59,9 +59,5 @@ Result<GarmentCodeImport> importGarmentCode(const std::filesystem::path& path,
                                             const patterns::Body& body,
                                             const GarmentCodeOptions& options = {},
                                             const Limits& limits = {});
-
-/// Whether JSON text looks like a GarmentCode specification (an object with a `pattern`
-/// object holding `panels`), without reading it further.
-bool looksLikeGarmentCode(std::string_view text);
 
 } // namespace atelier::io
