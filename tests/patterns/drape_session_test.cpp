@@ -3,6 +3,7 @@
 // keep the drape.
 
 #include "patterns/drape_session.h"
+#include "patterns/loops.h"
 
 #include "sim/collision/obstacle.h"
 
@@ -15,17 +16,7 @@
 namespace atelier::patterns {
 namespace {
 
-Loop rectangle(double w, double h) {
-    const Vec2 c[4] = {{0, 0}, {w, 0}, {w, h}, {0, h}};
-    Loop loop;
-    for (int k = 0; k < 4; ++k) {
-        Segment s;
-        s.start = c[k];
-        s.end = c[(k + 1) % 4];
-        loop.push_back(s);
-    }
-    return loop;
-}
+using test::rectangle;
 
 /// Front and back 0.34 × 0.1 m around a capsule of radius 0.1 (0.63 m round; the band is
 /// 0.68 m), sewn at both sides; a 0.1 m patch on its own higher up, sewn to nothing.

@@ -4,6 +4,7 @@
 
 #include "patterns/document_edit.h"
 #include "patterns/drape_session.h"
+#include "patterns/loops.h"
 #include "patterns/mesh.h"
 
 #include "sim/collision/obstacle.h"
@@ -16,17 +17,7 @@
 namespace atelier::patterns {
 namespace {
 
-Loop rectangle(double w, double h) {
-    const Vec2 c[4] = {{0, 0}, {w, 0}, {w, h}, {0, h}};
-    Loop loop;
-    for (int k = 0; k < 4; ++k) {
-        Segment s;
-        s.start = c[k];
-        s.end = c[(k + 1) % 4];
-        loop.push_back(s);
-    }
-    return loop;
-}
+using test::rectangle;
 
 /// A 0.2 × 0.2 m cotton patch in front of a capsule, sewn to nothing: it falls unless pinned.
 Project patchProject() {
