@@ -2,18 +2,39 @@
 
 #include <atomic>
 #include <csignal>
+#include <ctime>
 
 namespace atelier::app {
 
 namespace {
 
 std::atomic<int> g_signal{0};
-int g_depth = 0; // guards alive; only the main thread makes them
+std::atomic<long long> g_firstSignalNs{0}; // CLOCK_MONOTONIC time of the first signal
+int g_depth = 0;                           // guards alive; only the main thread makes them
+
+/// A signal this soon after the first is the same request sent twice: `timeout` sends its
+/// signal to the command and then to the command's process group, so the command gets it
+/// twice within microseconds; a person pressing Ctrl-C again is much slower.
+constexpr long long SAME_REQUEST_NS = 300'000'000;
+
+long long monotonicNs() {
+    timespec t{};
+    clock_gettime(CLOCK_MONOTONIC, &t); // async-signal-safe
+    return static_cast<long long>(t.tv_sec) * 1'000'000'000 + t.tv_nsec;
+}
 
 extern "C" void onInterrupt(int sig) {
-    g_signal.store(sig);
-    std::signal(SIGINT, SIG_DFL);
-    std::signal(SIGTERM, SIG_DFL);
+    const long long now = monotonicNs();
+    int none = 0;
+    if (g_signal.compare_exchange_strong(none, sig)) {
+        g_firstSignalNs.store(now);
+        return;
+    }
+    if (now - g_firstSignalNs.load() >= SAME_REQUEST_NS) {
+        // A second request: the default action, at once.
+        std::signal(sig, SIG_DFL);
+        std::raise(sig);
+    }
 }
 
 } // namespace
@@ -22,21 +43,14 @@ InterruptGuard::InterruptGuard() {
     if (g_depth++ == 0) {
         g_signal.store(0);
     }
-    if (g_signal.load() == 0) {
-        m_previousInt = std::signal(SIGINT, onInterrupt);
-        m_previousTerm = std::signal(SIGTERM, onInterrupt);
-        m_installed = true;
-    }
-    // else: a signal already came under an outer guard; the handlers are the default ones
-    // again, so that a second signal ends the program at once.
+    m_previousInt = std::signal(SIGINT, onInterrupt);
+    m_previousTerm = std::signal(SIGTERM, onInterrupt);
 }
 
 InterruptGuard::~InterruptGuard() {
     --g_depth;
-    if (m_installed) {
-        std::signal(SIGINT, g_signal.load() != 0 && g_depth > 0 ? SIG_DFL : m_previousInt);
-        std::signal(SIGTERM, g_signal.load() != 0 && g_depth > 0 ? SIG_DFL : m_previousTerm);
-    }
+    std::signal(SIGINT, m_previousInt);
+    std::signal(SIGTERM, m_previousTerm);
 }
 
 bool InterruptGuard::interrupted() {

@@ -1,8 +1,9 @@
 #pragma once
 /// Ctrl-C (SIGINT) and SIGTERM while a command runs: the first signal asks the command to stop
-/// after its current step, write what it has (marked interrupted) and exit 130; a second one
-/// ends the program at once (the default action), for a preparation or a write that takes too
-/// long.
+/// after its current step, write what it has (marked interrupted) and exit 130; a second one,
+/// 0.3 s or more after the first, ends the program at once (the default action), for a
+/// preparation or a write that takes too long. The same signal again within 0.3 s is the same
+/// request (`timeout` sends its signal to the command and then to its process group).
 
 namespace atelier::app {
 
@@ -27,7 +28,6 @@ class InterruptGuard {
   private:
     void (*m_previousInt)(int) = nullptr;
     void (*m_previousTerm)(int) = nullptr;
-    bool m_installed = false;
 };
 
 } // namespace atelier::app

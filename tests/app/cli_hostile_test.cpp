@@ -10,10 +10,12 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <random>
 
 namespace atelier {
@@ -86,6 +88,22 @@ TEST(CliInterrupts, SigintAtARandomMomentOfADrape) {
         EXPECT_EQ(r["warnings"], r["warning_messages"].size());
         EXPECT_TRUE(std::filesystem::exists(dir / "out.body.obj"));
     }
+}
+
+TEST(CliInterrupts, TheSameSignalTwiceAtOnceIsOneRequest) {
+    // `timeout` sends its signal to the command and then to the command's process group: the
+    // command gets it twice within microseconds, and must still stop cleanly, not die.
+    test::TempDir dir;
+    const std::string command = std::string("\"") + ATELIER_CLI + "\" drape " + inQuotes(SKIRT) +
+                                " --particle-distance 20 --time-limit 60 --threads 1 --out " +
+                                inQuotes(dir / "out.obj") + " --report " +
+                                inQuotes(dir / "r.json") + " 2> " + inQuotes(dir / "stderr.txt") +
+                                " & pid=$!; sleep 0.6; kill -TERM $pid; kill -TERM $pid; wait $pid";
+    const int status = std::system(command.c_str());
+    CliRun run;
+    run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    run.stderrText = test::readText(dir / "stderr.txt");
+    expectInterrupted(dir, run, "SIGTERM");
 }
 
 TEST(CliInterrupts, SigtermStopsASimulationWithinAStep) {
