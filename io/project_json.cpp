@@ -284,6 +284,13 @@ PanelAttributes readPanelAttributes(ObjectReader& r,
         out.slot = p.string("slot", out.slot);
         if (const json* offset = p.find("offset_mm")) {
             out.offset = pointAt(*offset, p.pointerOf("offset_mm"));
+            // Along a body's surface: anything farther is off every body (and an offset of
+            // 9e15 m made the placement search run for ever).
+            constexpr double MAX_OFFSET_M = 10.0;
+            if (out.offset.cwiseAbs().maxCoeff() > MAX_OFFSET_M) {
+                throw JsonError{p.pointerOf("offset_mm"),
+                                "an offset beyond 10000 mm is off the body"};
+            }
         }
         out.rotation = angleDeg(p, "rotation_deg", out.rotation);
         out.clearance = lengthMm(p, "clearance_mm", out.clearance, Range::NonNegative);
