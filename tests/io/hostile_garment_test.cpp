@@ -63,6 +63,22 @@ TEST(HostileGarment, PanelsBeyondGarmentScaleAreRefused) {
     EXPECT_TRUE(parseProject(projectV1("", "9000"), "p.atelier").ok());
 }
 
+TEST(HostileGarment, APlacementOffsetOffEveryBodyIsRefused) {
+    // 9.2e18 mm (a fuzz case) made the drape's placement run past the fuzzer's 20 s.
+    const auto placed = [](const std::string& offset) {
+        std::string text = projectV1("");
+        const std::string front = R"({"name": "front", "material": "m",)";
+        text.replace(text.find(front), front.size(),
+                     front + R"( "placement": {"slot": "torso_front", "offset_mm": )" + offset +
+                         "},");
+        return parseProject(text, "p.atelier");
+    };
+    EXPECT_EQ(errorOf(placed("[0, 9.2e18]")),
+              "p.atelier: /panels/0/placement/offset_mm: an offset beyond 10000 mm is off the "
+              "body");
+    EXPECT_TRUE(placed("[-300, 120]").ok()) << errorOf(placed("[-300, 120]"));
+}
+
 TEST(HostileGarment, ASeamSewingAnEdgeToItselfIsAnError) {
     EXPECT_EQ(
         errorOf(parseProject(projectV1(seam("side", range("front", 1), range("front", 1, 1, 0))),
