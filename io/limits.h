@@ -16,7 +16,7 @@ inline constexpr const char* THICKNESS_LIMIT = "the limit thickness-m";
 struct Limits {
     /// Largest JSON file read (scenes, projects, fabric presets, measurements) [bytes].
     std::uint64_t maxJsonBytes = 64 * MIB;
-    /// Largest mesh file read (OBJ cloths, obstacles, body meshes) [bytes].
+    /// Largest mesh file read (OBJ cloths, obstacles, body meshes) and DXF pattern [bytes].
     std::uint64_t maxMeshBytes = 256 * MIB;
     /// Deepest nesting of JSON arrays and objects inside each other.
     int maxJsonDepth = 256;

@@ -32,7 +32,8 @@ const std::vector<LimitEntry>& entries() {
     static const std::vector<LimitEntry> all = {
         entry("json-bytes", "largest JSON file read (scene, project, fabrics) [bytes]",
               &io::Limits::maxJsonBytes),
-        entry("mesh-bytes", "largest mesh file read (OBJ cloth, obstacle, body) [bytes]",
+        entry("mesh-bytes",
+              "largest mesh or DXF pattern file read (OBJ cloth, obstacle, body) [bytes]",
               &io::Limits::maxMeshBytes),
         entry("json-depth", "deepest nesting of JSON arrays and objects",
               &io::Limits::maxJsonDepth),

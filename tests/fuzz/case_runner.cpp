@@ -1,6 +1,7 @@
 #include "case_runner.h"
 
 #include "io/body_file.h"
+#include "io/dxf_aama.h"
 #include "io/garmentcode.h"
 #include "io/materials.h"
 #include "io/project_file.h"
@@ -160,6 +161,16 @@ int runGarmentCode(const fs::path& file, const BodyCache& bodies, const RunLimit
     return drapeProject(std::move(imported).value().project, file, bodies, limits, message);
 }
 
+/// Imports a DXF-AAMA pattern and drapes its (unsewn) pieces a few steps.
+int runDxf(const fs::path& file, const BodyCache& bodies, const RunLimits& limits,
+           std::string& message) {
+    auto imported = io::importDxfAama(file);
+    if (!imported.ok()) {
+        return refused(imported.error(), message);
+    }
+    return drapeProject(std::move(imported).value().project, file, bodies, limits, message);
+}
+
 /// Reads the file and checks the measurements together (fitting the mannequin to them takes
 /// seconds, beyond a case's time).
 int runMeasurements(const fs::path& file, std::string& message) {
@@ -224,6 +235,8 @@ int runCase(InputKind kind, const fs::path& mainFile, const BodyCache& bodies,
             return runFabrics(mainFile, message);
         case InputKind::GarmentCode:
             return runGarmentCode(mainFile, bodies, limits, message);
+        case InputKind::Dxf:
+            return runDxf(mainFile, bodies, limits, message);
         }
     } catch (const std::exception& e) {
         message = std::string("uncaught exception: ") + e.what();

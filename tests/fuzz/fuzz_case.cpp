@@ -14,12 +14,13 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr std::array<std::pair<InputKind, std::string_view>, 5> SUFFIXES = {{
+constexpr std::array<std::pair<InputKind, std::string_view>, 6> SUFFIXES = {{
     {InputKind::Scene, ".scene.json"},
     {InputKind::Project, ".atelier"},
     {InputKind::Fabrics, ".fabrics.json"},
     {InputKind::Measurements, ".measurements.json"},
     {InputKind::GarmentCode, ".garmentcode.json"},
+    {InputKind::Dxf, ".dxf"},
 }};
 
 /// The kind of a bundled asset from its `"format"` key (assets name scenes `NAME.json`).

@@ -17,7 +17,7 @@ namespace atelier::fuzz {
 inline constexpr const char* FIFO_NAME = "fifo";
 
 /// What the main file is, and so which io loader reads it.
-enum class InputKind { Scene, Project, Fabrics, Measurements, GarmentCode };
+enum class InputKind { Scene, Project, Fabrics, Measurements, GarmentCode, Dxf };
 
 /// The file name ending that says a file's kind: `.scene.json`, `.atelier`, `.fabrics.json`,
 /// `.measurements.json`, `.garmentcode.json`.

@@ -95,6 +95,10 @@ FuzzCase makeCase(const std::vector<FuzzCase>& corpus, const JsonMutator& mutato
             for (int k = 0; k < mutations; ++k) {
                 text = mutateObj(text, rng, notes);
             }
+        } else if (fs::path(name).extension() == ".dxf") {
+            for (int k = 0; k < mutations; ++k) {
+                text = mutateDxf(text, rng, notes);
+            }
         } else if (auto mutated = mutator.mutate(text, rng, mutations, notes)) {
             text = std::move(*mutated);
         } else {

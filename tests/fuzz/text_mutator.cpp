@@ -153,7 +153,95 @@ std::string editLines(std::vector<std::string>& lines, Rng& rng) {
     }
 }
 
+/// A DXF group: its code line and value line (the code's index in `lines`, always even).
+std::string mutateDxfLines(std::vector<std::string>& lines, Rng& rng) {
+    if (lines.size() < 2) {
+        lines = {"0", "SECTION", "2", "BLOCKS", "0", "BLOCK"};
+        return "dxf: a BLOCKS section that never ends";
+    }
+    const std::size_t groups = lines.size() / 2;
+    const std::size_t at = 2 * rng.below(groups);
+    const std::string where = "dxf: line " + std::to_string(at + 1) + ": ";
+    const std::size_t roll = rng.below(100);
+    if (roll < 45) {
+        // A value of a coordinate, bulge or flag group.
+        std::vector<std::size_t> numeric;
+        for (std::size_t i = 0; i + 1 < lines.size(); i += 2) {
+            const std::string code = splitWords(lines[i]).empty() ? "" : splitWords(lines[i])[0];
+            if (code == "10" || code == "20" || code == "11" || code == "21" || code == "42" ||
+                code == "70" || code == "90") {
+                numeric.push_back(i + 1);
+            }
+        }
+        if (numeric.empty()) {
+            return "dxf: no numeric group";
+        }
+        static const std::vector<std::string> values = {
+            "nan",    "inf", "-inf", "1e300", "1e400", "-0",    "0x1p3", "1e-320",
+            "-1e300", "1,5", "--1",  "",      "+7",    "65537", "1e9",   "-1"};
+        const std::size_t v = rng.pick(numeric);
+        lines[v] = rng.pick(values);
+        return "dxf: line " + std::to_string(v + 1) + ": value -> " + lines[v];
+    }
+    if (roll < 70) {
+        switch (rng.below(3)) {
+        case 0:
+            lines.erase(lines.begin() + static_cast<std::ptrdiff_t>(at),
+                        lines.begin() + static_cast<std::ptrdiff_t>(at + 2));
+            return where + "group deleted";
+        case 1: {
+            const std::size_t length = 2 * (1 + rng.below(std::min<std::size_t>(groups, 12)));
+            const std::size_t end = std::min(at + length, lines.size());
+            const std::vector<std::string> piece(lines.begin() + static_cast<std::ptrdiff_t>(at),
+                                                 lines.begin() + static_cast<std::ptrdiff_t>(end));
+            static const std::vector<std::size_t> counts = {100, 20000};
+            const std::size_t count = rng.pick(counts);
+            for (std::size_t k = 0; k < count; ++k) {
+                lines.insert(lines.begin() + static_cast<std::ptrdiff_t>(at), piece.begin(),
+                             piece.end());
+            }
+            return where + std::to_string(piece.size() / 2) + " groups repeated " +
+                   std::to_string(count) + " times";
+        }
+        default: {
+            const std::size_t other = 2 * rng.below(groups);
+            std::swap(lines[at], lines[other]);
+            std::swap(lines[at + 1], lines[other + 1]);
+            return where + "swapped with the group at line " + std::to_string(other + 1);
+        }
+        }
+    }
+    static const std::vector<std::vector<std::string>> inserts = {
+        {"0", "VERTEX", "10", "1", "20", "2"},
+        {"0", "SEQEND"},
+        {"0", "POLYLINE", "8", "1"},
+        {"0", "ENDBLK"},
+        {"0", "BLOCK"},
+        {"0", "ENDSEC"},
+        {"0", "EOF"},
+        {"70", "1"},
+        {"8", "4"},
+        {"0", "LWPOLYLINE", "8", "1", "20", "3"},
+        {"999", "x"},
+        {"0", "SECTION"},
+        {"1", "Units: ENGLISH"},
+        {"x"}};
+    const std::vector<std::string>& insert = rng.pick(inserts);
+    lines.insert(lines.begin() + static_cast<std::ptrdiff_t>(at), insert.begin(), insert.end());
+    return where + "inserted " + insert[0] + (insert.size() > 1 ? " " + insert[1] : "");
+}
+
 } // namespace
+
+std::string mutateDxf(const std::string& text, Rng& rng, std::vector<std::string>& notes) {
+    std::vector<std::string> lines = splitLines(text);
+    notes.push_back(mutateDxfLines(lines, rng));
+    std::string out;
+    for (const std::string& line : lines) {
+        out += line + '\n';
+    }
+    return out;
+}
 
 std::string mutateBytes(std::string text, Rng& rng, std::vector<std::string>& notes) {
     const std::size_t n = text.size();
