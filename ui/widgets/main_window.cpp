@@ -427,23 +427,21 @@ void MainWindow::addRecent(const QString& path) {
 void MainWindow::fillRecentMenu() {
     m_recent->clear();
     for (const QString& path : recentFiles()) {
-        m_recent
-            ->addAction(QFileInfo(path).fileName(), this,
-                        [this, path] {
-                            if (!QFileInfo(path).isFile()) {
-                                QStringList recent = recentFiles();
-                                recent.removeAll(path);
-                                QSettings().setValue("files/recent", recent);
-                                showError(
-                                    tr("%1 no longer exists; it is removed from the recent files.")
-                                        .arg(path));
-                                return;
-                            }
-                            openProject(path);
-                        })
+        m_recent->addAction(QFileInfo(path).fileName(), this, [this, path] { openRecent(path); })
             ->setToolTip(path);
     }
     m_recent->setEnabled(!m_recent->isEmpty());
+}
+
+bool MainWindow::openRecent(const QString& path) {
+    if (!QFileInfo(path).isFile()) {
+        QStringList recent = recentFiles();
+        recent.removeAll(path);
+        QSettings().setValue("files/recent", recent);
+        showError(tr("%1 no longer exists; it is removed from the recent files.").arg(path));
+        return false;
+    }
+    return openProject(path);
 }
 
 void MainWindow::showError(const QString& message) {
@@ -530,6 +528,7 @@ QString originOf(const QString& recovery) {
 
 bool MainWindow::autosave() {
     if (!isModified()) {
+        removeRecoveryFile(); // undone back to the file: nothing to recover
         return false;
     }
     if (!QDir().mkpath(m_recoveryDir)) {

@@ -73,6 +73,8 @@ class MainWindow : public QMainWindow {
     bool isModified() const;
     /// The recently opened or saved projects, newest first (at most 8; QSettings).
     QStringList recentFiles() const;
+    /// Opens a recent file; one that no longer exists is removed from the list, with a message.
+    bool openRecent(const QString& path);
 
     // ---- Autosave and recovery ----
 

@@ -17,6 +17,8 @@
 #include <QElapsedTimer>
 #include <QMimeData>
 #include <QProcess>
+#include <QSettings>
+#include <QSplitter>
 #include <QSignalSpy>
 #include <QStandardPaths>
 #include <QTemporaryDir>
@@ -322,7 +324,8 @@ TEST(Viewport, AltClickPinsTheClothAndUnpinsAPinhead) {
 
     // Both went on the window's undo stack: undoing the unpin pins it again, undoing the pin
     // leaves none.
-    ASSERT_EQ(window.undoStack().count(), 2);
+    // (The edit reaches the window by a queued call after the drape published the pins.)
+    ASSERT_TRUE(waitFor([&] { return window.undoStack().count() == 2; }, 10));
     EXPECT_EQ(patterns::dumpDocument(window.project().document),
               patterns::dumpDocument(drape.document()));
     QSignalSpy rebuilt(&drape, &DrapeController::rebuilt);
@@ -481,6 +484,43 @@ TEST(MainWindow, SaveAndOpenRoundTripAndRecentFiles) {
     EXPECT_EQ(bytesOf(again), bytesOf(file));
     EXPECT_EQ(other.recentFiles().value(0), QFileInfo(again).absoluteFilePath());
     EXPECT_EQ(other.recentFiles().value(1), QFileInfo(file).absoluteFilePath());
+}
+
+TEST(MainWindow, AMissingRecentFileIsRemovedWithAMessage) {
+    QTemporaryDir dir;
+    const QString kept = dir.filePath("kept.atelier");
+    const QString gone = dir.filePath("gone.atelier");
+    QSettings().setValue("files/recent", QStringList{gone, kept});
+    MainWindow window(GARMENTS);
+    QuietPrompts prompts;
+    prompts.install(window);
+    window.setRecoveryDirectory(dir.filePath("recovery"));
+    EXPECT_FALSE(window.openRecent(gone));
+    ASSERT_EQ(prompts.errors.size(), 1);
+    EXPECT_TRUE(prompts.errors.front().contains(gone));
+    EXPECT_EQ(window.recentFiles(), QStringList{kept});
+}
+
+TEST(MainWindow, WindowGeometryAndSplitterSizesAreRemembered) {
+    QTemporaryDir dir;
+    QList<int> sizes;
+    {
+        MainWindow window(GARMENTS);
+        window.setRecoveryDirectory(dir.filePath("recovery"));
+        window.resize(1100, 700);
+        window.show();
+        auto* splitter = window.findChild<QSplitter*>();
+        ASSERT_NE(splitter, nullptr);
+        splitter->setSizes({300, 700});
+        QCoreApplication::processEvents();
+        sizes = splitter->sizes();
+        ASSERT_TRUE(window.close());
+    }
+    MainWindow again(GARMENTS);
+    again.show();
+    QCoreApplication::processEvents();
+    EXPECT_EQ(again.size(), QSize(1100, 700));
+    EXPECT_EQ(again.findChild<QSplitter*>()->sizes(), sizes);
 }
 
 TEST(MainWindow, UnsavedChangesAreAskedAboutBeforeANewProject) {
