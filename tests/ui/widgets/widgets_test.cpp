@@ -7,6 +7,11 @@
 #include "ui/widgets/viewport.h"
 
 #include "io/atomic_file.h"
+#include "io/body_file.h"
+#pragma push_macro("slots")
+#undef slots
+#include "io/garmentcode.h"
+#pragma pop_macro("slots")
 #include "io/project_file.h"
 
 #include "patterns/curve.h"
@@ -18,8 +23,8 @@
 #include <QMimeData>
 #include <QProcess>
 #include <QSettings>
-#include <QSplitter>
 #include <QSignalSpy>
+#include <QSplitter>
 #include <QStandardPaths>
 #include <QTemporaryDir>
 #include <QTest>
@@ -534,6 +539,10 @@ TEST(MainWindow, UnsavedChangesAreAskedAboutBeforeANewProject) {
     ASSERT_TRUE(window.mirrorSelectedPanel());
     prompts.answer = QMessageBox::Cancel;
     EXPECT_FALSE(window.newProject());
+    EXPECT_FALSE(window.openProject(GARMENTS + "/tshirt.atelier"));
+    window.show();
+    EXPECT_FALSE(window.close()) << "closing is cancelled too";
+    EXPECT_TRUE(window.isVisible());
     EXPECT_TRUE(window.isModified());
     EXPECT_EQ(window.project().document.panels.size(), 2U);
     prompts.answer = QMessageBox::Discard;
@@ -700,6 +709,52 @@ TEST(MainWindow, AutosaveRecoversTheEditsOfAKilledProcess) {
     EXPECT_TRUE(laterPrompts.restoreOffers.isEmpty());
 }
 
+TEST(MainWindow, TheProgramKilledAfterAnImportLeavesARecoveryFileThatRestoresIt) {
+    // The real program: a GarmentCode import is an unsaved project; autosaved each second into
+    // --recovery-dir, then the process is killed.
+    const QString program = QCoreApplication::applicationDirPath() + "/../app/atelier";
+    if (!QFileInfo(program).isExecutable()) {
+        GTEST_SKIP() << "the atelier program is not built beside the tests: "
+                     << program.toStdString();
+    }
+    const QString spec =
+        QStringLiteral(ATELIER_SOURCE_DIR "/tests/fuzz/corpus/two-panels.garmentcode.json");
+    QTemporaryDir dir;
+    const QString recovery = dir.filePath("recovery");
+    QProcess atelier;
+    atelier.start(program, {"--recovery-dir", recovery, "--autosave-seconds", "1", spec});
+    ASSERT_TRUE(atelier.waitForStarted(30000));
+    ASSERT_TRUE(waitFor(
+        [&] {
+            atelier.waitForFinished(50);
+            return atelier.state() != QProcess::Running ||
+                   !QDir(recovery).entryList({"*.atelier"}, QDir::Files).isEmpty();
+        },
+        240));
+    ASSERT_EQ(atelier.state(), QProcess::Running) << atelier.readAllStandardError().toStdString();
+    atelier.kill();
+    ASSERT_TRUE(atelier.waitForFinished(30000));
+    EXPECT_EQ(atelier.exitStatus(), QProcess::CrashExit);
+
+    // What the import gives, read back as the recovery file is.
+    const auto mannequin = io::loadBody(patterns::BodySource{}, {}, {});
+    ASSERT_TRUE(mannequin.ok());
+    const auto imported = io::importGarmentCode(spec.toStdString(), mannequin.value());
+    ASSERT_TRUE(imported.ok());
+    const auto expected = io::parseProject(io::formatProject(imported.value().project), "x");
+    ASSERT_TRUE(expected.ok());
+
+    MainWindow window(GARMENTS);
+    QuietPrompts prompts;
+    prompts.install(window);
+    window.setRecoveryDirectory(recovery);
+    ASSERT_TRUE(window.offerRecovery());
+    EXPECT_EQ(patterns::dumpDocument(window.project().document),
+              patterns::dumpDocument(expected.value().document));
+    EXPECT_TRUE(window.projectPath().isEmpty()) << "an import has no file yet";
+    EXPECT_TRUE(window.isModified());
+}
+
 } // namespace
 } // namespace atelier::ui
 
@@ -710,6 +765,7 @@ int main(int argc, char** argv) {
     QApplication app(argc, argv);
     QApplication::setOrganizationName("AtelierTests");
     QApplication::setApplicationName("atelier_widget_tests");
+    QSettings().clear(); // recent files and geometry from an earlier run do not leak in
     if (argc == 5 && std::string(argv[1]) == "--autosave-child") {
         return atelier::ui::autosaveChild(argv[2], argv[3], argv[4]);
     }
