@@ -255,8 +255,8 @@ void DrapeController::placeOnWorker(const QString& path) {
         const std::lock_guard lock(m_mutex);
         m_path = path;
     }
+    m_session->setProject(m_project); // phase Empty, no simulation until prepared
     if (!m_project.garment.panels.empty()) {
-        m_session->setProject(m_project);
         prepareOnWorker();
         return;
     }

@@ -765,7 +765,10 @@ int main(int argc, char** argv) {
     QApplication app(argc, argv);
     QApplication::setOrganizationName("AtelierTests");
     QApplication::setApplicationName("atelier_widget_tests");
-    QSettings().clear(); // recent files and geometry from an earlier run do not leak in
+    // Settings (recent files, geometry) of this process alone: none from an earlier run or a
+    // test program running beside it.
+    const QTemporaryDir settings;
+    QSettings::setPath(QSettings::NativeFormat, QSettings::UserScope, settings.path());
     if (argc == 5 && std::string(argv[1]) == "--autosave-child") {
         return atelier::ui::autosaveChild(argv[2], argv[3], argv[4]);
     }
