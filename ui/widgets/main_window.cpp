@@ -10,6 +10,7 @@
 #undef slots
 #include "io/garmentcode.h"
 #pragma pop_macro("slots")
+#include "io/mesh_import.h"
 #include "io/obj.h"
 #include "io/project_file.h"
 
@@ -34,6 +35,8 @@
 #include <QToolBar>
 #include <QUndoCommand>
 
+#include <algorithm>
+
 namespace atelier::ui {
 
 namespace {
@@ -41,10 +44,17 @@ namespace {
 constexpr int MAX_RECENT = 8;
 constexpr int DEFAULT_AUTOSAVE_SECONDS = 60;
 
-/// The kinds of file the window opens (by suffix): projects, GarmentCode specifications.
+bool isBodyMesh(const QString& path) {
+    const std::string suffix = "." + QFileInfo(path).suffix().toLower().toStdString();
+    const std::vector<std::string>& kinds = io::bodyMeshExtensions();
+    return std::find(kinds.begin(), kinds.end(), suffix) != kinds.end();
+}
+
+/// The kinds of file the window opens (by suffix): projects, GarmentCode specifications, body
+/// meshes.
 bool openable(const QString& path) {
     const QString suffix = QFileInfo(path).suffix().toLower();
-    return suffix == "atelier" || suffix == "json";
+    return suffix == "atelier" || suffix == "json" || isBodyMesh(path);
 }
 
 } // namespace
@@ -296,6 +306,9 @@ bool MainWindow::openProject(const QString& path) {
 }
 
 bool MainWindow::openFile(const QString& path) {
+    if (isBodyMesh(path)) {
+        return setBodyMesh(path);
+    }
     if (QFileInfo(path).suffix().toLower() != "json") {
         return openProject(path);
     }
@@ -447,6 +460,44 @@ bool MainWindow::openRecent(const QString& path) {
 void MainWindow::showError(const QString& message) {
     statusBar()->showMessage(message, 10000);
     m_prompts.error(message);
+}
+
+/// A new body for the project (not a document edit): redo and undo swap the body source and
+/// place the garment again on it.
+class BodyCommand : public QUndoCommand {
+  public:
+    BodyCommand(MainWindow* window, patterns::BodySource before, patterns::BodySource after,
+                const QString& text)
+        : QUndoCommand(text), m_window(window), m_before(std::move(before)),
+          m_after(std::move(after)) {}
+    void redo() override { m_window->setBody(m_after); }
+    void undo() override { m_window->setBody(m_before); }
+
+  private:
+    MainWindow* m_window;
+    patterns::BodySource m_before;
+    patterns::BodySource m_after;
+};
+
+bool MainWindow::setBodyMesh(const QString& path) {
+    // Read it here so that a mesh that is no body is an error at once, naming the file.
+    if (auto body = io::importBody(path.toStdString()); !body.ok()) {
+        showError(tr("Could not use %1 as the body:\n%2")
+                      .arg(path, QString::fromStdString(body.error().toString())));
+        return false;
+    }
+    patterns::BodySource source;
+    source.meshPath = QFileInfo(path).absoluteFilePath().toStdString(); // kept absolute
+    m_undo.push(new BodyCommand(this, m_project.body, source,
+                                tr("body %1").arg(QFileInfo(path).fileName())));
+    return true;
+}
+
+void MainWindow::setBody(const patterns::BodySource& body) {
+    m_project.body = body;
+    statusBar()->showMessage(tr("Placing the garment on the new body…"));
+    m_drape->setProject(m_project, m_path);
+    updateTitle();
 }
 
 // ---- Edits ----

@@ -58,9 +58,13 @@ class MainWindow : public QMainWindow {
     /// message naming it (and the JSON path) and the window keeps what it had. Asks to save
     /// unsaved changes first. False when nothing was opened.
     bool openProject(const QString& path);
-    /// Opens a dropped or imported file by its kind: a project, or a GarmentCode
-    /// specification (.json) imported onto the default body.
+    /// Opens a dropped or imported file by its kind: a project, a GarmentCode specification
+    /// (.json) imported onto the default body, or a body mesh (setBodyMesh).
     bool openFile(const QString& path);
+    /// Drapes the project on the body mesh at `path` (any format io::importBody reads; the
+    /// project keeps its absolute path) instead of its body: an undoable change, the garment
+    /// placed again. A mesh that cannot be read or is no body is an error message.
+    bool setBodyMesh(const QString& path);
     /// A project without panels on the default body (asks to save unsaved changes first).
     bool newProject();
     /// Saves to the project's file (or asks where, as Save As). False when not saved.
@@ -117,6 +121,8 @@ class MainWindow : public QMainWindow {
 
   private:
     friend class EditCommand;
+    friend class BodyCommand;
+    void setBody(const patterns::BodySource& body);
     void buildMenus();
     void updateStatus();
     void exportMesh();

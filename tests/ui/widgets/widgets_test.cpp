@@ -8,6 +8,7 @@
 
 #include "io/atomic_file.h"
 #include "io/body_file.h"
+#include "io/obj.h"
 #pragma push_macro("slots")
 #undef slots
 #include "io/garmentcode.h"
@@ -618,6 +619,50 @@ TEST(MainWindow, ADroppedProjectFileIsOpened) {
     QDragEnterEvent other(QPoint(50, 50), Qt::CopyAction, &text, Qt::LeftButton, {});
     QApplication::sendEvent(&window, &other);
     EXPECT_FALSE(other.isAccepted());
+}
+
+TEST(MainWindow, ADroppedBodyMeshBecomesTheBodyUndoably) {
+    QTemporaryDir dir;
+    MainWindow window(GARMENTS);
+    QuietPrompts prompts;
+    prompts.install(window);
+    window.setRecoveryDirectory(dir.filePath("recovery"));
+    ASSERT_TRUE(openAndWait(window, GARMENTS + "/skirt.atelier"));
+    // The default mannequin written as an OBJ mesh: a body file.
+    const auto mannequin = io::loadBody(patterns::BodySource{}, {}, {});
+    ASSERT_TRUE(mannequin.ok());
+    const QString mesh = dir.filePath("body.obj");
+    ASSERT_TRUE(
+        io::writeObj(mesh.toStdString(), mannequin.value().vertices, mannequin.value().triangles)
+            .ok());
+    QMimeData data;
+    data.setUrls({QUrl::fromLocalFile(mesh)});
+    QDragEnterEvent enter(QPoint(50, 50), Qt::CopyAction, &data, Qt::LeftButton, {});
+    QApplication::sendEvent(&window, &enter);
+    EXPECT_TRUE(enter.isAccepted());
+    QSignalSpy ready(&window, &MainWindow::projectReady);
+    QDropEvent drop(QPointF(50, 50), Qt::CopyAction, &data, Qt::LeftButton, {});
+    QApplication::sendEvent(&window, &drop);
+    EXPECT_TRUE(drop.isAccepted());
+    ASSERT_EQ(window.project().body.meshPath, QFileInfo(mesh).absoluteFilePath().toStdString());
+    EXPECT_EQ(window.undoStack().count(), 1);
+    EXPECT_TRUE(window.isModified());
+    ASSERT_TRUE(waitFor([&] { return ready.count() >= 1; }, 120))
+        << prompts.errors.join("; ").toStdString();
+    ASSERT_TRUE(window.drape().staticScene()) << prompts.errors.join("; ").toStdString();
+    EXPECT_EQ(window.drape().staticScene()->bodyTriangles.rows(),
+              mannequin.value().triangles.rows());
+    window.undoStack().undo();
+    EXPECT_TRUE(window.project().body.meshPath.empty());
+    EXPECT_FALSE(window.isModified());
+
+    // A file that is no mesh is refused with a message naming it.
+    const QString broken = dir.filePath("broken.obj");
+    ASSERT_TRUE(io::writeFileAtomically(broken.toStdString(), "v 1 2\nf 1 2 3\n").ok());
+    EXPECT_FALSE(window.openFile(broken));
+    ASSERT_FALSE(prompts.errors.isEmpty());
+    EXPECT_TRUE(prompts.errors.back().contains("broken.obj"));
+    EXPECT_EQ(window.undoStack().count(), 1) << "nothing new on the stack";
 }
 
 /// The child of the recovery test: opens `project`, edits it (a point moved, a panel
