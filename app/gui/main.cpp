@@ -1,6 +1,6 @@
 /// atelier: the desktop application (ui/widgets over the drape session and the renderer).
 ///
-///   atelier [PROJECT.atelier]
+///   atelier [PROJECT.atelier | SPEC.json] [--recovery-dir DIR] [--autosave-seconds N]
 ///   atelier PROJECT.atelier --screenshot OUT.png [--drape-seconds S]   (tests, documentation)
 
 #include "ui/widgets/main_window.h"
@@ -11,6 +11,7 @@
 #include <QDir>
 #include <QElapsedTimer>
 #include <QFileInfo>
+#include <QMessageBox>
 #include <QSaveFile>
 #include <QTimer>
 
@@ -50,18 +51,48 @@ int main(int argc, char** argv) {
         "png");
     const QCommandLineOption seconds("drape-seconds", "Simulated seconds before --screenshot", "s",
                                      "0");
+    const QCommandLineOption recoveryDir(
+        "recovery-dir",
+        "Where autosaved recovery files go (default: the application's data folder)", "dir");
+    const QCommandLineOption autosaveSeconds(
+        "autosave-seconds", "Autosave period while modified (default: the setting, 60)", "s");
     parser.addOption(screenshot);
     parser.addOption(seconds);
+    parser.addOption(recoveryDir);
+    parser.addOption(autosaveSeconds);
     parser.process(app);
 
     atelier::ui::MainWindow window(samplesDir());
+    if (parser.isSet(recoveryDir)) {
+        window.setRecoveryDirectory(parser.value(recoveryDir));
+    }
+    if (parser.isSet(autosaveSeconds)) {
+        bool ok = false;
+        const int period = parser.value(autosaveSeconds).toInt(&ok);
+        if (!ok || period < 0) {
+            std::fputs("error: --autosave-seconds must be a whole number >= 0\n", stderr);
+            return 2;
+        }
+        window.setAutosaveSeconds(period);
+    }
     window.show();
     const QStringList projects = parser.positionalArguments();
-    if (!projects.isEmpty()) {
-        window.openProject(projects.front());
-    }
     if (!parser.isSet(screenshot)) {
+        // Unsaved changes from a run that did not close cleanly come first.
+        if (!window.offerRecovery() && !projects.isEmpty()) {
+            window.openFile(projects.front());
+        }
         return QApplication::exec();
+    }
+    // Screenshot mode: no dialogs; errors go to stderr.
+    atelier::ui::Prompts quiet;
+    quiet.error = [](const QString& message) {
+        std::fprintf(stderr, "error: %s\n", qPrintable(message));
+    };
+    quiet.saveChanges = [](const QString&) { return QMessageBox::Discard; };
+    window.setPrompts(quiet);
+    if (!projects.isEmpty() && !window.openProject(projects.front())) {
+        return 1;
     }
 
     // Screenshot mode: drape to the time asked for, then grab the window and quit.

@@ -41,6 +41,20 @@ void DrapeController::open(const QString& path) {
     post([this, path] { openOnWorker(path); });
 }
 
+void DrapeController::setProject(patterns::Project project, const QString& path) {
+    m_running.store(false);
+    post([this, project = std::move(project), path]() mutable {
+        m_projectFile = path.isEmpty() ? std::filesystem::path()
+                                       : std::filesystem::absolute(path.toStdString());
+        m_project = std::move(project);
+        placeOnWorker(path);
+    });
+}
+
+void DrapeController::setDocument(patterns::GarmentDocument document) {
+    post([this, document = std::move(document)]() mutable { editOnWorker(std::move(document)); });
+}
+
 void DrapeController::start() {
     post([this] {
         if (m_session->phase() != patterns::DrapePhase::Empty && !m_session->finished()) {
@@ -119,6 +133,9 @@ void DrapeController::pin(int vertex) {
             // A vertex's own pattern point always lies on its panel: this does not happen.
             const QString message = QString::fromStdString(edit.error().toString());
             QMetaObject::invokeMethod(this, [this, message] { emit failed(message); });
+        } else {
+            QMetaObject::invokeMethod(this,
+                                      [this, e = std::move(edit.value())] { emit pinEdited(e); });
         }
         publishPins();
     });
@@ -143,8 +160,13 @@ void DrapeController::unpin(int vertex) {
         if (p.index < static_cast<int>(garmentPins.size()) &&
             p.index < static_cast<int>(docPanel.pins.size())) {
             garmentPins.erase(garmentPins.begin() + p.index);
-            (void)patterns::removePin(m_project.document, docPanel.id,
-                                      docPanel.pins[static_cast<std::size_t>(p.index)].id);
+            if (auto edit =
+                    patterns::removePin(m_project.document, docPanel.id,
+                                        docPanel.pins[static_cast<std::size_t>(p.index)].id);
+                edit.ok()) {
+                QMetaObject::invokeMethod(
+                    this, [this, e = std::move(edit.value())] { emit pinEdited(e); });
+            }
         }
         publishPins();
         if (m_session->phase() != patterns::DrapePhase::Failed) {
@@ -225,12 +247,30 @@ void DrapeController::openOnWorker(const QString& path) {
     }
     m_projectFile = std::filesystem::absolute(file);
     m_project = std::move(project.value());
-    m_session->setProject(m_project);
+    placeOnWorker(path);
+}
+
+void DrapeController::placeOnWorker(const QString& path) {
     {
         const std::lock_guard lock(m_mutex);
         m_path = path;
     }
-    prepareOnWorker();
+    m_session->setProject(m_project); // phase Empty, no simulation until prepared
+    if (!m_project.garment.panels.empty()) {
+        prepareOnWorker();
+        return;
+    }
+    // Nothing to drape (a new project): no scene until a panel is drawn.
+    m_stepped.store(false);
+    m_grab = 0;
+    m_phase.store(static_cast<int>(patterns::DrapePhase::Empty));
+    {
+        const std::lock_guard lock(m_mutex);
+        m_static.reset();
+        m_pinned.clear();
+        m_document = m_project.document;
+    }
+    QMetaObject::invokeMethod(this, [this, path] { emit opened(path); });
 }
 
 void DrapeController::prepareOnWorker() {
@@ -243,6 +283,109 @@ void DrapeController::prepareOnWorker() {
         return;
     }
     m_session->takeEvents();
+    publishScene();
+    QString path;
+    {
+        const std::lock_guard lock(m_mutex);
+        path = m_path;
+    }
+    QMetaObject::invokeMethod(this, [this, path] { emit opened(path); });
+}
+
+namespace {
+
+bool sameRanges(const std::vector<patterns::SeamEdge>& a,
+                const std::vector<patterns::SeamEdge>& b) {
+    if (a.size() != b.size()) {
+        return false;
+    }
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        if (a[i].panel != b[i].panel || a[i].segment != b[i].segment || a[i].t0 != b[i].t0 ||
+            a[i].t1 != b[i].t1) {
+            return false;
+        }
+    }
+    return true;
+}
+
+/// The same seams, over the same panels' segments (the index-based form the session holds).
+bool sameSeams(const patterns::Garment& a, const patterns::Garment& b) {
+    if (a.seams.size() != b.seams.size()) {
+        return false;
+    }
+    for (std::size_t s = 0; s < a.seams.size(); ++s) {
+        if (a.seams[s].name != b.seams[s].name || !sameRanges(a.seams[s].a, b.seams[s].a) ||
+            !sameRanges(a.seams[s].b, b.seams[s].b)) {
+            return false;
+        }
+    }
+    return true;
+}
+
+/// The exact text of one panel (dumpDocument over a document holding only it).
+std::string dumpPanel(const patterns::doc::Panel& panel) {
+    patterns::GarmentDocument one;
+    one.panels.push_back(panel);
+    return patterns::dumpDocument(one);
+}
+
+} // namespace
+
+void DrapeController::editOnWorker(patterns::GarmentDocument document) {
+    patterns::Garment next = patterns::toGarment(document);
+    const patterns::Garment& now = m_project.garment;
+    std::vector<std::size_t> changed;
+    bool incremental = m_session->simulation() != nullptr &&
+                       m_session->phase() != patterns::DrapePhase::Failed &&
+                       next.panels.size() == now.panels.size() &&
+                       document.panels.size() == m_project.document.panels.size() &&
+                       sameSeams(next, now) && next.materials.size() == now.materials.size();
+    for (std::size_t p = 0; incremental && p < document.panels.size(); ++p) {
+        const patterns::doc::Panel& before = m_project.document.panels[p];
+        const patterns::doc::Panel& after = document.panels[p];
+        if (before.id != after.id || before.name != after.name) {
+            incremental = false;
+        } else if (dumpPanel(before) != dumpPanel(after)) {
+            changed.push_back(p);
+        }
+    }
+    const sim::Simulation* simulation = m_session->simulation();
+    for (std::size_t k = 0; incremental && k < changed.size(); ++k) {
+        incremental = m_session->setPanel(changed[k], next.panels[changed[k]]).ok();
+    }
+    m_project.document = std::move(document);
+    m_project.garment = std::move(next);
+    if (!incremental) {
+        // Placed again: every panel on its slot, the drape from the start.
+        const QString path = this->path();
+        m_running.store(false);
+        if (m_project.garment.panels.empty()) {
+            placeOnWorker(path);
+            return;
+        }
+        m_session->setProject(m_project);
+        m_stepped.store(false);
+        m_grab = 0;
+        if (auto prepared = m_session->prepare(); !prepared.ok()) {
+            m_phase.store(static_cast<int>(patterns::DrapePhase::Failed));
+            const QString message = QString::fromStdString(prepared.error().toString());
+            QMetaObject::invokeMethod(this, [this, message] { emit failed(message); });
+            return;
+        }
+        m_session->takeEvents();
+    } else if (m_session->simulation() != simulation) {
+        m_stepped.store(false); // snapshots before the rebuild are of the garment as it was
+        m_grab = 0;             // a rebuilt simulation holds no grab
+    }
+    for (const patterns::DrapeEvent& e : m_session->takeEvents()) {
+        const QString message = QString::fromStdString(e.message);
+        QMetaObject::invokeMethod(this, [this, message] { emit event(message); });
+    }
+    publishScene();
+    QMetaObject::invokeMethod(this, [this, incremental] { emit rebuilt(incremental); });
+}
+
+void DrapeController::publishScene() {
     auto scene = std::make_shared<StaticScene>();
     const patterns::GarmentMesh& mesh = m_session->mesh();
     const patterns::AssembledGarment& assembled = m_session->assembled();
@@ -266,13 +409,8 @@ void DrapeController::prepareOnWorker() {
     scene->garment = garment;
     m_phase.store(static_cast<int>(m_session->phase()));
     publishPins();
-    QString path;
-    {
-        const std::lock_guard lock(m_mutex);
-        m_static = std::move(scene);
-        path = m_path;
-    }
-    QMetaObject::invokeMethod(this, [this, path] { emit opened(path); });
+    const std::lock_guard lock(m_mutex);
+    m_static = std::move(scene);
 }
 
 void DrapeController::loop() {

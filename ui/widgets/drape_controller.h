@@ -3,6 +3,7 @@
 /// steps it; the window sends it commands (open, start, pause, reset) and reads what it
 /// publishes (snapshots, figures) without ever waiting for a step.
 
+#include "patterns/document_edit.h"
 #include "patterns/drape_session.h"
 
 #include "sim/simulation.h"
@@ -57,6 +58,16 @@ class DrapeController : public QObject {
 
     /// Loads a project file and prepares its drape on the worker (opened() or failed() follow).
     void open(const QString& path);
+    /// Drapes `project` (read by the window; `path` is its file, empty when it has none, and
+    /// body meshes resolve against it): placed anew, opened() or failed() follow. A project
+    /// without panels is opened with nothing to drape.
+    void setProject(patterns::Project project, const QString& path);
+    /// The window's edited document. When the same panels and seams remain, the panels whose
+    /// drawing or pins changed are re-meshed and the drape continues from where it is
+    /// (DrapeSession::setPanel: unchanged panels stay where they are); when panels were added,
+    /// removed, reordered or renamed or seams changed, the garment is placed again. rebuilt()
+    /// or failed() follow.
+    void setDocument(patterns::GarmentDocument document);
     void start();
     void pause();
     /// The garment back where it was placed, nothing stepped.
@@ -106,12 +117,24 @@ class DrapeController : public QObject {
     void event(const QString& message);
     /// A pin was added or removed (pinnedVertices() and document() have changed).
     void pinsChanged();
+    /// A pin command changed the document by `edit` (addPin or removePin), so that the window
+    /// can apply it to its own document and put it on its undo stack.
+    void pinEdited(const patterns::Edit& edit);
+    /// setDocument() was applied: the static scene is the edited garment's; `continued` says
+    /// whether the drape went on from where it was (else it was placed again).
+    void rebuilt(bool continued);
 
   private:
     void post(std::function<void()> command);
     void loop();
     void openOnWorker(const QString& path);
+    /// Gives the session m_project and prepares it (or, without panels, clears the scene).
+    void placeOnWorker(const QString& path);
+    /// Prepares the session's project; publishes its scene and emits opened() (or failed()).
     void prepareOnWorker();
+    void editOnWorker(patterns::GarmentDocument document);
+    /// Copies the session's meshes, body and positions into a new static scene.
+    void publishScene();
     /// Copies the pinned vertices and the document for other threads (worker thread).
     void publishPins();
 

@@ -3,33 +3,128 @@
 #include "ui/widgets/pattern_view.h"
 #include "ui/widgets/viewport.h"
 
+#include "io/atomic_file.h"
+#include "io/body_file.h"
+// GarmentCodeOptions has a member named `slots`, which Qt defines as a macro.
+#pragma push_macro("slots")
+#undef slots
+#include "io/garmentcode.h"
+#pragma pop_macro("slots")
+#include "io/mesh_import.h"
 #include "io/obj.h"
+#include "io/project_file.h"
 
 #include <QAction>
 #include <QApplication>
+#include <QCloseEvent>
+#include <QCryptographicHash>
+#include <QDateTime>
 #include <QDir>
+#include <QDragEnterEvent>
+#include <QDropEvent>
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QKeySequence>
 #include <QMenuBar>
-#include <QMessageBox>
+#include <QMimeData>
 #include <QSaveFile>
+#include <QSettings>
 #include <QSplitter>
+#include <QStandardPaths>
 #include <QStatusBar>
 #include <QToolBar>
+#include <QUndoCommand>
+
+#include <algorithm>
 
 namespace atelier::ui {
+
+namespace {
+
+constexpr int MAX_RECENT = 8;
+constexpr int DEFAULT_AUTOSAVE_SECONDS = 60;
+
+bool isBodyMesh(const QString& path) {
+    const std::string suffix = "." + QFileInfo(path).suffix().toLower().toStdString();
+    const std::vector<std::string>& kinds = io::bodyMeshExtensions();
+    return std::find(kinds.begin(), kinds.end(), suffix) != kinds.end();
+}
+
+/// The kinds of file the window opens (by suffix): projects, GarmentCode specifications, body
+/// meshes.
+bool openable(const QString& path) {
+    const QString suffix = QFileInfo(path).suffix().toLower();
+    return suffix == "atelier" || suffix == "json" || isBodyMesh(path);
+}
+
+} // namespace
+
+/// One edit on the undo stack: redo and undo put the window's document in the edit's after-
+/// and before-state and hand it to the drape.
+class EditCommand : public QUndoCommand {
+  public:
+    /// `applied`: the document (and the drape) already hold the edit (a pin made in the 3D
+    /// view); the first redo then does nothing.
+    EditCommand(MainWindow* window, patterns::Edit edit, bool applied)
+        : QUndoCommand(QString::fromStdString(edit.description)), m_window(window),
+          m_edit(std::move(edit)), m_skipRedo(applied) {}
+
+    void redo() override {
+        if (m_skipRedo) {
+            m_skipRedo = false;
+            return;
+        }
+        patterns::redo(m_window->m_project.document, m_edit);
+        m_window->documentChanged();
+    }
+    void undo() override {
+        patterns::undo(m_window->m_project.document, m_edit);
+        m_window->documentChanged();
+    }
+
+  private:
+    MainWindow* m_window;
+    patterns::Edit m_edit;
+    bool m_skipRedo;
+};
 
 MainWindow::MainWindow(QString samplesDir, QWidget* parent)
     : QMainWindow(parent), m_drape(new DrapeController(this)), m_pattern(new PatternView),
       m_viewport(new Viewport(m_drape)), m_samplesDir(std::move(samplesDir)) {
-    setWindowTitle(tr("Atelier"));
-    auto* splitter = new QSplitter;
-    splitter->addWidget(m_pattern);
-    splitter->addWidget(m_viewport);
-    splitter->setSizes({480, 800});
-    setCentralWidget(splitter);
+    m_splitter = new QSplitter;
+    m_splitter->addWidget(m_pattern);
+    m_splitter->addWidget(m_viewport);
+    m_splitter->setSizes({480, 800});
+    setCentralWidget(m_splitter);
+    setAcceptDrops(true);
+    m_prompts = Prompts{
+        [this](const QString& name) {
+            return QMessageBox::question(
+                this, tr("Atelier"), tr("Save the changes to %1?").arg(name),
+                QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel, QMessageBox::Save);
+        },
+        [this](const QString& recovery, const QString& project) {
+            return QMessageBox::question(
+                       this, tr("Atelier"),
+                       tr("Atelier did not close cleanly. Restore the unsaved changes to %1 "
+                          "(autosaved %2)?")
+                           .arg(project.isEmpty() ? tr("an untitled project") : project,
+                                QFileInfo(recovery).lastModified().toString()),
+                       QMessageBox::Yes | QMessageBox::No, QMessageBox::Yes) == QMessageBox::Yes;
+        },
+        [this] {
+            return QFileDialog::getSaveFileName(this, tr("Save the project"), lastDirectory(),
+                                                tr("Atelier projects (*.atelier)"));
+        },
+        [this](const QString& message) { QMessageBox::warning(this, tr("Atelier"), message); }};
+    m_recoveryDir =
+        QStandardPaths::writableLocation(QStandardPaths::AppLocalDataLocation) + "/recovery";
+    m_project.name = "untitled";
     buildMenus();
+    updateTitle();
+    connect(&m_undo, &QUndoStack::cleanChanged, this, [this] { updateTitle(); });
+    connect(&m_autosave, &QTimer::timeout, this, [this] { autosave(); });
+    setAutosaveSeconds(QSettings().value("autosave/seconds", DEFAULT_AUTOSAVE_SECONDS).toInt());
 
     for (QLabel* label : {&m_phase, &m_time, &m_speed, &m_energy, &m_contacts, &m_fps}) {
         label->setMinimumWidth(90);
@@ -39,21 +134,53 @@ MainWindow::MainWindow(QString samplesDir, QWidget* parent)
     m_statusTimer.start(250);
     updateStatus();
 
-    connect(m_drape, &DrapeController::opened, this, [this](const QString& path) {
-        if (auto scene = m_drape->staticScene()) {
-            m_pattern->setGarment(scene->garment);
-        }
+    connect(m_drape, &DrapeController::opened, this, [this](const QString& /*path*/) {
         m_viewport->sceneChanged();
-        setWindowTitle(tr("%1 — Atelier").arg(QFileInfo(path).fileName()));
-        statusBar()->showMessage(tr("Placed: press Space to drape"), 5000);
+        if (m_drape->staticScene()) {
+            statusBar()->showMessage(tr("Placed: press Space to drape"), 5000);
+        }
         m_lastSteps = 0;
         m_lastWall = 0;
         emit projectReady();
     });
+    connect(m_drape, &DrapeController::rebuilt, this, [this](bool continued) {
+        m_viewport->sceneChanged(true);
+        if (!continued) {
+            statusBar()->showMessage(tr("Placed again: press Space to drape"), 5000);
+        }
+        emit documentApplied();
+    });
+    connect(m_drape, &DrapeController::pinEdited, this, [this](const patterns::Edit& e) {
+        // The drape and its copy of the document hold the pin already; the window's document
+        // takes the same edit, and the stack can undo it.
+        patterns::redo(m_project.document, e);
+        patterns::syncGarment(m_project);
+        m_undo.push(new EditCommand(this, e, true));
+    });
+    connect(m_pattern, &PatternView::pointMoveRequested, this,
+            [this](quint32 panel, quint32 point, double x, double y) {
+                edit([&](patterns::GarmentDocument& d) {
+                    return patterns::movePoint(d, patterns::PanelId{panel},
+                                               patterns::PointId{point}, patterns::Vec2(x, y));
+                });
+            });
+    connect(
+        m_pattern, &PatternView::pointDeleteRequested, this, [this](quint32 panel, quint32 point) {
+            edit([&](patterns::GarmentDocument& d) {
+                return patterns::deletePoint(d, patterns::PanelId{panel}, patterns::PointId{point});
+            });
+        });
+    connect(m_pattern, &PatternView::pointAddRequested, this,
+            [this](quint32 panel, quint32 edge, double t, double x, double y) {
+                edit([&](patterns::GarmentDocument& d) {
+                    return patterns::addPoint(d, patterns::PanelId{panel}, patterns::EdgeId{edge},
+                                              t, patterns::Vec2(x, y));
+                });
+            });
     connect(m_drape, &DrapeController::failed, this, [this](const QString& message) {
         statusBar()->showMessage(message);
         if (isVisible()) {
-            QMessageBox::warning(this, tr("Atelier"), message);
+            showError(message);
         }
     });
     connect(m_drape, &DrapeController::event, this,
@@ -66,20 +193,45 @@ MainWindow::MainWindow(QString samplesDir, QWidget* parent)
         }
     });
     resize(1280, 760);
+    const QSettings settings;
+    restoreGeometry(settings.value("window/geometry").toByteArray());
+    restoreState(settings.value("window/state").toByteArray());
+    m_splitter->restoreState(settings.value("window/splitter").toByteArray());
 }
 
 MainWindow::~MainWindow() = default;
 
+void MainWindow::setPrompts(Prompts prompts) {
+    if (prompts.saveChanges) {
+        m_prompts.saveChanges = std::move(prompts.saveChanges);
+    }
+    if (prompts.restore) {
+        m_prompts.restore = std::move(prompts.restore);
+    }
+    if (prompts.saveFileName) {
+        m_prompts.saveFileName = std::move(prompts.saveFileName);
+    }
+    if (prompts.error) {
+        m_prompts.error = std::move(prompts.error);
+    }
+}
+
 void MainWindow::buildMenus() {
     QMenu* file = menuBar()->addMenu(tr("&File"));
+    QAction* newAction = file->addAction(tr("&New"), this, [this] { newProject(); });
+    newAction->setShortcut(QKeySequence::New);
     QAction* open = file->addAction(tr("&Open…"), this, [this] {
         const QString path = QFileDialog::getOpenFileName(
-            this, tr("Open a garment project"), m_samplesDir, tr("Atelier projects (*.atelier)"));
+            this, tr("Open a garment project"), lastDirectory(),
+            tr("Atelier projects (*.atelier);;GarmentCode specifications (*.json)"));
         if (!path.isEmpty()) {
-            openProject(path);
+            QSettings().setValue("files/lastDirectory", QFileInfo(path).absolutePath());
+            openFile(path);
         }
     });
     open->setShortcut(QKeySequence::Open);
+    m_recent = file->addMenu(tr("Open &recent"));
+    connect(m_recent, &QMenu::aboutToShow, this, &MainWindow::fillRecentMenu);
     if (!m_samplesDir.isEmpty()) {
         QMenu* samples = file->addMenu(tr("&Samples"));
         for (const QString& name : QDir(m_samplesDir).entryList({"*.atelier"}, QDir::Files)) {
@@ -87,12 +239,35 @@ void MainWindow::buildMenus() {
                                [this, name] { openProject(QDir(m_samplesDir).filePath(name)); });
         }
     }
+    QAction* saveAction = file->addAction(tr("&Save"), this, [this] { save(); });
+    saveAction->setShortcut(QKeySequence::Save);
+    QAction* saveAsAction = file->addAction(tr("Save &as…"), this, [this] {
+        const QString path = m_prompts.saveFileName();
+        if (!path.isEmpty()) {
+            saveAs(path);
+        }
+    });
+    saveAsAction->setShortcut(QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_S));
     file->addSeparator();
     file->addAction(tr("&Export draped mesh…"), this, &MainWindow::exportMesh);
     file->addAction(tr("Save &picture…"), this, &MainWindow::savePicture);
     file->addSeparator();
-    QAction* quit = file->addAction(tr("&Quit"), qApp, &QApplication::quit);
+    QAction* quit = file->addAction(tr("&Quit"), this, &QWidget::close);
     quit->setShortcut(QKeySequence::Quit);
+
+    QMenu* editMenu = menuBar()->addMenu(tr("&Edit"));
+    QAction* undo = m_undo.createUndoAction(this, tr("&Undo"));
+    undo->setShortcut(QKeySequence::Undo);
+    QAction* redo = m_undo.createRedoAction(this, tr("&Redo"));
+    redo->setShortcuts(
+        {QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_Z), QKeySequence(Qt::CTRL | Qt::Key_Y)});
+    editMenu->addAction(undo);
+    editMenu->addAction(redo);
+    editMenu->addSeparator();
+    editMenu->addAction(tr("&Mirror panel"), this, [this] { mirrorSelectedPanel(); });
+    QAction* duplicate =
+        editMenu->addAction(tr("&Duplicate panel"), this, [this] { duplicateSelectedPanel(); });
+    duplicate->setShortcut(QKeySequence(Qt::CTRL | Qt::Key_D));
 
     QMenu* sim = menuBar()->addMenu(tr("&Simulation"));
     m_run = sim->addAction(tr("&Drape / pause"), this, &MainWindow::toggleRun);
@@ -115,9 +290,397 @@ void MainWindow::buildMenus() {
     tools->addAction(reset);
 }
 
-void MainWindow::openProject(const QString& path) {
-    statusBar()->showMessage(tr("Opening %1…").arg(path));
-    m_drape->open(path);
+bool MainWindow::openProject(const QString& path) {
+    if (!maybeSave()) {
+        return false;
+    }
+    auto project = io::loadProject(path.toStdString());
+    if (!project.ok()) {
+        showError(tr("Could not open %1:\n%2")
+                      .arg(path, QString::fromStdString(project.error().toString())));
+        return false;
+    }
+    adopt(std::move(project.value()), path, false);
+    addRecent(path);
+    return true;
+}
+
+bool MainWindow::openFile(const QString& path) {
+    if (isBodyMesh(path)) {
+        return setBodyMesh(path);
+    }
+    if (QFileInfo(path).suffix().toLower() != "json") {
+        return openProject(path);
+    }
+    if (!maybeSave()) {
+        return false;
+    }
+    // A GarmentCode specification, placed on the default mannequin's slots.
+    const patterns::BodySource body;
+    auto mannequin = io::loadBody(body, {}, {});
+    if (!mannequin.ok()) {
+        showError(QString::fromStdString(mannequin.error().toString()));
+        return false;
+    }
+    auto imported = io::importGarmentCode(path.toStdString(), mannequin.value());
+    if (!imported.ok()) {
+        showError(tr("Could not import %1:\n%2")
+                      .arg(path, QString::fromStdString(imported.error().toString())));
+        return false;
+    }
+    adopt(std::move(imported.value().project), QString(), true);
+    const std::size_t warnings = imported.value().warnings.size();
+    statusBar()->showMessage(
+        warnings == 0 ? tr("Imported %1").arg(path)
+                      : tr("Imported %1 with %2 warning(s): %3")
+                            .arg(path)
+                            .arg(warnings)
+                            .arg(QString::fromStdString(imported.value().warnings.front())),
+        8000);
+    return true;
+}
+
+bool MainWindow::newProject() {
+    if (!maybeSave()) {
+        return false;
+    }
+    patterns::Project project;
+    project.name = "untitled";
+    adopt(std::move(project), QString(), false);
+    return true;
+}
+
+void MainWindow::adopt(patterns::Project project, const QString& path, bool modified) {
+    removeRecoveryFile(); // the project left behind was saved or its changes discarded
+    m_project = std::move(project);
+    patterns::syncGarment(m_project);
+    m_path = path;
+    m_undo.clear();
+    m_modifiedOutsideStack = modified;
+    m_pattern->setDocument(m_project.document);
+    statusBar()->showMessage(tr("Opening %1…").arg(path.isEmpty() ? tr("untitled") : path));
+    m_drape->setProject(m_project, path);
+    updateTitle();
+}
+
+bool MainWindow::save() {
+    QString path = m_path;
+    if (path.isEmpty()) {
+        path = m_prompts.saveFileName();
+        if (path.isEmpty()) {
+            return false;
+        }
+    }
+    return saveAs(path);
+}
+
+bool MainWindow::saveAs(const QString& path) {
+    if (auto saved = io::saveProject(path.toStdString(), m_project); !saved.ok()) {
+        showError(tr("Could not save %1:\n%2")
+                      .arg(path, QString::fromStdString(saved.error().toString())));
+        return false;
+    }
+    removeRecoveryFile();
+    m_path = path;
+    m_modifiedOutsideStack = false;
+    m_undo.setClean();
+    QSettings().setValue("files/lastDirectory", QFileInfo(path).absolutePath());
+    addRecent(path);
+    updateTitle();
+    statusBar()->showMessage(tr("Saved %1").arg(path), 4000);
+    return true;
+}
+
+bool MainWindow::isModified() const {
+    return m_modifiedOutsideStack || !m_undo.isClean();
+}
+
+bool MainWindow::maybeSave() {
+    if (!isModified()) {
+        return true;
+    }
+    const QString name = m_path.isEmpty() ? tr("the untitled project") : m_path;
+    switch (m_prompts.saveChanges(name)) {
+    case QMessageBox::Save:
+        return save();
+    case QMessageBox::Discard:
+        return true;
+    default:
+        return false;
+    }
+}
+
+void MainWindow::updateTitle() {
+    const QString name =
+        m_path.isEmpty() ? QString::fromStdString(m_project.name) : QFileInfo(m_path).fileName();
+    setWindowTitle(tr("%1[*] — Atelier").arg(name));
+    setWindowModified(isModified());
+}
+
+QString MainWindow::lastDirectory() const {
+    const QString last = QSettings().value("files/lastDirectory").toString();
+    return !last.isEmpty() && QFileInfo(last).isDir() ? last : m_samplesDir;
+}
+
+QStringList MainWindow::recentFiles() const {
+    return QSettings().value("files/recent").toStringList();
+}
+
+void MainWindow::addRecent(const QString& path) {
+    const QString absolute = QFileInfo(path).absoluteFilePath();
+    QStringList recent = recentFiles();
+    recent.removeAll(absolute);
+    recent.prepend(absolute);
+    while (recent.size() > MAX_RECENT) {
+        recent.removeLast();
+    }
+    QSettings().setValue("files/recent", recent);
+}
+
+void MainWindow::fillRecentMenu() {
+    m_recent->clear();
+    for (const QString& path : recentFiles()) {
+        m_recent->addAction(QFileInfo(path).fileName(), this, [this, path] { openRecent(path); })
+            ->setToolTip(path);
+    }
+    m_recent->setEnabled(!m_recent->isEmpty());
+}
+
+bool MainWindow::openRecent(const QString& path) {
+    if (!QFileInfo(path).isFile()) {
+        QStringList recent = recentFiles();
+        recent.removeAll(path);
+        QSettings().setValue("files/recent", recent);
+        showError(tr("%1 no longer exists; it is removed from the recent files.").arg(path));
+        return false;
+    }
+    return openProject(path);
+}
+
+void MainWindow::showError(const QString& message) {
+    statusBar()->showMessage(message, 10000);
+    m_prompts.error(message);
+}
+
+/// A new body for the project (not a document edit): redo and undo swap the body source and
+/// place the garment again on it.
+class BodyCommand : public QUndoCommand {
+  public:
+    BodyCommand(MainWindow* window, patterns::BodySource before, patterns::BodySource after,
+                const QString& text)
+        : QUndoCommand(text), m_window(window), m_before(std::move(before)),
+          m_after(std::move(after)) {}
+    void redo() override { m_window->setBody(m_after); }
+    void undo() override { m_window->setBody(m_before); }
+
+  private:
+    MainWindow* m_window;
+    patterns::BodySource m_before;
+    patterns::BodySource m_after;
+};
+
+bool MainWindow::setBodyMesh(const QString& path) {
+    // Read it here so that a mesh that is no body is an error at once, naming the file.
+    if (auto body = io::importBody(path.toStdString()); !body.ok()) {
+        showError(tr("Could not use %1 as the body:\n%2")
+                      .arg(path, QString::fromStdString(body.error().toString())));
+        return false;
+    }
+    patterns::BodySource source;
+    source.meshPath = QFileInfo(path).absoluteFilePath().toStdString(); // kept absolute
+    m_undo.push(new BodyCommand(this, m_project.body, source,
+                                tr("body %1").arg(QFileInfo(path).fileName())));
+    return true;
+}
+
+void MainWindow::setBody(const patterns::BodySource& body) {
+    m_project.body = body;
+    statusBar()->showMessage(tr("Placing the garment on the new body…"));
+    m_drape->setProject(m_project, m_path);
+    updateTitle();
+}
+
+// ---- Edits ----
+
+bool MainWindow::edit(
+    const std::function<Result<patterns::Edit>(patterns::GarmentDocument&)>& make) {
+    auto made = make(m_project.document);
+    if (!made.ok()) {
+        showError(QString::fromStdString(made.error().toString()));
+        return false;
+    }
+    // Back to the state before, so that the stack's first redo applies it like any other.
+    patterns::undo(m_project.document, made.value());
+    m_undo.push(new EditCommand(this, std::move(made.value()), false));
+    return true;
+}
+
+void MainWindow::documentChanged() {
+    patterns::syncGarment(m_project);
+    m_pattern->setDocument(m_project.document, true);
+    m_drape->setDocument(m_project.document);
+    updateTitle();
+}
+
+bool MainWindow::mirrorSelectedPanel() {
+    const patterns::PanelId panel = m_pattern->selectedPanel();
+    if (!panel) {
+        statusBar()->showMessage(tr("Select a panel to mirror"), 4000);
+        return false;
+    }
+    return edit([panel](patterns::GarmentDocument& d) { return patterns::mirrorPanel(d, panel); });
+}
+
+bool MainWindow::duplicateSelectedPanel() {
+    const patterns::doc::Panel* panel = m_project.document.panel(m_pattern->selectedPanel());
+    if (panel == nullptr) {
+        statusBar()->showMessage(tr("Select a panel to duplicate"), 4000);
+        return false;
+    }
+    std::string name = panel->name + " copy";
+    for (int k = 2; m_project.document.panelNamed(name) != nullptr; ++k) {
+        name = panel->name + " copy " + std::to_string(k);
+    }
+    const patterns::PanelId id = panel->id;
+    return edit(
+        [id, name](patterns::GarmentDocument& d) { return patterns::duplicatePanel(d, id, name); });
+}
+
+// ---- Autosave and recovery ----
+
+void MainWindow::setRecoveryDirectory(const QString& dir) {
+    m_recoveryDir = dir;
+}
+
+void MainWindow::setAutosaveSeconds(int seconds) {
+    m_autosave.stop();
+    if (seconds > 0) {
+        m_autosave.start(seconds * 1000);
+    }
+}
+
+QString MainWindow::recoveryFile() const {
+    // One file per project file (unsaved projects share one), named by its path's hash.
+    const QString key =
+        m_path.isEmpty() ? QStringLiteral("untitled") : QFileInfo(m_path).absoluteFilePath();
+    const QString hash = QString::fromLatin1(
+        QCryptographicHash::hash(key.toUtf8(), QCryptographicHash::Sha1).toHex().left(16));
+    return QDir(m_recoveryDir).filePath(hash + ".atelier");
+}
+
+namespace {
+
+/// The file beside a recovery file that names its project's file (empty: unsaved).
+QString originOf(const QString& recovery) {
+    return recovery.left(recovery.size() - int(QStringLiteral(".atelier").size())) + ".origin";
+}
+
+} // namespace
+
+bool MainWindow::autosave() {
+    if (!isModified()) {
+        removeRecoveryFile(); // undone back to the file: nothing to recover
+        return false;
+    }
+    if (!QDir().mkpath(m_recoveryDir)) {
+        statusBar()->showMessage(tr("Autosave: cannot create %1").arg(m_recoveryDir), 8000);
+        return false;
+    }
+    const QString recovery = recoveryFile();
+    const QString origin = m_path.isEmpty() ? QString() : QFileInfo(m_path).absoluteFilePath();
+    auto written = io::writeFileAtomically(originOf(recovery).toStdString(), origin.toStdString());
+    if (written.ok()) {
+        written = io::writeFileAtomically(recovery.toStdString(), io::formatProject(m_project));
+    }
+    if (!written.ok()) {
+        statusBar()->showMessage(
+            tr("Autosave failed: %1").arg(QString::fromStdString(written.error().toString())),
+            8000);
+        return false;
+    }
+    return true;
+}
+
+void MainWindow::removeRecoveryFile() {
+    const QString recovery = recoveryFile();
+    QFile::remove(recovery);
+    QFile::remove(originOf(recovery));
+}
+
+bool MainWindow::offerRecovery() {
+    const QDir dir(m_recoveryDir);
+    for (const QFileInfo& recovery :
+         dir.entryInfoList({"*.atelier"}, QDir::Files, QDir::Time)) { // newest first
+        const QString path = recovery.absoluteFilePath();
+        auto origin = io::readFile(originOf(path).toStdString(), 64 * 1024);
+        const QString project = origin.ok() ? QString::fromStdString(origin.value()) : QString();
+        const QFileInfo projectInfo(project);
+        if (!origin.ok() || (!project.isEmpty() && projectInfo.exists() &&
+                             projectInfo.lastModified() >= recovery.lastModified())) {
+            // Stale (its project was saved after it) or without its origin: not offered.
+            QFile::remove(path);
+            QFile::remove(originOf(path));
+            continue;
+        }
+        if (!m_prompts.restore(path, project)) {
+            QFile::remove(path);
+            QFile::remove(originOf(path));
+            continue;
+        }
+        auto text = io::readFile(path.toStdString());
+        auto restored = text.ok() ? io::parseProject(text.value(), path.toStdString())
+                                  : Result<patterns::Project>(text.error());
+        if (!restored.ok()) {
+            showError(tr("Could not restore %1:\n%2")
+                          .arg(path, QString::fromStdString(restored.error().toString())));
+            continue;
+        }
+        adopt(std::move(restored.value()), project, true);
+        autosave(); // the recovery file now belongs to the restored project
+        statusBar()->showMessage(tr("Restored the unsaved changes to %1")
+                                     .arg(project.isEmpty() ? tr("an untitled project") : project),
+                                 8000);
+        return true;
+    }
+    return false;
+}
+
+// ---- Window events ----
+
+void MainWindow::closeEvent(QCloseEvent* event) {
+    if (!maybeSave()) {
+        event->ignore();
+        return;
+    }
+    QSettings settings;
+    settings.setValue("window/geometry", saveGeometry());
+    settings.setValue("window/state", saveState());
+    settings.setValue("window/splitter", m_splitter->saveState());
+    removeRecoveryFile();
+    m_autosave.stop();
+    m_drape->pause();
+    event->accept();
+}
+
+void MainWindow::dragEnterEvent(QDragEnterEvent* event) {
+    for (const QUrl& url : event->mimeData()->urls()) {
+        if (url.isLocalFile() && openable(url.toLocalFile())) {
+            event->acceptProposedAction();
+            return;
+        }
+    }
+    event->ignore();
+}
+
+void MainWindow::dropEvent(QDropEvent* event) {
+    for (const QUrl& url : event->mimeData()->urls()) {
+        if (url.isLocalFile() && openable(url.toLocalFile())) {
+            event->acceptProposedAction();
+            openFile(url.toLocalFile());
+            return;
+        }
+    }
+    event->ignore();
 }
 
 void MainWindow::toggleRun() {

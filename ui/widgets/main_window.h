@@ -1,20 +1,46 @@
 #pragma once
 /// The application window: the pattern (2D) and the drape (3D) side by side, menus and a
-/// toolbar for files, the simulation and the views, and a status bar with the drape's live
-/// figures. The drape runs on DrapeController's worker thread; nothing here waits for it.
+/// toolbar for files, edits, the simulation and the views, and a status bar with the drape's
+/// live figures. The window owns the project being edited (its document, file and modified
+/// state) and an undo stack: every edit is a patterns::Edit on the stack, and each change of
+/// the document goes to DrapeController, whose worker thread re-meshes what changed and
+/// continues the drape; nothing here waits for it.
 
 #include "ui/widgets/drape_controller.h"
 
+#include "patterns/document_edit.h"
+#include "patterns/project.h"
+
 #include <QLabel>
 #include <QMainWindow>
+#include <QMessageBox>
 #include <QTimer>
+#include <QUndoStack>
+
+#include <functional>
 
 class QAction;
+class QMenu;
+class QSplitter;
 
 namespace atelier::ui {
 
 class PatternView;
 class Viewport;
+
+/// The questions the window asks the user. Each defaults to a modal dialog; tests replace them
+/// so that nothing blocks.
+struct Prompts {
+    /// The project `name` has unsaved changes: Save, Discard or Cancel.
+    std::function<QMessageBox::StandardButton(const QString& name)> saveChanges;
+    /// A recovery file newer than its project (`project`, empty for an unsaved one) was found:
+    /// true restores it.
+    std::function<bool(const QString& recovery, const QString& project)> restore;
+    /// Where to save a project that has no file yet (empty: cancelled).
+    std::function<QString()> saveFileName;
+    /// Shows an error message.
+    std::function<void(const QString& message)> error;
+};
 
 class MainWindow : public QMainWindow {
     Q_OBJECT
@@ -23,7 +49,61 @@ class MainWindow : public QMainWindow {
     explicit MainWindow(QString samplesDir, QWidget* parent = nullptr);
     ~MainWindow() override;
 
-    void openProject(const QString& path);
+    /// Replaces the dialogs the window would show (tests); unset members keep theirs.
+    void setPrompts(Prompts prompts);
+
+    // ---- Files ----
+
+    /// Reads the project at `path` and drapes it. A file that cannot be read is an error
+    /// message naming it (and the JSON path) and the window keeps what it had. Asks to save
+    /// unsaved changes first. False when nothing was opened.
+    bool openProject(const QString& path);
+    /// Opens a dropped or imported file by its kind: a project, a GarmentCode specification
+    /// (.json) imported onto the default body, or a body mesh (setBodyMesh).
+    bool openFile(const QString& path);
+    /// Drapes the project on the body mesh at `path` (any format io::importBody reads; the
+    /// project keeps its absolute path) instead of its body: an undoable change, the garment
+    /// placed again. A mesh that cannot be read or is no body is an error message.
+    bool setBodyMesh(const QString& path);
+    /// A project without panels on the default body (asks to save unsaved changes first).
+    bool newProject();
+    /// Saves to the project's file (or asks where, as Save As). False when not saved.
+    bool save();
+    /// Saves to `path` (atomically), which becomes the project's file.
+    bool saveAs(const QString& path);
+    const patterns::Project& project() const { return m_project; }
+    /// The project's file, or empty.
+    QString projectPath() const { return m_path; }
+    bool isModified() const;
+    /// The recently opened or saved projects, newest first (at most 8; QSettings).
+    QStringList recentFiles() const;
+    /// Opens a recent file; one that no longer exists is removed from the list, with a message.
+    bool openRecent(const QString& path);
+
+    // ---- Autosave and recovery ----
+
+    /// Where recovery files go (default: the application's local data folder, "recovery").
+    void setRecoveryDirectory(const QString& dir);
+    QString recoveryDirectory() const { return m_recoveryDir; }
+    /// Autosave period [s] while modified (default 60, QSettings "autosave/seconds").
+    void setAutosaveSeconds(int seconds);
+    /// The recovery file of the project being edited.
+    QString recoveryFile() const;
+    /// Writes the recovery file now if the project is modified (the autosave timer calls it).
+    bool autosave();
+    /// Looks for a recovery file newer than its project and, if the user agrees, opens it
+    /// (modified, with the project's file as its file). Stale recovery files are removed.
+    bool offerRecovery();
+
+    // ---- Edits ----
+
+    /// Applies an edit of the document (`make` edits it and returns the Edit) through the
+    /// undo stack. An edit refused is an error message; false then.
+    bool edit(const std::function<Result<patterns::Edit>(patterns::GarmentDocument&)>& make);
+    bool mirrorSelectedPanel();
+    bool duplicateSelectedPanel();
+    QUndoStack& undoStack() { return m_undo; }
+
     DrapeController& drape() { return *m_drape; }
     Viewport& viewport() { return *m_viewport; }
     PatternView& patternView() { return *m_pattern; }
@@ -31,19 +111,43 @@ class MainWindow : public QMainWindow {
   signals:
     /// The project is open and placed (the views show it).
     void projectReady();
+    /// An edit (or its undo) reached the drape: the views show the edited garment.
+    void documentApplied();
+
+  protected:
+    void closeEvent(QCloseEvent* event) override;
+    void dragEnterEvent(QDragEnterEvent* event) override;
+    void dropEvent(QDropEvent* event) override;
 
   private:
+    friend class EditCommand;
+    friend class BodyCommand;
+    void setBody(const patterns::BodySource& body);
     void buildMenus();
     void updateStatus();
     void exportMesh();
     void savePicture();
     void toggleRun();
+    /// Asks to save unsaved changes: false when the user cancelled (or saving failed).
+    bool maybeSave();
+    /// Makes `project` (read from `path`) the one being edited and drapes it.
+    void adopt(patterns::Project project, const QString& path, bool modified);
+    /// The document changed (an edit, undo or redo): the views and the drape follow.
+    void documentChanged();
+    void updateTitle();
+    void addRecent(const QString& path);
+    void fillRecentMenu();
+    void removeRecoveryFile();
+    void showError(const QString& message);
+    QString lastDirectory() const;
 
     DrapeController* m_drape;
     PatternView* m_pattern;
     Viewport* m_viewport;
+    QSplitter* m_splitter = nullptr;
     QString m_samplesDir;
     QAction* m_run = nullptr;
+    QMenu* m_recent = nullptr;
     QLabel m_phase;
     QLabel m_time;
     QLabel m_speed;
@@ -53,6 +157,15 @@ class MainWindow : public QMainWindow {
     QTimer m_statusTimer;
     long m_lastSteps = 0;
     double m_lastWall = 0;
+
+    patterns::Project m_project; ///< the project being edited (its document is the truth)
+    QString m_path;              ///< its file, or empty
+    QUndoStack m_undo;
+    /// Modified without an edit on the stack (a restored recovery file, an import).
+    bool m_modifiedOutsideStack = false;
+    Prompts m_prompts;
+    QString m_recoveryDir;
+    QTimer m_autosave;
 };
 
 } // namespace atelier::ui

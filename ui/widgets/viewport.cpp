@@ -94,11 +94,16 @@ bool Viewport::ensureRenderer() {
     return true;
 }
 
-void Viewport::sceneChanged() {
+void Viewport::sceneChanged(bool keepView) {
     m_static = m_drape->staticScene();
+    m_snapshot = sim::Snapshot{}; // one of the garment as it was is not drawn over the new one
     m_drawnVersion = 0;
     m_uploaded = false;
-    setView(render::View::ThreeQuarter);
+    if (keepView) {
+        update();
+    } else {
+        setView(render::View::ThreeQuarter);
+    }
 }
 
 void Viewport::setView(render::View view) {

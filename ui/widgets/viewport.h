@@ -51,8 +51,9 @@ class Viewport : public QWidget {
     QString rendererError() const { return m_error; }
 
   public slots:
-    /// A new project: its static scene, framed from three-quarter.
-    void sceneChanged();
+    /// A new static scene (a new project, framed from three-quarter; or an edited garment,
+    /// `keepView`: the camera stays where it is).
+    void sceneChanged(bool keepView = false);
 
   protected:
     void paintEvent(QPaintEvent* event) override;

@@ -6,11 +6,35 @@
 #include "ui/widgets/pattern_view.h"
 #include "ui/widgets/viewport.h"
 
+#include "io/atomic_file.h"
+#include "io/body_file.h"
+#include "io/obj.h"
+#pragma push_macro("slots")
+#undef slots
+#include "io/garmentcode.h"
+#pragma pop_macro("slots")
+#include "io/project_file.h"
+
+#include "patterns/curve.h"
+#include "patterns/document_edit.h"
+
 #include <QApplication>
+#include <QDir>
 #include <QElapsedTimer>
+#include <QMimeData>
+#include <QProcess>
+#include <QSettings>
 #include <QSignalSpy>
+#include <QSplitter>
+#include <QStandardPaths>
+#include <QTemporaryDir>
 #include <QTest>
+#include <QUndoStack>
 #include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
 
 namespace atelier::ui {
 namespace {
@@ -28,6 +52,50 @@ template <class Done> bool waitFor(Done done, double seconds) {
         QCoreApplication::processEvents(QEventLoop::AllEvents, 20);
     }
     return true;
+}
+
+/// The bytes of a file.
+std::string bytesOf(const QString& path) {
+    std::ifstream in(path.toStdString(), std::ios::binary);
+    std::ostringstream out;
+    out << in.rdbuf();
+    return out.str();
+}
+
+/// Prompts that never block: errors are collected, unsaved changes get `answer`, recovery
+/// files are restored.
+struct QuietPrompts {
+    QStringList errors;
+    QStringList restoreOffers;
+    QMessageBox::StandardButton answer = QMessageBox::Discard;
+
+    void install(MainWindow& window) {
+        Prompts p;
+        p.error = [this](const QString& message) { errors << message; };
+        p.saveChanges = [this](const QString&) { return answer; };
+        p.restore = [this](const QString& recovery, const QString&) {
+            restoreOffers << recovery;
+            return true;
+        };
+        p.saveFileName = [] { return QString(); };
+        window.setPrompts(std::move(p));
+    }
+};
+
+/// Opens `file` in `window` and waits until it is placed.
+bool openAndWait(MainWindow& window, const QString& file) {
+    QSignalSpy ready(&window, &MainWindow::projectReady);
+    if (!window.openProject(file)) {
+        return false;
+    }
+    return waitFor([&] { return ready.count() >= 1; }, 120) && window.drape().staticScene();
+}
+
+void sendMouse(QWidget* widget, QEvent::Type type, QPoint at, Qt::MouseButton button,
+               Qt::MouseButtons buttons, Qt::KeyboardModifiers modifiers = {}) {
+    QMouseEvent event(type, QPointF(at), widget->mapToGlobal(QPointF(at)), button, buttons,
+                      modifiers);
+    QApplication::sendEvent(widget, &event);
 }
 
 TEST(DrapeController, OpensStartsPausesAndResets) {
@@ -259,6 +327,477 @@ TEST(Viewport, AltClickPinsTheClothAndUnpinsAPinhead) {
     }
     EXPECT_EQ(documentPins, 0);
     drape.pause();
+
+    // Both went on the window's undo stack: undoing the unpin pins it again, undoing the pin
+    // leaves none.
+    // (The edit reaches the window by a queued call after the drape published the pins.)
+    ASSERT_TRUE(waitFor([&] { return window.undoStack().count() == 2; }, 10));
+    EXPECT_EQ(patterns::dumpDocument(window.project().document),
+              patterns::dumpDocument(drape.document()));
+    QSignalSpy rebuilt(&drape, &DrapeController::rebuilt);
+    window.undoStack().undo();
+    ASSERT_TRUE(waitFor([&] { return rebuilt.count() >= 1; }, 120));
+    EXPECT_EQ(drape.pinnedVertices().size(), 1U);
+    window.undoStack().undo();
+    ASSERT_TRUE(waitFor([&] { return rebuilt.count() >= 2; }, 120));
+    EXPECT_TRUE(drape.pinnedVertices().empty());
+    EXPECT_FALSE(window.isModified());
+}
+
+TEST(MainWindow, UndoOfAPointMoveAndOfAMirrorGivesTheSavedBytesBack) {
+    QTemporaryDir dir;
+    MainWindow window(GARMENTS);
+    QuietPrompts prompts;
+    prompts.install(window);
+    window.setRecoveryDirectory(dir.filePath("recovery"));
+    window.resize(1000, 600);
+    window.show();
+    ASSERT_TRUE(openAndWait(window, GARMENTS + "/skirt.atelier"));
+    const QString original = dir.filePath("original.atelier");
+    ASSERT_TRUE(window.saveAs(original));
+    EXPECT_FALSE(window.isModified());
+    const std::string saved = bytesOf(original);
+    ASSERT_FALSE(saved.empty());
+
+    // Drag the front panel's first outline point 23 mm right and 12 mm up with Shift held:
+    // it lands on the 5 mm grid.
+    PatternView& view = window.patternView();
+    const patterns::doc::Panel front = window.project().document.panels.front();
+    view.selectPanel(front.id);
+    QCoreApplication::processEvents();
+    ASSERT_EQ(view.selectedPanel(), front.id);
+    const patterns::doc::Point point = front.outline.points.front();
+    const patterns::Vec2 target = point.position + patterns::Vec2(0.023, 0.012);
+    QWidget* surface = view.viewport();
+    const QPoint from = view.viewPoint(front.id, point.position);
+    const QPoint to = view.viewPoint(front.id, target);
+    ASSERT_NE(from, to);
+    QSignalSpy rebuilt(&window.drape(), &DrapeController::rebuilt);
+    sendMouse(surface, QEvent::MouseButtonPress, from, Qt::LeftButton, Qt::LeftButton);
+    EXPECT_EQ(view.selectedPoint(), point.id) << "pressing on a handle selects its point";
+    sendMouse(surface, QEvent::MouseMove, to, Qt::NoButton, Qt::LeftButton, Qt::ShiftModifier);
+    EXPECT_TRUE(view.dragLengths().contains("mm")) << view.dragLengths().toStdString();
+    sendMouse(surface, QEvent::MouseButtonRelease, to, Qt::LeftButton, Qt::NoButton,
+              Qt::ShiftModifier);
+    ASSERT_EQ(window.undoStack().count(), 1);
+    EXPECT_TRUE(window.undoStack().undoText().contains("move"))
+        << window.undoStack().undoText().toStdString();
+    const patterns::Vec2 moved =
+        window.project().document.panel(front.id)->outline.points.front().position;
+    for (int k = 0; k < 2; ++k) {
+        const double mm = moved[k] * 1000;
+        EXPECT_NEAR(mm / 5, std::round(mm / 5), 1e-6) << "on the 5 mm grid: " << mm;
+        EXPECT_NEAR(moved[k], target[k], 0.005) << "the grid point near the mouse";
+    }
+    EXPECT_TRUE(window.isModified());
+    EXPECT_TRUE(window.isWindowModified());
+    EXPECT_TRUE(window.windowTitle().contains("[*]"));
+    // The drape re-meshed the panel and went on from where it was.
+    ASSERT_TRUE(waitFor([&] { return rebuilt.count() >= 1; }, 120));
+    EXPECT_TRUE(rebuilt.front().front().toBool());
+    EXPECT_EQ(patterns::dumpDocument(window.drape().document()),
+              patterns::dumpDocument(window.project().document));
+
+    const QString edited = dir.filePath("edited.atelier");
+    ASSERT_TRUE(window.saveAs(edited));
+    EXPECT_NE(bytesOf(edited), saved);
+    window.undoStack().undo();
+    EXPECT_TRUE(window.isModified()) << "clean is the edited file now";
+    const QString undone = dir.filePath("undone.atelier");
+    ASSERT_TRUE(window.saveAs(undone));
+    EXPECT_EQ(bytesOf(undone), saved) << "undo gives the original bytes back";
+    window.undoStack().redo();
+    EXPECT_EQ(window.project().document.panel(front.id)->outline.points.front().position, moved);
+    window.undoStack().undo();
+
+    // Mirror the selected panel, then undo it.
+    ASSERT_TRUE(window.mirrorSelectedPanel());
+    const QString mirrored = dir.filePath("mirrored.atelier");
+    ASSERT_TRUE(window.saveAs(mirrored));
+    EXPECT_NE(bytesOf(mirrored), saved);
+    window.undoStack().undo();
+    ASSERT_TRUE(window.saveAs(undone));
+    EXPECT_EQ(bytesOf(undone), saved) << "undoing the mirror gives the original bytes back";
+    EXPECT_TRUE(prompts.errors.isEmpty()) << prompts.errors.join("; ").toStdString();
+}
+
+TEST(MainWindow, ADoubleClickAddsAPointAndDeleteRemovesIt) {
+    QTemporaryDir dir;
+    MainWindow window(GARMENTS);
+    QuietPrompts prompts;
+    prompts.install(window);
+    window.setRecoveryDirectory(dir.filePath("recovery"));
+    window.resize(1000, 600);
+    window.show();
+    ASSERT_TRUE(openAndWait(window, GARMENTS + "/skirt.atelier"));
+    PatternView& view = window.patternView();
+    const patterns::doc::Panel front = window.project().document.panels.front();
+    const std::size_t points = front.outline.points.size();
+    view.selectPanel(front.id);
+    QCoreApplication::processEvents();
+    // The middle of the first outline edge.
+    const patterns::Vec2 middle =
+        patterns::pointAt(patterns::contourSegment(front.outline, 0), 0.5);
+    QTest::mouseDClick(view.viewport(), Qt::LeftButton, {}, view.viewPoint(front.id, middle));
+    ASSERT_EQ(window.undoStack().count(), 1) << prompts.errors.join("; ").toStdString();
+    const patterns::doc::Panel added = *window.project().document.panel(front.id);
+    ASSERT_EQ(added.outline.points.size(), points + 1);
+    const patterns::doc::Point inserted = added.outline.points[1];
+    EXPECT_LT((inserted.position - middle).norm(), 0.01) << "the point is on the edge";
+
+    // Click its handle, press Delete: the point goes; undo twice gives the panel back.
+    QTest::mouseClick(view.viewport(), Qt::LeftButton, {},
+                      view.viewPoint(front.id, inserted.position));
+    ASSERT_EQ(view.selectedPoint(), inserted.id);
+    QTest::keyClick(&view, Qt::Key_Delete);
+    ASSERT_EQ(window.undoStack().count(), 2) << prompts.errors.join("; ").toStdString();
+    EXPECT_EQ(window.project().document.panel(front.id)->outline.points.size(), points);
+    window.undoStack().undo();
+    window.undoStack().undo();
+    patterns::GarmentDocument only;
+    only.panels.push_back(front);
+    patterns::GarmentDocument now;
+    now.panels.push_back(*window.project().document.panel(front.id));
+    EXPECT_EQ(patterns::dumpDocument(now), patterns::dumpDocument(only));
+    EXPECT_FALSE(window.isModified());
+}
+
+TEST(MainWindow, SaveAndOpenRoundTripAndRecentFiles) {
+    QTemporaryDir dir;
+    MainWindow window(GARMENTS);
+    QuietPrompts prompts;
+    prompts.install(window);
+    window.setRecoveryDirectory(dir.filePath("recovery"));
+    ASSERT_TRUE(openAndWait(window, GARMENTS + "/tshirt.atelier"));
+    ASSERT_TRUE(window.duplicateSelectedPanel() == false) << "nothing selected";
+    window.patternView().selectPanel(window.project().document.panels.front().id);
+    ASSERT_TRUE(window.duplicateSelectedPanel());
+    const std::string edited = patterns::dumpDocument(window.project().document);
+    const QString file = dir.filePath("shirt.atelier");
+    ASSERT_TRUE(window.saveAs(file));
+    EXPECT_EQ(window.projectPath(), file);
+    EXPECT_FALSE(window.isModified());
+    EXPECT_EQ(window.recentFiles().value(0), QFileInfo(file).absoluteFilePath());
+
+    MainWindow other(GARMENTS);
+    prompts.install(other);
+    other.setRecoveryDirectory(dir.filePath("recovery"));
+    ASSERT_TRUE(openAndWait(other, file));
+    EXPECT_EQ(patterns::dumpDocument(other.project().document), edited);
+    EXPECT_FALSE(other.isModified());
+    const QString again = dir.filePath("again.atelier");
+    ASSERT_TRUE(other.saveAs(again));
+    EXPECT_EQ(bytesOf(again), bytesOf(file));
+    EXPECT_EQ(other.recentFiles().value(0), QFileInfo(again).absoluteFilePath());
+    EXPECT_EQ(other.recentFiles().value(1), QFileInfo(file).absoluteFilePath());
+}
+
+TEST(MainWindow, AMissingRecentFileIsRemovedWithAMessage) {
+    QTemporaryDir dir;
+    const QString kept = dir.filePath("kept.atelier");
+    const QString gone = dir.filePath("gone.atelier");
+    QSettings().setValue("files/recent", QStringList{gone, kept});
+    MainWindow window(GARMENTS);
+    QuietPrompts prompts;
+    prompts.install(window);
+    window.setRecoveryDirectory(dir.filePath("recovery"));
+    EXPECT_FALSE(window.openRecent(gone));
+    ASSERT_EQ(prompts.errors.size(), 1);
+    EXPECT_TRUE(prompts.errors.front().contains(gone));
+    EXPECT_EQ(window.recentFiles(), QStringList{kept});
+}
+
+TEST(MainWindow, WindowGeometryAndSplitterSizesAreRemembered) {
+    QTemporaryDir dir;
+    QList<int> sizes;
+    {
+        MainWindow window(GARMENTS);
+        window.setRecoveryDirectory(dir.filePath("recovery"));
+        window.resize(1100, 700);
+        window.show();
+        auto* splitter = window.findChild<QSplitter*>();
+        ASSERT_NE(splitter, nullptr);
+        splitter->setSizes({300, 700});
+        QCoreApplication::processEvents();
+        sizes = splitter->sizes();
+        ASSERT_TRUE(window.close());
+    }
+    MainWindow again(GARMENTS);
+    again.show();
+    QCoreApplication::processEvents();
+    EXPECT_EQ(again.size(), QSize(1100, 700));
+    EXPECT_EQ(again.findChild<QSplitter*>()->sizes(), sizes);
+}
+
+TEST(MainWindow, UnsavedChangesAreAskedAboutBeforeANewProject) {
+    QTemporaryDir dir;
+    MainWindow window(GARMENTS);
+    QuietPrompts prompts;
+    prompts.install(window);
+    window.setRecoveryDirectory(dir.filePath("recovery"));
+    ASSERT_TRUE(openAndWait(window, GARMENTS + "/skirt.atelier"));
+    window.patternView().selectPanel(window.project().document.panels.front().id);
+    ASSERT_TRUE(window.mirrorSelectedPanel());
+    prompts.answer = QMessageBox::Cancel;
+    EXPECT_FALSE(window.newProject());
+    EXPECT_FALSE(window.openProject(GARMENTS + "/tshirt.atelier"));
+    window.show();
+    EXPECT_FALSE(window.close()) << "closing is cancelled too";
+    EXPECT_TRUE(window.isVisible());
+    EXPECT_TRUE(window.isModified());
+    EXPECT_EQ(window.project().document.panels.size(), 2U);
+    prompts.answer = QMessageBox::Discard;
+    QSignalSpy ready(&window, &MainWindow::projectReady);
+    ASSERT_TRUE(window.newProject());
+    EXPECT_FALSE(window.isModified());
+    EXPECT_TRUE(window.project().document.panels.empty());
+    EXPECT_TRUE(window.projectPath().isEmpty());
+    EXPECT_EQ(window.undoStack().count(), 0);
+    ASSERT_TRUE(waitFor([&] { return ready.count() >= 1; }, 60));
+    EXPECT_FALSE(window.drape().staticScene()) << "nothing to drape";
+}
+
+TEST(MainWindow, ACorruptProjectIsAnErrorAndTheWindowKeepsItsProject) {
+    QTemporaryDir dir;
+    MainWindow window(GARMENTS);
+    QuietPrompts prompts;
+    prompts.install(window);
+    window.setRecoveryDirectory(dir.filePath("recovery"));
+    ASSERT_TRUE(openAndWait(window, GARMENTS + "/skirt.atelier"));
+    const std::string before = patterns::dumpDocument(window.project().document);
+    std::string text = bytesOf(GARMENTS + "/skirt.atelier");
+    const std::size_t at = text.find("\"fabric\": \"cotton\"");
+    ASSERT_NE(at, std::string::npos);
+    text.replace(at, 18, "\"fabric\": 12");
+    const QString corrupt = dir.filePath("corrupt.atelier");
+    ASSERT_TRUE(io::writeFileAtomically(corrupt.toStdString(), text).ok());
+    EXPECT_FALSE(window.openProject(corrupt));
+    ASSERT_EQ(prompts.errors.size(), 1);
+    EXPECT_TRUE(prompts.errors.front().contains("corrupt.atelier"));
+    EXPECT_TRUE(prompts.errors.front().contains("/materials/0/fabric"))
+        << prompts.errors.front().toStdString();
+    EXPECT_EQ(window.projectPath(), GARMENTS + "/skirt.atelier");
+    EXPECT_EQ(patterns::dumpDocument(window.project().document), before);
+
+    // Not JSON at all: an error too.
+    ASSERT_TRUE(io::writeFileAtomically(corrupt.toStdString(), "{\"format\": ").ok());
+    EXPECT_FALSE(window.openProject(corrupt));
+    EXPECT_EQ(prompts.errors.size(), 2);
+
+    // The window still edits and drapes.
+    QSignalSpy rebuilt(&window.drape(), &DrapeController::rebuilt);
+    window.patternView().selectPanel(window.project().document.panels.front().id);
+    ASSERT_TRUE(window.mirrorSelectedPanel());
+    ASSERT_TRUE(waitFor([&] { return rebuilt.count() >= 1; }, 120));
+    EXPECT_TRUE(window.drape().staticScene());
+}
+
+TEST(MainWindow, ADroppedProjectFileIsOpened) {
+    QTemporaryDir dir;
+    MainWindow window(GARMENTS);
+    QuietPrompts prompts;
+    prompts.install(window);
+    window.setRecoveryDirectory(dir.filePath("recovery"));
+    window.show();
+    const QString file = GARMENTS + "/skirt.atelier";
+    QMimeData data;
+    data.setUrls({QUrl::fromLocalFile(file)});
+    QDragEnterEvent enter(QPoint(50, 50), Qt::CopyAction, &data, Qt::LeftButton, {});
+    QApplication::sendEvent(&window, &enter);
+    EXPECT_TRUE(enter.isAccepted());
+    QSignalSpy ready(&window, &MainWindow::projectReady);
+    QDropEvent drop(QPointF(50, 50), Qt::CopyAction, &data, Qt::LeftButton, {});
+    QApplication::sendEvent(&window, &drop);
+    EXPECT_TRUE(drop.isAccepted());
+    EXPECT_EQ(window.projectPath(), file);
+    ASSERT_TRUE(waitFor([&] { return ready.count() >= 1; }, 120));
+    EXPECT_EQ(window.drape().staticScene()->panelNames.size(), 2U);
+
+    // Something else is refused.
+    QMimeData text;
+    text.setUrls({QUrl::fromLocalFile(dir.filePath("notes.txt"))});
+    QDragEnterEvent other(QPoint(50, 50), Qt::CopyAction, &text, Qt::LeftButton, {});
+    QApplication::sendEvent(&window, &other);
+    EXPECT_FALSE(other.isAccepted());
+}
+
+TEST(MainWindow, ADroppedBodyMeshBecomesTheBodyUndoably) {
+    QTemporaryDir dir;
+    MainWindow window(GARMENTS);
+    QuietPrompts prompts;
+    prompts.install(window);
+    window.setRecoveryDirectory(dir.filePath("recovery"));
+    ASSERT_TRUE(openAndWait(window, GARMENTS + "/skirt.atelier"));
+    // The default mannequin written as an OBJ mesh: a body file.
+    const auto mannequin = io::loadBody(patterns::BodySource{}, {}, {});
+    ASSERT_TRUE(mannequin.ok());
+    const QString mesh = dir.filePath("body.obj");
+    ASSERT_TRUE(
+        io::writeObj(mesh.toStdString(), mannequin.value().vertices, mannequin.value().triangles)
+            .ok());
+    QMimeData data;
+    data.setUrls({QUrl::fromLocalFile(mesh)});
+    QDragEnterEvent enter(QPoint(50, 50), Qt::CopyAction, &data, Qt::LeftButton, {});
+    QApplication::sendEvent(&window, &enter);
+    EXPECT_TRUE(enter.isAccepted());
+    QSignalSpy ready(&window, &MainWindow::projectReady);
+    QDropEvent drop(QPointF(50, 50), Qt::CopyAction, &data, Qt::LeftButton, {});
+    QApplication::sendEvent(&window, &drop);
+    EXPECT_TRUE(drop.isAccepted());
+    ASSERT_EQ(window.project().body.meshPath, QFileInfo(mesh).absoluteFilePath().toStdString());
+    EXPECT_EQ(window.undoStack().count(), 1);
+    EXPECT_TRUE(window.isModified());
+    ASSERT_TRUE(waitFor([&] { return ready.count() >= 1; }, 120))
+        << prompts.errors.join("; ").toStdString();
+    ASSERT_TRUE(window.drape().staticScene()) << prompts.errors.join("; ").toStdString();
+    EXPECT_EQ(window.drape().staticScene()->bodyTriangles.rows(),
+              mannequin.value().triangles.rows());
+    window.undoStack().undo();
+    EXPECT_TRUE(window.project().body.meshPath.empty());
+    EXPECT_FALSE(window.isModified());
+
+    // A file that is no mesh is refused with a message naming it.
+    const QString broken = dir.filePath("broken.obj");
+    ASSERT_TRUE(io::writeFileAtomically(broken.toStdString(), "v 1 2\nf 1 2 3\n").ok());
+    EXPECT_FALSE(window.openFile(broken));
+    ASSERT_FALSE(prompts.errors.isEmpty());
+    EXPECT_TRUE(prompts.errors.back().contains("broken.obj"));
+    EXPECT_EQ(window.undoStack().count(), 1) << "nothing new on the stack";
+}
+
+/// The child of the recovery test: opens `project`, edits it (a point moved, a panel
+/// mirrored), writes the edited project's text to `expected`, autosaves every second into
+/// `recoveryDir`, says "autosaved" once the recovery file is there, and waits to be killed.
+int autosaveChild(const QString& recoveryDir, const QString& project, const QString& expected) {
+    MainWindow window(GARMENTS);
+    QuietPrompts prompts;
+    prompts.install(window);
+    window.setRecoveryDirectory(recoveryDir);
+    window.setAutosaveSeconds(1);
+    if (!openAndWait(window, project)) {
+        return 1;
+    }
+    const patterns::doc::Panel& front = window.project().document.panels.front();
+    const patterns::PanelId id = front.id;
+    const patterns::PointId point = front.outline.points.front().id;
+    const patterns::Vec2 to = front.outline.points.front().position + patterns::Vec2(0.01, 0);
+    if (!window.edit(
+            [&](patterns::GarmentDocument& d) { return patterns::movePoint(d, id, point, to); }) ||
+        !window.edit([&](patterns::GarmentDocument& d) {
+            return patterns::mirrorPanel(d, d.panels.back().id);
+        })) {
+        return 1;
+    }
+    if (!io::writeFileAtomically(expected.toStdString(), io::formatProject(window.project()))
+             .ok()) {
+        return 1;
+    }
+    if (!waitFor([&] { return QFileInfo::exists(window.recoveryFile()); }, 60)) {
+        return 1;
+    }
+    std::puts("autosaved");
+    std::fflush(stdout);
+    waitFor([] { return false; }, 600);
+    return 1;
+}
+
+TEST(MainWindow, AutosaveRecoversTheEditsOfAKilledProcess) {
+    QTemporaryDir dir;
+    const QString project = dir.filePath("skirt.atelier");
+    ASSERT_TRUE(QFile::copy(GARMENTS + "/skirt.atelier", project));
+    const QString recovery = dir.filePath("recovery");
+    const QString expected = dir.filePath("expected.atelier");
+
+    QProcess child;
+    child.start(QCoreApplication::applicationFilePath(),
+                {"--autosave-child", recovery, project, expected});
+    ASSERT_TRUE(child.waitForStarted(30000));
+    ASSERT_TRUE(waitFor(
+        [&] {
+            child.waitForReadyRead(50);
+            return child.state() != QProcess::Running || child.peek(4096).contains("autosaved");
+        },
+        240))
+        << child.readAllStandardError().toStdString();
+    ASSERT_EQ(child.state(), QProcess::Running) << child.readAllStandardError().toStdString();
+    child.kill(); // SIGKILL: no clean close, no chance to remove the recovery file
+    ASSERT_TRUE(child.waitForFinished(30000));
+    EXPECT_EQ(child.exitStatus(), QProcess::CrashExit);
+    ASSERT_FALSE(QDir(recovery).entryList({"*.atelier"}, QDir::Files).isEmpty())
+        << "the killed process left its recovery file";
+
+    auto edited = io::loadProject(expected.toStdString());
+    ASSERT_TRUE(edited.ok()) << edited.error().toString();
+
+    // Start again: the recovery file is newer than the project; it is offered and restored.
+    MainWindow window(GARMENTS);
+    QuietPrompts prompts;
+    prompts.install(window);
+    window.setRecoveryDirectory(recovery);
+    QSignalSpy ready(&window, &MainWindow::projectReady);
+    ASSERT_TRUE(window.offerRecovery());
+    EXPECT_EQ(prompts.restoreOffers.size(), 1);
+    EXPECT_EQ(patterns::dumpDocument(window.project().document),
+              patterns::dumpDocument(edited.value().document));
+    EXPECT_EQ(window.projectPath(), QFileInfo(project).absoluteFilePath());
+    EXPECT_TRUE(window.isModified());
+    ASSERT_TRUE(waitFor([&] { return ready.count() >= 1; }, 120));
+
+    // Saving makes the project newer: the recovery file goes and nothing is offered again.
+    ASSERT_TRUE(window.save());
+    EXPECT_TRUE(QDir(recovery).entryList({"*.atelier"}, QDir::Files).isEmpty());
+    MainWindow later(GARMENTS);
+    QuietPrompts laterPrompts;
+    laterPrompts.install(later);
+    later.setRecoveryDirectory(recovery);
+    EXPECT_FALSE(later.offerRecovery());
+    EXPECT_TRUE(laterPrompts.restoreOffers.isEmpty());
+}
+
+TEST(MainWindow, TheProgramKilledAfterAnImportLeavesARecoveryFileThatRestoresIt) {
+    // The real program: a GarmentCode import is an unsaved project; autosaved each second into
+    // --recovery-dir, then the process is killed.
+    const QString program = QCoreApplication::applicationDirPath() + "/../app/atelier";
+    if (!QFileInfo(program).isExecutable()) {
+        GTEST_SKIP() << "the atelier program is not built beside the tests: "
+                     << program.toStdString();
+    }
+    const QString spec =
+        QStringLiteral(ATELIER_SOURCE_DIR "/tests/fuzz/corpus/two-panels.garmentcode.json");
+    QTemporaryDir dir;
+    const QString recovery = dir.filePath("recovery");
+    QProcess atelier;
+    atelier.start(program, {"--recovery-dir", recovery, "--autosave-seconds", "1", spec});
+    ASSERT_TRUE(atelier.waitForStarted(30000));
+    ASSERT_TRUE(waitFor(
+        [&] {
+            atelier.waitForFinished(50);
+            return atelier.state() != QProcess::Running ||
+                   !QDir(recovery).entryList({"*.atelier"}, QDir::Files).isEmpty();
+        },
+        240));
+    ASSERT_EQ(atelier.state(), QProcess::Running) << atelier.readAllStandardError().toStdString();
+    atelier.kill();
+    ASSERT_TRUE(atelier.waitForFinished(30000));
+    EXPECT_EQ(atelier.exitStatus(), QProcess::CrashExit);
+
+    // What the import gives, read back as the recovery file is.
+    const auto mannequin = io::loadBody(patterns::BodySource{}, {}, {});
+    ASSERT_TRUE(mannequin.ok());
+    const auto imported = io::importGarmentCode(spec.toStdString(), mannequin.value());
+    ASSERT_TRUE(imported.ok());
+    const auto expected = io::parseProject(io::formatProject(imported.value().project), "x");
+    ASSERT_TRUE(expected.ok());
+
+    MainWindow window(GARMENTS);
+    QuietPrompts prompts;
+    prompts.install(window);
+    window.setRecoveryDirectory(recovery);
+    ASSERT_TRUE(window.offerRecovery());
+    EXPECT_EQ(patterns::dumpDocument(window.project().document),
+              patterns::dumpDocument(expected.value().document));
+    EXPECT_TRUE(window.projectPath().isEmpty()) << "an import has no file yet";
+    EXPECT_TRUE(window.isModified());
 }
 
 } // namespace
@@ -266,7 +805,18 @@ TEST(Viewport, AltClickPinsTheClothAndUnpinsAPinhead) {
 
 int main(int argc, char** argv) {
     qputenv("QT_QPA_PLATFORM", "offscreen");
+    // Settings, recent files and default recovery folders go to a test location.
+    QStandardPaths::setTestModeEnabled(true);
     QApplication app(argc, argv);
+    QApplication::setOrganizationName("AtelierTests");
+    QApplication::setApplicationName("atelier_widget_tests");
+    // Settings (recent files, geometry) of this process alone: none from an earlier run or a
+    // test program running beside it.
+    const QTemporaryDir settings;
+    QSettings::setPath(QSettings::NativeFormat, QSettings::UserScope, settings.path());
+    if (argc == 5 && std::string(argv[1]) == "--autosave-child") {
+        return atelier::ui::autosaveChild(argv[2], argv[3], argv[4]);
+    }
     ::testing::InitGoogleTest(&argc, argv);
     return RUN_ALL_TESTS();
 }
