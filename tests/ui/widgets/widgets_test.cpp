@@ -757,11 +757,8 @@ TEST(MainWindow, AutosaveRecoversTheEditsOfAKilledProcess) {
 TEST(MainWindow, TheProgramKilledAfterAnImportLeavesARecoveryFileThatRestoresIt) {
     // The real program: a GarmentCode import is an unsaved project; autosaved each second into
     // --recovery-dir, then the process is killed.
-    const QString program = QCoreApplication::applicationDirPath() + "/../app/atelier";
-    if (!QFileInfo(program).isExecutable()) {
-        GTEST_SKIP() << "the atelier program is not built beside the tests: "
-                     << program.toStdString();
-    }
+    const QString program = QStringLiteral(ATELIER_GUI);
+    ASSERT_TRUE(QFileInfo(program).isExecutable()) << "not built: " << program.toStdString();
     const QString spec =
         QStringLiteral(ATELIER_SOURCE_DIR "/tests/fuzz/corpus/two-panels.garmentcode.json");
     QTemporaryDir dir;
