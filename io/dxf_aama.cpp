@@ -46,24 +46,6 @@ struct ParseError {
     std::string message;
 };
 
-std::string shown(std::string_view s) {
-    std::string out = "\"";
-    for (const char c : s.substr(0, 60)) {
-        out += (static_cast<unsigned char>(c) < 0x20) ? '?' : c;
-    }
-    return out + (s.size() > 60 ? "...\"" : "\"");
-}
-
-std::string_view trimmed(std::string_view s) {
-    while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) {
-        s.remove_prefix(1);
-    }
-    while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) {
-        s.remove_suffix(1);
-    }
-    return s;
-}
-
 // ---- Geometry ----
 
 double cross(const Vec2& a, const Vec2& b) {
@@ -245,8 +227,8 @@ std::map<std::string, std::string> systemText(const std::vector<std::string>& te
             const std::string_view line = std::string_view(text).substr(from, nl - from);
             const std::size_t colon = line.find(':');
             if (colon != std::string_view::npos) {
-                const std::string key = lower(trimmed(line.substr(0, colon)));
-                const std::string value(trimmed(line.substr(colon + 1)));
+                const std::string key = lower(dxfTrimmed(line.substr(0, colon)));
+                const std::string value(dxfTrimmed(line.substr(colon + 1)));
                 if (!key.empty() && !out.contains(key)) {
                     out[key] = value;
                 }
@@ -269,8 +251,8 @@ Units unitsOf(const DxfDrawing& raw, const DxfImportOptions& options,
     if (options.units != "auto") {
         const auto it = named.find(options.units);
         if (it == named.end()) {
-            throw ParseError{0,
-                             "unknown units " + shown(options.units) + " (mm, cm, m, in or auto)"};
+            throw ParseError{0, "unknown units " + dxfShown(options.units) +
+                                    " (mm, cm, m, in or auto)"};
         }
         return {it->second, options.units + " (as asked)"};
     }
@@ -283,7 +265,7 @@ Units unitsOf(const DxfDrawing& raw, const DxfImportOptions& options,
         if (v.find("english") != std::string::npos) {
             return {0.0254, "in (Units: ENGLISH)"};
         }
-        warnings.push_back("style text Units: " + shown(u->second) +
+        warnings.push_back("style text Units: " + dxfShown(u->second) +
                            " is neither METRIC nor ENGLISH");
     }
     switch (raw.insUnits) {
@@ -386,7 +368,7 @@ class PieceBuilder {
         } else {
             info.name = m_block.name.empty() ? "piece" : m_block.name;
         }
-        m_who = "piece " + shown(info.name);
+        m_who = "piece " + dxfShown(info.name);
         if (const auto it = text.find("quantity"); it != text.end()) {
             const std::string& q = it->second;
             int v = 0;
@@ -443,7 +425,7 @@ class PieceBuilder {
             }
         }
         if (m_cutShape == nullptr) {
-            m_warnings.push_back("block " + shown(m_block.name) + " (line " +
+            m_warnings.push_back("block " + dxfShown(m_block.name) + " (line " +
                                  std::to_string(m_block.line) +
                                  "): no closed cut line (layer 1); not a pattern piece, skipped");
             return false;
@@ -627,7 +609,7 @@ Result<DxfImport> parseDxfAama(std::string_view text, const std::string& file,
         if (!raw.otherLayers.empty()) {
             std::string names;
             for (const std::string& n : raw.otherLayers) {
-                names += (names.empty() ? "" : ", ") + shown(n);
+                names += (names.empty() ? "" : ", ") + dxfShown(n);
             }
             out.warnings.push_back("entities on layers that are not AAMA layer numbers ignored: " +
                                    names);
@@ -638,7 +620,7 @@ Result<DxfImport> parseDxfAama(std::string_view text, const std::string& file,
         const auto presets = builtinMaterialPresets();
         const auto preset = presets.find(options.fabric);
         if (preset == presets.end()) {
-            throw ParseError{0, "unknown fabric preset " + shown(options.fabric)};
+            throw ParseError{0, "unknown fabric preset " + dxfShown(options.fabric)};
         }
         patterns::Garment garment;
         garment.name = std::filesystem::path(file).stem().string();

@@ -20,24 +20,6 @@ struct ParseError {
     throw ParseError{line, std::move(message)};
 }
 
-std::string_view trimmed(std::string_view s) {
-    while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) {
-        s.remove_prefix(1);
-    }
-    while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) {
-        s.remove_suffix(1);
-    }
-    return s;
-}
-
-std::string shown(std::string_view s) {
-    std::string out = "\"";
-    for (const char c : s.substr(0, 60)) {
-        out += (static_cast<unsigned char>(c) < 0x20) ? '?' : c;
-    }
-    return out + (s.size() > 60 ? "...\"" : "\"");
-}
-
 /// One group of the file: a code and its value, with the code's line.
 struct Group {
     int code = -1;
@@ -77,7 +59,7 @@ class Reader {
     }
     void advance() {
         std::optional<std::string_view> code = nextLine();
-        while (code && trimmed(*code).empty() && m_pos >= m_text.size()) {
+        while (code && dxfTrimmed(*code).empty() && m_pos >= m_text.size()) {
             code.reset(); // trailing blank line
         }
         if (!code) {
@@ -85,12 +67,12 @@ class Reader {
             return;
         }
         const int line = m_line;
-        const std::string_view c = trimmed(*code);
+        const std::string_view c = dxfTrimmed(*code);
         int value = -1;
         const auto [end, ec] = std::from_chars(c.data(), c.data() + c.size(), value);
         if (c.empty() || ec != std::errc() || end != c.data() + c.size() || value < 0 ||
             value > 1071) {
-            fail(line, "group code " + shown(c) +
+            fail(line, "group code " + dxfShown(c) +
                            " is not a DXF group code (a whole number from 0 to 1071): is this "
                            "an ASCII DXF file?");
         }
@@ -98,7 +80,7 @@ class Reader {
         if (!v) {
             fail(line, "group code " + std::to_string(value) + " has no value: the file ends");
         }
-        m_next = Group{value, trimmed(*v), line};
+        m_next = Group{value, dxfTrimmed(*v), line};
     }
 
     std::string_view m_text;
@@ -117,7 +99,7 @@ double number(const Group& g) {
     const auto [end, ec] = std::from_chars(begin, s.data() + s.size(), v);
     if (s.empty() || ec != std::errc() || end != s.data() + s.size() || !std::isfinite(v)) {
         fail(g.line + 1,
-             "group " + std::to_string(g.code) + ": " + shown(s) + " is not a finite number");
+             "group " + std::to_string(g.code) + ": " + dxfShown(s) + " is not a finite number");
     }
     return v;
 }
@@ -125,8 +107,8 @@ double number(const Group& g) {
 int integer(const Group& g) {
     const double v = number(g);
     if (v != std::floor(v) || std::abs(v) > 1e9) {
-        fail(g.line + 1,
-             "group " + std::to_string(g.code) + ": " + shown(g.value) + " is not a whole number");
+        fail(g.line + 1, "group " + std::to_string(g.code) + ": " + dxfShown(g.value) +
+                             " is not a whole number");
     }
     return static_cast<int>(v);
 }
@@ -459,6 +441,24 @@ class FileReader {
 };
 
 } // namespace
+
+std::string_view dxfTrimmed(std::string_view s) {
+    while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) {
+        s.remove_prefix(1);
+    }
+    while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) {
+        s.remove_suffix(1);
+    }
+    return s;
+}
+
+std::string dxfShown(std::string_view s) {
+    std::string out = "\"";
+    for (const char c : s.substr(0, 60)) {
+        out += (static_cast<unsigned char>(c) < 0x20) ? '?' : c;
+    }
+    return out + (s.size() > 60 ? "...\"" : "\"");
+}
 
 Result<DxfDrawing> readDxfDrawing(std::string_view text, const std::string& file) {
     try {

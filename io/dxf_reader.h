@@ -46,6 +46,11 @@ struct DxfDrawing {
     std::set<std::string> otherLayers;   ///< layer names that are not numbers (up to 20)
 };
 
+/// A DXF value without its surrounding blanks (and a CR of CRLF line ends).
+std::string_view dxfTrimmed(std::string_view s);
+/// A value as an error message quotes it: at most 60 characters, control characters as '?'.
+std::string dxfShown(std::string_view s);
+
 /// Reads the blocks of an ASCII DXF text; `file` names it in errors (`a.dxf: line 12: ...`).
 Result<DxfDrawing> readDxfDrawing(std::string_view text, const std::string& file);
 

@@ -23,22 +23,61 @@ namespace atelier::app {
 
 namespace {
 
-struct ImportOptions {
-    std::string spec;
+/// What every importer takes: the file read, the project written and its settings.
+struct ImportCommon {
+    std::string input;
     std::string out;
     std::string fabric = "cotton";
-    std::string slots = "auto";
-    double clearanceMm = 30;
     double particleDistanceMm = 0; ///< 0: the project default
     std::vector<std::string> limits;
 };
 
-int runImportGarmentCode(const ImportOptions& options) {
-    if (auto problem = checkOutputs({{"SPEC", options.spec}}, {{"--out", options.out}})) {
+/// The input and output checked and the limits read, or nullopt (the reason printed).
+std::optional<io::Limits> prepareImport(const char* inputName, const ImportCommon& common) {
+    if (auto problem = checkOutputs({{inputName, common.input}}, {{"--out", common.out}})) {
         std::cerr << "error: " << *problem << "\n";
-        return EXIT_BAD_INPUT;
+        return std::nullopt;
     }
-    const std::optional<io::Limits> limits = limitsOrReport(options.limits);
+    return limitsOrReport(common.limits);
+}
+
+/// Prints the importer's warnings and writes the project; EXIT_OK or why not.
+int saveImport(const ImportCommon& common, patterns::Project& project,
+               const std::vector<std::string>& warnings) {
+    for (const std::string& w : warnings) {
+        std::cerr << "warning: " << common.input << ": " << w << "\n";
+    }
+    if (common.particleDistanceMm > 0) {
+        project.drape.particleDistance = common.particleDistanceMm / 1000;
+    }
+    auto saved = io::saveProject(common.out, project);
+    if (!saved.ok()) {
+        std::cerr << "error: " << saved.error().toString() << "\n";
+        return EXIT_RUN_FAILED;
+    }
+    return EXIT_OK;
+}
+
+void addCommonOptions(CLI::App* cmd, const char* inputName, const char* inputWhat,
+                      ImportCommon* common) {
+    cmd->add_option(inputName, common->input, inputWhat)->required()->check(CLI::ExistingFile);
+    cmd->add_option("--out", common->out, "Project to write (.atelier)")->required();
+    cmd->add_option("--fabric", common->fabric, "Fabric preset of every panel")
+        ->capture_default_str();
+    cmd->add_option("--particle-distance", common->particleDistanceMm,
+                    "The project's mesh edge length [mm] (default: the project default, 10)")
+        ->check(CLI::Range(1.0, 1000.0));
+    addLimitOption(cmd, &common->limits);
+}
+
+struct ImportOptions {
+    ImportCommon common;
+    std::string slots = "auto";
+    double clearanceMm = 30;
+};
+
+int runImportGarmentCode(const ImportOptions& options) {
+    const std::optional<io::Limits> limits = prepareImport("SPEC", options.common);
     if (!limits) {
         return EXIT_BAD_INPUT;
     }
@@ -50,29 +89,22 @@ int runImportGarmentCode(const ImportOptions& options) {
         return EXIT_RUN_FAILED;
     }
     io::GarmentCodeOptions gc;
-    gc.fabric = options.fabric;
+    gc.fabric = options.common.fabric;
     gc.slots = options.slots;
     gc.clearance = options.clearanceMm / 1000;
-    auto imported = io::importGarmentCode(options.spec, body.value().body, gc, *limits);
+    auto imported = io::importGarmentCode(options.common.input, body.value().body, gc, *limits);
     if (!imported.ok()) {
         std::cerr << inputErrorText(imported.error());
         return EXIT_BAD_INPUT;
     }
     io::GarmentCodeImport& result = imported.value();
-    for (const std::string& w : result.warnings) {
-        std::cerr << "warning: " << options.spec << ": " << w << "\n";
-    }
-    if (options.particleDistanceMm > 0) {
-        result.project.drape.particleDistance = options.particleDistanceMm / 1000;
-    }
-    auto saved = io::saveProject(options.out, result.project);
-    if (!saved.ok()) {
-        std::cerr << "error: " << saved.error().toString() << "\n";
-        return EXIT_RUN_FAILED;
+    if (const int code = saveImport(options.common, result.project, result.warnings);
+        code != EXIT_OK) {
+        return code;
     }
     std::fprintf(stderr, "import: %zu panels, %zu seams, %zu warnings -> %s\n",
                  result.project.garment.panels.size(), result.project.garment.seams.size(),
-                 result.warnings.size(), options.out.c_str());
+                 result.warnings.size(), options.common.out.c_str());
     for (const patterns::Panel& p : result.project.garment.panels) {
         std::fprintf(stderr, "  %-16s %-12s %-5s rotation %7.1f deg, offset (%.0f, %.0f) mm\n",
                      p.name.c_str(), p.placement.slot.c_str(),
@@ -84,47 +116,32 @@ int runImportGarmentCode(const ImportOptions& options) {
 }
 
 struct DxfOptions {
-    std::string file;
-    std::string out;
-    std::string fabric = "cotton";
+    ImportCommon common;
     std::string units = "auto";
     double toleranceMm = 0.2;
-    double particleDistanceMm = 0; ///< 0: the project default
-    std::vector<std::string> limits;
 };
 
 int runImportDxf(const DxfOptions& options) {
-    if (auto problem = checkOutputs({{"DXF", options.file}}, {{"--out", options.out}})) {
-        std::cerr << "error: " << *problem << "\n";
-        return EXIT_BAD_INPUT;
-    }
-    const std::optional<io::Limits> limits = limitsOrReport(options.limits);
+    const std::optional<io::Limits> limits = prepareImport("DXF", options.common);
     if (!limits) {
         return EXIT_BAD_INPUT;
     }
     io::DxfImportOptions dxf;
-    dxf.fabric = options.fabric;
+    dxf.fabric = options.common.fabric;
     dxf.units = options.units;
     dxf.fitTolerance = options.toleranceMm / 1000;
-    auto imported = io::importDxfAama(options.file, dxf, *limits);
+    auto imported = io::importDxfAama(options.common.input, dxf, *limits);
     if (!imported.ok()) {
         std::cerr << inputErrorText(imported.error());
         return EXIT_BAD_INPUT;
     }
     io::DxfImport& result = imported.value();
-    for (const std::string& w : result.warnings) {
-        std::cerr << "warning: " << options.file << ": " << w << "\n";
-    }
-    if (options.particleDistanceMm > 0) {
-        result.project.drape.particleDistance = options.particleDistanceMm / 1000;
-    }
-    auto saved = io::saveProject(options.out, result.project);
-    if (!saved.ok()) {
-        std::cerr << "error: " << saved.error().toString() << "\n";
-        return EXIT_RUN_FAILED;
+    if (const int code = saveImport(options.common, result.project, result.warnings);
+        code != EXIT_OK) {
+        return code;
     }
     std::fprintf(stderr, "import: %zu pieces, units %s, %zu warnings -> %s\n", result.pieces.size(),
-                 result.units.c_str(), result.warnings.size(), options.out.c_str());
+                 result.units.c_str(), result.warnings.size(), options.common.out.c_str());
     std::fprintf(stderr, "  %-16s %5s %9s %9s %8s %5s %7s %7s %5s\n", "piece", "qty", "cut mm",
                  "outline", "fit mm", "segs", "notches", "inner", "holes");
     for (const io::DxfPiece& p : result.pieces) {
@@ -144,12 +161,7 @@ void addImportCommand(CLI::App& app) {
     CLI::App* gc = import->add_subcommand(
         "garmentcode", "A GarmentCode / pygarment specification (JSON) as an Atelier project on "
                        "the default body");
-    gc->add_option("SPEC", options->spec, "Specification (JSON)")
-        ->required()
-        ->check(CLI::ExistingFile);
-    gc->add_option("--out", options->out, "Project to write (.atelier)")->required();
-    gc->add_option("--fabric", options->fabric, "Fabric preset of every panel")
-        ->capture_default_str();
+    addCommonOptions(gc, "SPEC", "Specification (JSON)", &options->common);
     gc->add_option("--slots", options->slots,
                    "Slots of the panels that are not sleeves: auto, torso or waist")
         ->check(CLI::IsMember({"auto", "torso", "waist"}))
@@ -158,10 +170,6 @@ void addImportCommand(CLI::App& app) {
                    "Gap between each placed panel and the body [mm]")
         ->check(CLI::Range(0.0, 200.0))
         ->capture_default_str();
-    gc->add_option("--particle-distance", options->particleDistanceMm,
-                   "The project's mesh edge length [mm] (default: the project default, 10)")
-        ->check(CLI::Range(1.0, 1000.0));
-    addLimitOption(gc, &options->limits);
     gc->callback([options]() {
         if (const int code = runImportGarmentCode(*options); code != EXIT_OK) {
             throw CLI::RuntimeError(code);
@@ -172,12 +180,7 @@ void addImportCommand(CLI::App& app) {
     CLI::App* dxf = import->add_subcommand(
         "dxf", "A DXF-AAMA / ASTM D6673 pattern file (ASCII DXF) as an Atelier project: its "
                "pieces, unsewn, on the default body");
-    dxf->add_option("DXF", dxfOptions->file, "Pattern file (.dxf)")
-        ->required()
-        ->check(CLI::ExistingFile);
-    dxf->add_option("--out", dxfOptions->out, "Project to write (.atelier)")->required();
-    dxf->add_option("--fabric", dxfOptions->fabric, "Fabric preset of every panel")
-        ->capture_default_str();
+    addCommonOptions(dxf, "DXF", "Pattern file (.dxf)", &dxfOptions->common);
     dxf->add_option("--units", dxfOptions->units,
                     "Unit of the file's coordinates: auto (its Units: text or $INSUNITS), mm, "
                     "cm, m or in")
@@ -187,10 +190,6 @@ void addImportCommand(CLI::App& app) {
                     "Largest distance of a fitted outline curve from a digitised point [mm]")
         ->check(CLI::Range(0.001, 5.0))
         ->capture_default_str();
-    dxf->add_option("--particle-distance", dxfOptions->particleDistanceMm,
-                    "The project's mesh edge length [mm] (default: the project default, 10)")
-        ->check(CLI::Range(1.0, 1000.0));
-    addLimitOption(dxf, &dxfOptions->limits);
     dxf->callback([dxfOptions]() {
         if (const int code = runImportDxf(*dxfOptions); code != EXIT_OK) {
             throw CLI::RuntimeError(code);
