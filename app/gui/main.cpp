@@ -1,6 +1,7 @@
 /// atelier: the desktop application (ui/widgets over the drape session and the renderer).
 ///
-///   atelier [PROJECT.atelier | SPEC.json] [--recovery-dir DIR] [--autosave-seconds N]
+///   atelier [PROJECT.atelier | SPEC.json | PATTERN.dxf] [--recovery-dir DIR]
+///           [--autosave-seconds N]
 ///   atelier PROJECT.atelier --screenshot OUT.png [--drape-seconds S]   (tests, documentation)
 
 #include "ui/widgets/main_window.h"
@@ -43,7 +44,9 @@ int main(int argc, char** argv) {
     parser.setApplicationDescription("Atelier: design, sew and drape garments");
     parser.addHelpOption();
     parser.addVersionOption();
-    parser.addPositionalArgument("project", "A garment project (.atelier) to open");
+    parser.addPositionalArgument(
+        "file", "A garment project (.atelier), a GarmentCode specification (.json) or a DXF-AAMA "
+                "pattern (.dxf) to open");
     const QCommandLineOption screenshot(
         "screenshot",
         "Open the project, drape it for --drape-seconds, save the window as PNG "

@@ -117,7 +117,7 @@ void DrapeController::pin(int vertex) {
         auto pinned = m_session->pinVertex(vertex);
         if (!pinned.ok()) {
             const QString message = QString::fromStdString(pinned.error().toString());
-            QMetaObject::invokeMethod(this, [this, message] { emit failed(message); });
+            QMetaObject::invokeMethod(this, [this, message] { Q_EMIT failed(message); });
             return;
         }
         const patterns::PinnedVertex& p = pinned.value();
@@ -132,10 +132,10 @@ void DrapeController::pin(int vertex) {
             !edit.ok()) {
             // A vertex's own pattern point always lies on its panel: this does not happen.
             const QString message = QString::fromStdString(edit.error().toString());
-            QMetaObject::invokeMethod(this, [this, message] { emit failed(message); });
+            QMetaObject::invokeMethod(this, [this, message] { Q_EMIT failed(message); });
         } else {
             QMetaObject::invokeMethod(this,
-                                      [this, e = std::move(edit.value())] { emit pinEdited(e); });
+                                      [this, e = std::move(edit.value())] { Q_EMIT pinEdited(e); });
         }
         publishPins();
     });
@@ -150,7 +150,7 @@ void DrapeController::unpin(int vertex) {
         }
         if (!unpinned.ok()) {
             const QString message = QString::fromStdString(unpinned.error().toString());
-            QMetaObject::invokeMethod(this, [this, message] { emit failed(message); });
+            QMetaObject::invokeMethod(this, [this, message] { Q_EMIT failed(message); });
             return;
         }
         const patterns::PinnedVertex& p = unpinned.value();
@@ -165,7 +165,7 @@ void DrapeController::unpin(int vertex) {
                                         docPanel.pins[static_cast<std::size_t>(p.index)].id);
                 edit.ok()) {
                 QMetaObject::invokeMethod(
-                    this, [this, e = std::move(edit.value())] { emit pinEdited(e); });
+                    this, [this, e = std::move(edit.value())] { Q_EMIT pinEdited(e); });
             }
         }
         publishPins();
@@ -202,7 +202,7 @@ void DrapeController::publishPins() {
         m_pinned = std::move(pinned);
         m_document = m_project.document;
     }
-    QMetaObject::invokeMethod(this, [this] { emit pinsChanged(); });
+    QMetaObject::invokeMethod(this, [this] { Q_EMIT pinsChanged(); });
 }
 
 bool DrapeController::snapshot(sim::Snapshot& out) {
@@ -242,7 +242,7 @@ void DrapeController::openOnWorker(const QString& path) {
     auto project = io::loadProject(file);
     if (!project.ok()) {
         const QString message = QString::fromStdString(project.error().toString());
-        QMetaObject::invokeMethod(this, [this, message] { emit failed(message); });
+        QMetaObject::invokeMethod(this, [this, message] { Q_EMIT failed(message); });
         return;
     }
     m_projectFile = std::filesystem::absolute(file);
@@ -270,7 +270,7 @@ void DrapeController::placeOnWorker(const QString& path) {
         m_pinned.clear();
         m_document = m_project.document;
     }
-    QMetaObject::invokeMethod(this, [this, path] { emit opened(path); });
+    QMetaObject::invokeMethod(this, [this, path] { Q_EMIT opened(path); });
 }
 
 void DrapeController::prepareOnWorker() {
@@ -279,7 +279,7 @@ void DrapeController::prepareOnWorker() {
     if (auto prepared = m_session->prepare(); !prepared.ok()) {
         m_phase.store(static_cast<int>(patterns::DrapePhase::Failed));
         const QString message = QString::fromStdString(prepared.error().toString());
-        QMetaObject::invokeMethod(this, [this, message] { emit failed(message); });
+        QMetaObject::invokeMethod(this, [this, message] { Q_EMIT failed(message); });
         return;
     }
     m_session->takeEvents();
@@ -289,7 +289,7 @@ void DrapeController::prepareOnWorker() {
         const std::lock_guard lock(m_mutex);
         path = m_path;
     }
-    QMetaObject::invokeMethod(this, [this, path] { emit opened(path); });
+    QMetaObject::invokeMethod(this, [this, path] { Q_EMIT opened(path); });
 }
 
 namespace {
@@ -369,7 +369,7 @@ void DrapeController::editOnWorker(patterns::GarmentDocument document) {
         if (auto prepared = m_session->prepare(); !prepared.ok()) {
             m_phase.store(static_cast<int>(patterns::DrapePhase::Failed));
             const QString message = QString::fromStdString(prepared.error().toString());
-            QMetaObject::invokeMethod(this, [this, message] { emit failed(message); });
+            QMetaObject::invokeMethod(this, [this, message] { Q_EMIT failed(message); });
             return;
         }
         m_session->takeEvents();
@@ -379,10 +379,10 @@ void DrapeController::editOnWorker(patterns::GarmentDocument document) {
     }
     for (const patterns::DrapeEvent& e : m_session->takeEvents()) {
         const QString message = QString::fromStdString(e.message);
-        QMetaObject::invokeMethod(this, [this, message] { emit event(message); });
+        QMetaObject::invokeMethod(this, [this, message] { Q_EMIT event(message); });
     }
     publishScene();
-    QMetaObject::invokeMethod(this, [this, incremental] { emit rebuilt(incremental); });
+    QMetaObject::invokeMethod(this, [this, incremental] { Q_EMIT rebuilt(incremental); });
 }
 
 void DrapeController::publishScene() {
@@ -439,7 +439,7 @@ void DrapeController::loop() {
         m_phase.store(static_cast<int>(m_session->phase()));
         for (const patterns::DrapeEvent& e : m_session->takeEvents()) {
             const QString message = QString::fromStdString(e.message);
-            QMetaObject::invokeMethod(this, [this, message] { emit event(message); });
+            QMetaObject::invokeMethod(this, [this, message] { Q_EMIT event(message); });
         }
         if (m_session->finished() || status == patterns::DrapeStatus::Failed) {
             m_running.store(false);
@@ -449,7 +449,7 @@ void DrapeController::loop() {
                 : status == patterns::DrapeStatus::Failed
                     ? QStringLiteral("failed: %1").arg(QString::fromStdString(f.error))
                     : QStringLiteral("stopped at the time limit, t = %1 s").arg(f.time, 0, 'f', 2);
-            QMetaObject::invokeMethod(this, [this, how] { emit finished(how); });
+            QMetaObject::invokeMethod(this, [this, how] { Q_EMIT finished(how); });
         }
     }
 }

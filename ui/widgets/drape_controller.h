@@ -106,7 +106,7 @@ class DrapeController : public QObject {
     /// The garment as it is now (positions) with its static scene; empty when nothing is open.
     std::shared_ptr<const StaticScene> staticScene() const;
 
-  signals:
+  Q_SIGNALS:
     /// A project was opened and prepared: its static scene is ready.
     void opened(const QString& path);
     /// Opening or a step failed: the message says what (file, JSON path, cause).

@@ -5,11 +5,8 @@
 
 #include "io/atomic_file.h"
 #include "io/body_file.h"
-// GarmentCodeOptions has a member named `slots`, which Qt defines as a macro.
-#pragma push_macro("slots")
-#undef slots
+#include "io/dxf_aama.h"
 #include "io/garmentcode.h"
-#pragma pop_macro("slots")
 #include "io/mesh_import.h"
 #include "io/obj.h"
 #include "io/project_file.h"
@@ -50,11 +47,11 @@ bool isBodyMesh(const QString& path) {
     return std::find(kinds.begin(), kinds.end(), suffix) != kinds.end();
 }
 
-/// The kinds of file the window opens (by suffix): projects, GarmentCode specifications, body
-/// meshes.
+/// The kinds of file the window opens (by suffix): projects, GarmentCode specifications,
+/// DXF-AAMA patterns, body meshes.
 bool openable(const QString& path) {
     const QString suffix = QFileInfo(path).suffix().toLower();
-    return suffix == "atelier" || suffix == "json" || isBodyMesh(path);
+    return suffix == "atelier" || suffix == "json" || suffix == "dxf" || isBodyMesh(path);
 }
 
 } // namespace
@@ -141,14 +138,14 @@ MainWindow::MainWindow(QString samplesDir, QWidget* parent)
         }
         m_lastSteps = 0;
         m_lastWall = 0;
-        emit projectReady();
+        Q_EMIT projectReady();
     });
     connect(m_drape, &DrapeController::rebuilt, this, [this](bool continued) {
         m_viewport->sceneChanged(true);
         if (!continued) {
             statusBar()->showMessage(tr("Placed again: press Space to drape"), 5000);
         }
-        emit documentApplied();
+        Q_EMIT documentApplied();
     });
     connect(m_drape, &DrapeController::pinEdited, this, [this](const patterns::Edit& e) {
         // The drape and its copy of the document hold the pin already; the window's document
@@ -223,7 +220,8 @@ void MainWindow::buildMenus() {
     QAction* open = file->addAction(tr("&Open…"), this, [this] {
         const QString path = QFileDialog::getOpenFileName(
             this, tr("Open a garment project"), lastDirectory(),
-            tr("Atelier projects (*.atelier);;GarmentCode specifications (*.json)"));
+            tr("Atelier projects (*.atelier);;GarmentCode specifications (*.json);;"
+               "DXF-AAMA patterns (*.dxf)"));
         if (!path.isEmpty()) {
             QSettings().setValue("files/lastDirectory", QFileInfo(path).absolutePath());
             openFile(path);
@@ -309,11 +307,15 @@ bool MainWindow::openFile(const QString& path) {
     if (isBodyMesh(path)) {
         return setBodyMesh(path);
     }
-    if (QFileInfo(path).suffix().toLower() != "json") {
+    const QString suffix = QFileInfo(path).suffix().toLower();
+    if (suffix != "json" && suffix != "dxf") {
         return openProject(path);
     }
     if (!maybeSave()) {
         return false;
+    }
+    if (suffix == "dxf") { // its pieces, unsewn, laid on the torso slots
+        return adoptImport(path, io::importDxfAama(path.toStdString()));
     }
     // A GarmentCode specification, placed on the default mannequin's slots.
     const patterns::BodySource body;
@@ -322,7 +324,11 @@ bool MainWindow::openFile(const QString& path) {
         showError(QString::fromStdString(mannequin.error().toString()));
         return false;
     }
-    auto imported = io::importGarmentCode(path.toStdString(), mannequin.value());
+    return adoptImport(path, io::importGarmentCode(path.toStdString(), mannequin.value()));
+}
+
+template <class Imported>
+bool MainWindow::adoptImport(const QString& path, Result<Imported> imported) {
     if (!imported.ok()) {
         showError(tr("Could not import %1:\n%2")
                       .arg(path, QString::fromStdString(imported.error().toString())));

@@ -108,7 +108,7 @@ class MainWindow : public QMainWindow {
     Viewport& viewport() { return *m_viewport; }
     PatternView& patternView() { return *m_pattern; }
 
-  signals:
+  Q_SIGNALS:
     /// The project is open and placed (the views show it).
     void projectReady();
     /// An edit (or its undo) reached the drape: the views show the edited garment.
@@ -132,6 +132,9 @@ class MainWindow : public QMainWindow {
     bool maybeSave();
     /// Makes `project` (read from `path`) the one being edited and drapes it.
     void adopt(patterns::Project project, const QString& path, bool modified);
+    /// An imported pattern (GarmentCode, DXF) adopted as a new, unsaved project; its warnings
+    /// in the status bar; an import error in a dialog.
+    template <class Imported> bool adoptImport(const QString& path, Result<Imported> imported);
     /// The document changed (an edit, undo or redo): the views and the drape follow.
     void documentChanged();
     void updateTitle();

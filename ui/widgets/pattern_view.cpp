@@ -117,8 +117,8 @@ PatternView::PatternView(QWidget* parent) : QGraphicsView(parent) {
             m_selectedPoint = {};
             drawHandles();
         }
-        emit panelSelected(selected.isEmpty() ? QString()
-                                              : selected.front()->data(DATA_NAME).toString());
+        Q_EMIT panelSelected(selected.isEmpty() ? QString()
+                                                : selected.front()->data(DATA_NAME).toString());
     });
 }
 
@@ -387,8 +387,8 @@ void PatternView::mouseReleaseEvent(QMouseEvent* event) {
     if (drag.moved) {
         // The window makes the edit and draws the document again; until then, as it was.
         redraw();
-        emit pointMoveRequested(drag.panel.value, drag.point.value, drag.position.x(),
-                                drag.position.y());
+        Q_EMIT pointMoveRequested(drag.panel.value, drag.point.value, drag.position.x(),
+                                  drag.position.y());
     }
 }
 
@@ -429,15 +429,15 @@ void PatternView::mouseDoubleClickEvent(QMouseEvent* event) {
         return;
     }
     event->accept();
-    emit pointAddRequested(m_selectedPanel.value, pick->edge.value, pick->t, pick->at.x(),
-                           pick->at.y());
+    Q_EMIT pointAddRequested(m_selectedPanel.value, pick->edge.value, pick->t, pick->at.x(),
+                             pick->at.y());
 }
 
 void PatternView::keyPressEvent(QKeyEvent* event) {
     if ((event->key() == Qt::Key_Delete || event->key() == Qt::Key_Backspace) && m_selectedPanel &&
         m_selectedPoint) {
         event->accept();
-        emit pointDeleteRequested(m_selectedPanel.value, m_selectedPoint.value);
+        Q_EMIT pointDeleteRequested(m_selectedPanel.value, m_selectedPoint.value);
         return;
     }
     QGraphicsView::keyPressEvent(event);

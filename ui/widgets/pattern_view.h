@@ -45,7 +45,7 @@ class PatternView : public QGraphicsView {
     /// The edge lengths shown while a point is dragged (empty otherwise).
     QString dragLengths() const;
 
-  signals:
+  Q_SIGNALS:
     /// The selected panel's name (empty when none).
     void panelSelected(const QString& name);
     /// A point was dragged to (x, y) [m] and let go.

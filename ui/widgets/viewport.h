@@ -50,7 +50,7 @@ class Viewport : public QWidget {
     /// The renderer's error, if it could not start (no OpenGL 3.3).
     QString rendererError() const { return m_error; }
 
-  public slots:
+  public Q_SLOTS:
     /// A new static scene (a new project, framed from three-quarter; or an edited garment,
     /// `keepView`: the camera stays where it is).
     void sceneChanged(bool keepView = false);

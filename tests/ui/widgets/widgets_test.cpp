@@ -8,11 +8,8 @@
 
 #include "io/atomic_file.h"
 #include "io/body_file.h"
-#include "io/obj.h"
-#pragma push_macro("slots")
-#undef slots
 #include "io/garmentcode.h"
-#pragma pop_macro("slots")
+#include "io/obj.h"
 #include "io/project_file.h"
 
 #include "patterns/curve.h"
@@ -619,6 +616,33 @@ TEST(MainWindow, ADroppedProjectFileIsOpened) {
     QDragEnterEvent other(QPoint(50, 50), Qt::CopyAction, &text, Qt::LeftButton, {});
     QApplication::sendEvent(&window, &other);
     EXPECT_FALSE(other.isAccepted());
+}
+
+TEST(MainWindow, ADroppedDxfPatternOpensItsPiecesAsANewProject) {
+    QTemporaryDir dir;
+    MainWindow window(GARMENTS);
+    QuietPrompts prompts;
+    prompts.install(window);
+    window.setRecoveryDirectory(dir.filePath("recovery"));
+    window.show();
+    const QString file = QStringLiteral(ATELIER_SOURCE_DIR "/tests/fuzz/corpus/three-pieces.dxf");
+    QMimeData data;
+    data.setUrls({QUrl::fromLocalFile(file)});
+    QDragEnterEvent enter(QPoint(50, 50), Qt::CopyAction, &data, Qt::LeftButton, {});
+    QApplication::sendEvent(&window, &enter);
+    EXPECT_TRUE(enter.isAccepted());
+    QSignalSpy ready(&window, &MainWindow::projectReady);
+    QDropEvent drop(QPointF(50, 50), Qt::CopyAction, &data, Qt::LeftButton, {});
+    QApplication::sendEvent(&window, &drop);
+    EXPECT_TRUE(drop.isAccepted());
+    // An import is a new project: no path yet, modified, its pieces placed and drawn.
+    EXPECT_TRUE(window.projectPath().isEmpty());
+    EXPECT_TRUE(window.isModified());
+    ASSERT_EQ(window.project().garment.panels.size(), 3U);
+    EXPECT_EQ(window.project().garment.panels[0].name, "FRONT");
+    EXPECT_EQ(window.project().garment.panels[0].notches.size(), 2U);
+    ASSERT_TRUE(waitFor([&] { return ready.count() >= 1; }, 120));
+    EXPECT_EQ(window.drape().staticScene()->panelNames.size(), 3U);
 }
 
 TEST(MainWindow, ADroppedBodyMeshBecomesTheBodyUndoably) {
