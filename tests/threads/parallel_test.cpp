@@ -94,10 +94,18 @@ TEST(Parallel, HelpersTakePart) {
     setThreadCount(2);
     std::atomic<bool> otherThread{false};
     const auto caller = std::this_thread::get_id();
+    // On a loaded machine the caller can run every chunk before a helper is scheduled at all
+    // (it failed so, once, with a build beside the tests): the caller's first item of each
+    // round waits for a helper to take a chunk, up to 5 s over the whole test.
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
     for (int round = 0; round < 200 && !otherThread; ++round) {
-        parallelFor(PARALLEL_GRAIN * 8, [&](std::int64_t) {
+        parallelFor(PARALLEL_GRAIN * 8, [&](std::int64_t i) {
             if (std::this_thread::get_id() != caller) {
                 otherThread = true;
+                return;
+            }
+            while (i == 0 && !otherThread && std::chrono::steady_clock::now() < deadline) {
+                std::this_thread::yield();
             }
         });
     }
