@@ -30,17 +30,6 @@ doc::Curve curveOf(const Segment& s) {
     return c;
 }
 
-Segment segmentOf(const doc::Curve& c, const Vec2& start, const Vec2& end) {
-    Segment s;
-    s.kind = c.kind;
-    s.start = start;
-    s.end = end;
-    s.control1 = c.control1;
-    s.control2 = c.control2;
-    s.bulge = c.bulge;
-    return s;
-}
-
 doc::Contour contourFromLoop(GarmentDocument& d, const Loop& loop) {
     doc::Contour c;
     for (const Segment& s : loop) {
@@ -181,6 +170,17 @@ void dumpPanel(std::string& out, const doc::Panel& p) {
 }
 
 } // namespace
+
+Segment segmentOf(const doc::Curve& c, const Vec2& start, const Vec2& end) {
+    Segment s;
+    s.kind = c.kind;
+    s.start = start;
+    s.end = end;
+    s.control1 = c.control1;
+    s.control2 = c.control2;
+    s.bulge = c.bulge;
+    return s;
+}
 
 doc::Panel* GarmentDocument::panel(PanelId id) {
     return findById(panels, id);

@@ -172,6 +172,8 @@ doc::Contour* contourOfEdge(doc::Panel& panel, EdgeId edge, int& index);
 
 /// The segment of edge `i` of a contour [m].
 Segment contourSegment(const doc::Contour& contour, std::size_t i);
+/// The segment of an edge with curve `c` from `start` to `end`.
+Segment segmentOf(const doc::Curve& c, const Vec2& start, const Vec2& end);
 
 /// The index-based garment the mesher takes: panels and seams in document order, outline
 /// segments in cycle order from each outline's first point.

@@ -273,16 +273,23 @@ void DrapeController::placeOnWorker(const QString& path) {
     QMetaObject::invokeMethod(this, [this, path] { Q_EMIT opened(path); });
 }
 
-void DrapeController::prepareOnWorker() {
+bool DrapeController::prepareSession() {
     m_stepped.store(false);
     m_grab = 0; // a new simulation holds no grab
     if (auto prepared = m_session->prepare(); !prepared.ok()) {
         m_phase.store(static_cast<int>(patterns::DrapePhase::Failed));
         const QString message = QString::fromStdString(prepared.error().toString());
         QMetaObject::invokeMethod(this, [this, message] { Q_EMIT failed(message); });
+        return false;
+    }
+    m_session->takeEvents(); // Placed: the window learns it from opened()/rebuilt()
+    return true;
+}
+
+void DrapeController::prepareOnWorker() {
+    if (!prepareSession()) {
         return;
     }
-    m_session->takeEvents();
     publishScene();
     QString path;
     {
@@ -364,15 +371,9 @@ void DrapeController::editOnWorker(patterns::GarmentDocument document) {
             return;
         }
         m_session->setProject(m_project);
-        m_stepped.store(false);
-        m_grab = 0;
-        if (auto prepared = m_session->prepare(); !prepared.ok()) {
-            m_phase.store(static_cast<int>(patterns::DrapePhase::Failed));
-            const QString message = QString::fromStdString(prepared.error().toString());
-            QMetaObject::invokeMethod(this, [this, message] { Q_EMIT failed(message); });
+        if (!prepareSession()) {
             return;
         }
-        m_session->takeEvents();
     } else if (m_session->simulation() != simulation) {
         m_stepped.store(false); // snapshots before the rebuild are of the garment as it was
         m_grab = 0;             // a rebuilt simulation holds no grab

@@ -132,6 +132,8 @@ class DrapeController : public QObject {
     void placeOnWorker(const QString& path);
     /// Prepares the session's project; publishes its scene and emits opened() (or failed()).
     void prepareOnWorker();
+    /// Prepares the session (worker thread): false, with failed() emitted, when it cannot.
+    bool prepareSession();
     void editOnWorker(patterns::GarmentDocument document);
     /// Copies the session's meshes, body and positions into a new static scene.
     void publishScene();

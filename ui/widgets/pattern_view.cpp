@@ -64,18 +64,6 @@ std::pair<double, double> extentMm(const patterns::doc::Panel& panel) {
     return {minX, maxX};
 }
 
-patterns::Segment edgeSegment(const patterns::Vec2& a, const patterns::Vec2& b,
-                              const patterns::doc::Curve& c) {
-    patterns::Segment s;
-    s.kind = c.kind;
-    s.start = a;
-    s.end = b;
-    s.control1 = c.control1;
-    s.control2 = c.control2;
-    s.bulge = c.bulge;
-    return s;
-}
-
 } // namespace
 
 std::vector<patterns::Vec2> sampleLoop(const patterns::Loop& loop) {
@@ -230,8 +218,8 @@ void PatternView::redraw() {
             QPainterPath l;
             bool first = true;
             for (std::size_t e = 0; e < line.edges.size(); ++e) {
-                const patterns::Segment s = edgeSegment(
-                    line.points[e].position, line.points[e + 1].position, line.edges[e].curve);
+                const patterns::Segment s = patterns::segmentOf(
+                    line.edges[e].curve, line.points[e].position, line.points[e + 1].position);
                 for (int i = 0; i <= 16; ++i) {
                     const patterns::Vec2 v = patterns::pointAt(s, i / 16.0);
                     const QPointF q(v.x() * MM + dx, -v.y() * MM);
