@@ -118,6 +118,7 @@ MainWindow::MainWindow(QString samplesDir, QWidget* parent)
         QStandardPaths::writableLocation(QStandardPaths::AppLocalDataLocation) + "/recovery";
     m_project.name = "untitled";
     buildMenus();
+    buildDocks();
     updateTitle();
     connect(&m_undo, &QUndoStack::cleanChanged, this, [this] { updateTitle(); });
     connect(&m_autosave, &QTimer::timeout, this, [this] { autosave(); });
@@ -249,6 +250,7 @@ void MainWindow::buildMenus() {
     file->addSeparator();
     file->addAction(tr("&Export draped mesh…"), this, &MainWindow::exportMesh);
     file->addAction(tr("Save &picture…"), this, &MainWindow::savePicture);
+    addFileActions(file);
     file->addSeparator();
     QAction* quit = file->addAction(tr("&Quit"), this, &QWidget::close);
     quit->setShortcut(QKeySequence::Quit);
@@ -272,8 +274,10 @@ void MainWindow::buildMenus() {
     m_run->setShortcut(Qt::Key_Space);
     QAction* reset = sim->addAction(tr("&Reset"), this, [this] { m_drape->reset(); });
     reset->setShortcut(QKeySequence(Qt::CTRL | Qt::Key_R));
+    m_reset = reset;
 
     QMenu* view = menuBar()->addMenu(tr("&View"));
+    m_viewMenu = view;
     int key = Qt::Key_1;
     for (const render::View v : render::ALL_VIEWS) {
         QAction* a = view->addAction(QString::fromUtf8(render::viewName(v).data()), this,
@@ -364,6 +368,7 @@ void MainWindow::adopt(patterns::Project project, const QString& path, bool modi
     m_undo.clear();
     m_modifiedOutsideStack = modified;
     m_pattern->setDocument(m_project.document);
+    docksFollowDocument();
     statusBar()->showMessage(tr("Opening %1…").arg(path.isEmpty() ? tr("untitled") : path));
     m_drape->setProject(m_project, path);
     updateTitle();
@@ -524,6 +529,7 @@ bool MainWindow::edit(
 void MainWindow::documentChanged() {
     patterns::syncGarment(m_project);
     m_pattern->setDocument(m_project.document, true);
+    docksFollowDocument();
     m_drape->setDocument(m_project.document);
     updateTitle();
 }
@@ -718,6 +724,7 @@ void MainWindow::updateStatus() {
     m_fps.setText(tr("%1 fps, %2 ms")
                       .arg(m_viewport->framesPerSecond(), 0, 'f', 0)
                       .arg(m_viewport->drawMilliseconds(), 0, 'f', 0));
+    docksFollowDrape(p);
 }
 
 void MainWindow::exportMesh() {
