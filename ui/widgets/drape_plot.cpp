@@ -32,6 +32,9 @@ const QColor CONTACT_COLOUR(40, 90, 190);
 
 DrapePlot::DrapePlot(QWidget* parent) : QWidget(parent) {
     setMinimumSize(200, 110);
+    setToolTip(tr("Kinetic energy [J] (red, log scale, left) and contacts (blue, right) over "
+                  "simulated time; the background is the phase: sewing (orange), settling "
+                  "(blue), at rest (green)"));
 }
 
 void DrapePlot::clear() {
@@ -143,9 +146,8 @@ void DrapePlot::paintEvent(QPaintEvent* /*event*/) {
             Qt::AlignLeft | Qt::AlignVCenter, QString::number(c));
     }
     painter.setPen(palette().text().color());
-    painter.drawText(
-        QRectF(plot.left(), plot.bottom(), plot.width(), margin * 1.5), Qt::AlignCenter,
-        tr("%1–%2 s   KE [J] (red), contacts (blue)").arg(t0, 0, 'f', 2).arg(t1, 0, 'f', 2));
+    painter.drawText(QRectF(plot.left(), plot.bottom(), plot.width(), margin * 1.5),
+                     Qt::AlignCenter, tr("t %1–%2 s").arg(t0, 0, 'f', 2).arg(t1, 0, 'f', 2));
 }
 
 } // namespace atelier::ui

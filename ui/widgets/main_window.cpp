@@ -26,6 +26,7 @@
 #include <QMimeData>
 #include <QSaveFile>
 #include <QSettings>
+#include <QShowEvent>
 #include <QSplitter>
 #include <QStandardPaths>
 #include <QStatusBar>
@@ -193,7 +194,7 @@ MainWindow::MainWindow(QString samplesDir, QWidget* parent)
     resize(1280, 760);
     const QSettings settings;
     restoreGeometry(settings.value("window/geometry").toByteArray());
-    restoreState(settings.value("window/state").toByteArray());
+    // The docks' and toolbars' state is restored in the first showEvent.
     m_splitter->restoreState(settings.value("window/splitter").toByteArray());
 }
 
@@ -659,6 +660,16 @@ bool MainWindow::offerRecovery() {
 
 // ---- Window events ----
 
+void MainWindow::showEvent(QShowEvent* event) {
+    QMainWindow::showEvent(event);
+    if (!m_stateRestored) {
+        // Once the window has its restored size: before it, the docks' widths are scaled to
+        // the default size (298 px saved came back as 237 in a 1100 px window).
+        m_stateRestored = true;
+        restoreState(QSettings().value("window/state").toByteArray());
+    }
+}
+
 void MainWindow::closeEvent(QCloseEvent* event) {
     if (!maybeSave()) {
         event->ignore();
@@ -666,7 +677,9 @@ void MainWindow::closeEvent(QCloseEvent* event) {
     }
     QSettings settings;
     settings.setValue("window/geometry", saveGeometry());
-    settings.setValue("window/state", saveState());
+    if (m_stateRestored) { // else the saved state was never applied: keep it
+        settings.setValue("window/state", saveState());
+    }
     settings.setValue("window/splitter", m_splitter->saveState());
     removeRecoveryFile();
     m_autosave.stop();

@@ -142,6 +142,7 @@ class MainWindow : public QMainWindow {
 
   protected:
     void closeEvent(QCloseEvent* event) override;
+    void showEvent(QShowEvent* event) override;
     void dragEnterEvent(QDragEnterEvent* event) override;
     void dropEvent(QDropEvent* event) override;
 
@@ -193,6 +194,7 @@ class MainWindow : public QMainWindow {
     FabricDock* m_fabricDock = nullptr;
     SimulationDock* m_simulationDock = nullptr;
     QAction* m_showSlots = nullptr;
+    bool m_stateRestored = false; ///< the docks' state, restored when first shown
     QMenu* m_recent = nullptr;
     QLabel m_phase;
     QLabel m_time;
