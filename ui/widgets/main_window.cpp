@@ -369,7 +369,7 @@ void MainWindow::adopt(patterns::Project project, const QString& path, bool modi
     m_undo.clear();
     m_modifiedOutsideStack = modified;
     m_pattern->setDocument(m_project.document);
-    docksFollowDocument();
+    docksFollowDocument(true);
     statusBar()->showMessage(tr("Opening %1…").arg(path.isEmpty() ? tr("untitled") : path));
     m_drape->setProject(m_project, path);
     updateTitle();

@@ -156,8 +156,8 @@ class MainWindow : public QMainWindow {
     void buildDocks();
     /// File menu entries: export pattern SVG, render image, import body.
     void addFileActions(QMenu* file);
-    /// Shows the document (and drape settings) in the docks.
-    void docksFollowDocument();
+    /// Shows the document (and drape settings) in the docks; `newProject`: nothing selected.
+    void docksFollowDocument(bool newProject = false);
     /// Feeds the live plot and the Simulation dock's phase (the status timer).
     void docksFollowDrape(const DrapeProgress& progress);
     void applyDrapeSettings(const patterns::DrapeSettings& settings);

@@ -103,6 +103,7 @@ void MainWindow::buildDocks() {
         m_panelDock->showPanel(panel.value);
         if (const patterns::doc::Panel* p = m_project.document.panel(panel)) {
             m_fabricDock->showFabric(QString::fromStdString(p->material));
+            m_viewport->setHighlightedSlot(QString::fromStdString(p->placement.slot));
         }
     });
     // The body's slots, once a scene is there.
@@ -190,11 +191,18 @@ void MainWindow::buildDocks() {
     docksFollowDocument();
 }
 
-void MainWindow::docksFollowDocument() {
+void MainWindow::docksFollowDocument(bool newProject) {
+    if (newProject) { // ids of the project left behind may name other objects in this one
+        m_panelDock->showPanel(0);
+        m_seamDock->showSeam({});
+    }
     m_panelDock->setDocument(m_project.document);
     m_seamDock->setDocument(m_project.document);
     m_fabricDock->setDocument(m_project.document);
     m_simulationDock->setSettings(m_project.drape);
+    const patterns::doc::Panel* shown = m_project.document.panel(m_panelDock->panel());
+    m_viewport->setHighlightedSlot(
+        shown == nullptr ? QString() : QString::fromStdString(shown->placement.slot));
 }
 
 void MainWindow::docksFollowDrape(const DrapeProgress& progress) {

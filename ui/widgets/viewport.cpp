@@ -437,6 +437,13 @@ QString Viewport::slotAt(const QPointF& at) const {
     return nearest;
 }
 
+void Viewport::setHighlightedSlot(const QString& name) {
+    if (name != m_highlightedSlot) {
+        m_highlightedSlot = name;
+        update();
+    }
+}
+
 void Viewport::paintSlots(QPainter& painter) const {
     if (!m_slotsShown || !m_static) {
         return;
@@ -453,11 +460,14 @@ void Viewport::paintSlots(QPainter& painter) const {
                 line << QPointF(p->x(), p->y());
             }
         }
-        painter.setPen(QPen(QColor(40, 110, 200, 170), 2, Qt::DashLine));
-        painter.drawPolyline(line);
         const QString name = QString::fromStdString(slot.name);
+        const bool highlighted = name == m_highlightedSlot; // the selected panel's
+        const QColor colour = highlighted ? QColor(230, 120, 0) : QColor(40, 110, 200);
+        painter.setPen(QPen(QColor(colour.red(), colour.green(), colour.blue(), 170),
+                            highlighted ? 3 : 2, Qt::DashLine));
+        painter.drawPolyline(line);
         if (const auto at = slotMarker(name)) {
-            painter.setPen(QPen(QColor(20, 70, 160), 1.5));
+            painter.setPen(QPen(colour.darker(130), highlighted ? 2.5 : 1.5));
             painter.setBrush(QColor(255, 255, 255, 220));
             painter.drawEllipse(*at, SLOT_MARKER_RADIUS_PX, SLOT_MARKER_RADIUS_PX);
             painter.drawText(*at + QPointF(SLOT_MARKER_RADIUS_PX + 3, 4), name);

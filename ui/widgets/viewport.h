@@ -66,6 +66,9 @@ class Viewport : public QWidget {
     std::optional<QPointF> slotMarker(const QString& name) const;
     /// The slot whose marker is under `at` (widget coordinates), or empty.
     QString slotAt(const QPointF& at) const;
+    /// Draws slot `name` (the selected panel's) in the highlight colour; empty: none.
+    void setHighlightedSlot(const QString& name);
+    QString highlightedSlot() const { return m_highlightedSlot; }
 
   Q_SIGNALS:
     /// A slot's marker was clicked (placing the selected panel there is the window's part).
@@ -124,6 +127,7 @@ class Viewport : public QWidget {
     void paintSlots(QPainter& painter) const;
 
     bool m_slotsShown = false;
+    QString m_highlightedSlot;
     QElapsedTimer m_fpsClock;
     int m_framesThisSecond = 0;
     double m_fps = 0;

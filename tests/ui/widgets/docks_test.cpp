@@ -168,12 +168,29 @@ TEST(Viewport, AClickOnASlotMarkerPlacesTheSelectedPanelThere) {
     ASSERT_TRUE(marker);
     ASSERT_TRUE(view.rect().contains(marker->toPoint()));
     EXPECT_EQ(view.slotAt(*marker), "torso_front");
+    EXPECT_EQ(view.highlightedSlot().toStdString(), s.frontPanel().placement.slot)
+        << "the selected panel's slot";
     QMouseEvent press(QEvent::MouseButtonPress, *marker, view.mapToGlobal(*marker), Qt::LeftButton,
                       Qt::LeftButton, Qt::NoModifier);
     QApplication::sendEvent(&view, &press);
     EXPECT_EQ(s.frontPanel().placement.slot, "torso_front");
+    EXPECT_EQ(view.highlightedSlot(), "torso_front");
     EXPECT_EQ(s.window.undoStack().count(), 1);
     EXPECT_TRUE(s.drapeFollows());
+
+    // Another project: no panel shown, so a click on a marker places nothing.
+    ASSERT_TRUE(openAndWait(s.window, GARMENTS + "/tshirt.atelier"));
+    EXPECT_FALSE(s.window.panelDock().panel());
+    EXPECT_TRUE(view.highlightedSlot().isEmpty());
+    QCoreApplication::processEvents();
+    const auto torso = view.slotMarker("torso_front");
+    ASSERT_TRUE(torso);
+    const std::string opened = patterns::dumpDocument(s.window.project().document);
+    QMouseEvent again(QEvent::MouseButtonPress, *torso, view.mapToGlobal(*torso), Qt::LeftButton,
+                      Qt::LeftButton, Qt::NoModifier);
+    QApplication::sendEvent(&view, &again);
+    EXPECT_EQ(patterns::dumpDocument(s.window.project().document), opened);
+    EXPECT_EQ(s.window.undoStack().count(), 0);
 }
 
 TEST(PanelDock, GivesThePanelAPresetFabricInOneUndoableStep) {
