@@ -380,7 +380,7 @@ void DrapeController::editOnWorker(patterns::GarmentDocument document) {
                        m_session->phase() != patterns::DrapePhase::Failed &&
                        next.panels.size() == now.panels.size() &&
                        document.panels.size() == m_project.document.panels.size() &&
-                       sameSeams(next, now) && next.materials.size() == now.materials.size();
+                       sameSeams(next, now) && next.materials.size() >= now.materials.size();
     std::vector<std::size_t> placed; // panels whose placement alone changed
     for (std::size_t p = 0; incremental && p < document.panels.size(); ++p) {
         const patterns::doc::Panel& before = m_project.document.panels[p];
@@ -393,9 +393,10 @@ void DrapeController::editOnWorker(patterns::GarmentDocument document) {
             (dumpPanel(moved) == dumpPanel(after) ? placed : changed).push_back(p);
         }
     }
-    // Fabrics: the same names in the same order; those whose values changed are set.
+    // Fabrics: the same names in the same order, new ones after them; those whose values
+    // changed are set, new ones added.
     std::vector<std::size_t> refabric;
-    for (std::size_t m = 0; incremental && m < next.materials.size(); ++m) {
+    for (std::size_t m = 0; incremental && m < now.materials.size(); ++m) {
         if (next.materials[m].name != now.materials[m].name) {
             incremental = false;
         } else if (dumpMaterial(next.materials[m]) != dumpMaterial(now.materials[m])) {
@@ -406,6 +407,9 @@ void DrapeController::editOnWorker(patterns::GarmentDocument document) {
     for (std::size_t k = 0; incremental && k < refabric.size(); ++k) {
         const patterns::GarmentMaterial& m = next.materials[refabric[k]];
         incremental = m_session->setMaterial(m.name, m.material).ok();
+    }
+    for (std::size_t m = now.materials.size(); incremental && m < next.materials.size(); ++m) {
+        incremental = m_session->addMaterial(next.materials[m]).ok();
     }
     for (std::size_t k = 0; incremental && k < changed.size(); ++k) {
         incremental = m_session->setPanel(changed[k], next.panels[changed[k]]).ok();

@@ -68,9 +68,9 @@ class DrapeController : public QObject {
     /// drawing or pins changed are re-meshed and the drape continues from where it is
     /// (DrapeSession::setPanel: unchanged panels stay where they are), a panel whose placement
     /// alone changed is placed again on its slot (DrapeSession::placePanel), and fabrics whose
-    /// values changed take them as the drape goes on; when panels were added,
-    /// removed, reordered or renamed, seams changed or fabrics were added, the garment is
-    /// placed again. rebuilt()
+    /// values changed take them and new fabrics are added as the drape goes on; when panels
+    /// were added, removed, reordered or renamed, seams changed or fabrics were removed or
+    /// reordered, the garment is placed again. rebuilt()
     /// or failed() follow.
     void setDocument(patterns::GarmentDocument document);
     /// New drape settings for the project: a new particle distance re-meshes and places the

@@ -201,6 +201,7 @@ TEST(PanelDock, GivesThePanelAPresetFabricInOneUndoableStep) {
     EXPECT_EQ(fabric->currentText(), "fabric");
     const int denim = fabric->findData("denim");
     ASSERT_GE(denim, 0) << "presets not in the document are offered";
+    QSignalSpy rebuilt(&s.window.drape(), &DrapeController::rebuilt);
     fabric->setCurrentIndex(denim);
     Q_EMIT fabric->activated(denim);
     const patterns::GarmentDocument& d = s.window.project().document;
@@ -212,6 +213,9 @@ TEST(PanelDock, GivesThePanelAPresetFabricInOneUndoableStep) {
     EXPECT_EQ(s.window.undoStack().count(), 1) << "adding the fabric and giving it: one step";
     EXPECT_EQ(s.window.fabricDock().fabric(), "denim");
     EXPECT_TRUE(s.drapeFollows());
+    ASSERT_TRUE(waitFor([&] { return rebuilt.count() >= 2; }, 120)) << "two edits, two rebuilds";
+    EXPECT_TRUE(rebuilt.at(0).front().toBool() && rebuilt.at(1).front().toBool())
+        << "the new fabric is added to the drape, which goes on";
 
     // Back to the document's first fabric: a second, plain edit.
     const int first = fabric->findData("fabric");
