@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
 #include <utility>
 
@@ -365,6 +366,8 @@ Edit inverse(const Edit& edit) {
     }
     out.nextIdBefore = edit.nextIdAfter;
     out.nextIdAfter = edit.nextIdBefore;
+    out.materialsBefore = edit.materialsAfter;
+    out.materialsAfter = edit.materialsBefore;
     out.created = edit.created;
     return out;
 }
@@ -373,6 +376,9 @@ void redo(GarmentDocument& d, const Edit& edit) {
     applyChanges(d.panels, edit.panels);
     applyChanges(d.seams, edit.seams);
     d.nextId = edit.nextIdAfter;
+    if (edit.materialsAfter) {
+        d.materials = *edit.materialsAfter;
+    }
 }
 
 void undo(GarmentDocument& d, const Edit& edit) {
@@ -650,6 +656,70 @@ Result<Edit> placePanel(GarmentDocument& d, PanelId panel, const Placement& plac
                       p->placement = placement;
                       return 0U;
                   });
+}
+
+Result<Edit> setPanelMaterial(GarmentDocument& d, PanelId panel, std::string material) {
+    return record(
+        d, "fabric of panel #" + std::to_string(panel.value), {panel}, {},
+        [&](GarmentDocument& doc) -> Result<std::uint32_t> {
+            doc::Panel* p = doc.panel(panel);
+            if (p == nullptr) {
+                return editError(panelWhere(panel), "no such panel");
+            }
+            if (std::none_of(doc.materials.begin(), doc.materials.end(),
+                             [&](const GarmentMaterial& m) { return m.name == material; })) {
+                return editError(panelWhere(panel),
+                                 "no fabric \"" + material + "\" in the document");
+            }
+            p->material = std::move(material);
+            return 0U;
+        });
+}
+
+Result<Edit> setMaterial(GarmentDocument& d, const GarmentMaterial& material) {
+    const std::string where = "fabric \"" + material.name + "\"";
+    if (material.name.empty()) {
+        return editError("fabric", "a fabric name must not be empty");
+    }
+    const sim::Material& m = material.material;
+    struct Rule {
+        const char* name;
+        double value;
+        bool positive;
+        double below;
+    };
+    constexpr double ANY = std::numeric_limits<double>::infinity();
+    for (const Rule& r :
+         {Rule{"density", m.density, true, ANY}, Rule{"weft stretch", m.stretchWeft, true, ANY},
+          Rule{"warp stretch", m.stretchWarp, true, ANY}, Rule{"shear", m.shear, true, ANY},
+          Rule{"Poisson's ratio", m.poisson, false, 1}, Rule{"bending", m.bending, false, ANY},
+          Rule{"damping", m.damping, false, ANY},
+          Rule{"static friction", m.staticFriction, false, ANY},
+          Rule{"kinetic friction", m.kineticFriction, false, ANY},
+          Rule{"plastic yield angle", m.plasticYieldAngle, false, ANY},
+          Rule{"plastic rate", m.plasticRate, false, ANY}}) {
+        const bool sign = r.positive ? r.value > 0 : r.value >= 0;
+        if (!std::isfinite(r.value) || !sign || !(r.value < r.below)) {
+            return editError(where, std::string(r.name) + " must be " +
+                                        (r.positive ? "positive" : "at least 0") +
+                                        (r.below < ANY ? " and below 1" : "") + " (found " +
+                                        std::to_string(r.value) + ")");
+        }
+    }
+    Edit edit;
+    edit.description = where;
+    edit.nextIdBefore = d.nextId;
+    edit.nextIdAfter = d.nextId;
+    edit.materialsBefore = d.materials;
+    auto same = std::find_if(d.materials.begin(), d.materials.end(),
+                             [&](const GarmentMaterial& g) { return g.name == material.name; });
+    if (same != d.materials.end()) {
+        same->material = material.material;
+    } else {
+        d.materials.push_back(material);
+    }
+    edit.materialsAfter = d.materials;
+    return edit;
 }
 
 Result<Edit> addPin(GarmentDocument& d, PanelId panel, const doc::Pin& pin) {

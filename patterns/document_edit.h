@@ -32,6 +32,10 @@ struct Edit {
     std::vector<Change<doc::Seam>> seams;
     std::uint32_t nextIdBefore = 0;
     std::uint32_t nextIdAfter = 0;
+    /// The document's fabrics before and after, when the edit changed them (the list is short
+    /// and kept whole); nullopt when it did not.
+    std::optional<std::vector<GarmentMaterial>> materialsBefore;
+    std::optional<std::vector<GarmentMaterial>> materialsAfter;
     /// The id of what the edit created (the point of a split, the panel of an add or a
     /// duplicate, the seam of an add); 0 when none.
     std::uint32_t created = 0;
@@ -98,6 +102,15 @@ Result<Edit> renamePanel(GarmentDocument& document, PanelId panel, std::string n
 
 /// Places a panel on a body slot.
 Result<Edit> placePanel(GarmentDocument& document, PanelId panel, const Placement& placement);
+
+/// Gives a panel the fabric `material`, one of the document's materials.
+Result<Edit> setPanelMaterial(GarmentDocument& document, PanelId panel, std::string material);
+
+/// Sets the values of the document's fabric named `material.name`, or adds it when there is
+/// none of that name. The name must not be empty; the values must be finite, with density,
+/// stretch and shear moduli positive, Poisson's ratio in [0, 1), and bending, damping,
+/// frictions and plasticity not negative (as io's material files).
+Result<Edit> setMaterial(GarmentDocument& document, const GarmentMaterial& material);
 
 /// Pins a point of a panel (`pin`'s id is ignored; a new one is handed out and is `created`).
 /// The point must lie inside the panel, or the notch be one of the panel's; a position must be

@@ -527,6 +527,19 @@ Result<void> DrapeSession::setMaterial(const std::string& name, const sim::Mater
     return sessionError("no material \"" + name + "\"");
 }
 
+Result<void> DrapeSession::addMaterial(const GarmentMaterial& material) {
+    if (material.name.empty()) {
+        return sessionError("a material needs a name");
+    }
+    for (const GarmentMaterial& m : m_project.garment.materials) {
+        if (m.name == material.name) {
+            return sessionError("a material \"" + material.name + "\" exists");
+        }
+    }
+    m_project.garment.materials.push_back(material);
+    return {};
+}
+
 Result<void> DrapeSession::setPanel(std::size_t index, Panel panel) {
     if (index >= m_project.garment.panels.size()) {
         return sessionError("no panel " + std::to_string(index));

@@ -175,6 +175,9 @@ class DrapeSession {
     Result<void> setDrapeSettings(const DrapeSettings& settings);
     /// A garment material's new values: continues from the current drape.
     Result<void> setMaterial(const std::string& name, const sim::Material& material);
+    /// A new garment material (a name it has none of): no panel uses it yet, so the drape is
+    /// unchanged; setPanel() then gives it to a panel.
+    Result<void> addMaterial(const GarmentMaterial& material);
     /// Panel `index` edited: re-meshes what changed (that panel, and a partner whose seam
     /// points moved with it) and starts again with every panel whose mesh is unchanged kept
     /// where it is; changed ones are placed on their slots.

@@ -81,9 +81,14 @@ int main(int argc, char** argv) {
     window.show();
     const QStringList projects = parser.positionalArguments();
     if (!parser.isSet(screenshot)) {
-        // Unsaved changes from a run that did not close cleanly come first.
-        if (!window.offerRecovery() && !projects.isEmpty()) {
-            window.openFile(projects.front());
+        // Unsaved changes from a run that did not close cleanly come first; on the very first
+        // start, the tshirt sample.
+        if (!window.offerRecovery()) {
+            if (!projects.isEmpty()) {
+                window.openFile(projects.front());
+            } else {
+                window.openFirstRunSample();
+            }
         }
         return QApplication::exec();
     }

@@ -12,7 +12,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <random>
 
@@ -142,6 +144,60 @@ TEST(DocumentEdits, RefusedEditsLeaveTheDocumentUntouched) {
     EXPECT_EQ(dumpDocument(d), dump);
 }
 
+TEST(DocumentEdits, FabricsAndTheirPanels) {
+    GarmentDocument d = tshirt();
+    const std::string start = dumpDocument(d);
+    ASSERT_FALSE(d.materials.empty());
+    const PanelId id = d.panels.front().id;
+
+    GarmentMaterial denim;
+    denim.name = "denim";
+    denim.material.density = 0.4;
+    denim.material.bending = 3e-5;
+    const auto added = setMaterial(d, denim);
+    ASSERT_TRUE(added.ok()) << added.error().toString();
+    ASSERT_EQ(d.materials.back().name, "denim");
+    EXPECT_EQ(d.materials.back().material.density, 0.4);
+    const auto given = setPanelMaterial(d, id, "denim");
+    ASSERT_TRUE(given.ok()) << given.error().toString();
+    EXPECT_EQ(d.panel(id)->material, "denim");
+    EXPECT_TRUE(checkDocument(d).ok());
+
+    denim.material.density = 0.3; // the same fabric's new values: no second "denim"
+    const auto changed = setMaterial(d, denim);
+    ASSERT_TRUE(changed.ok());
+    EXPECT_EQ(std::count_if(d.materials.begin(), d.materials.end(),
+                            [](const GarmentMaterial& m) { return m.name == "denim"; }),
+              1);
+    EXPECT_EQ(d.materials.back().material.density, 0.3);
+
+    const std::string edited = dumpDocument(d);
+    for (const auto* e : {&changed, &given, &added}) {
+        undo(d, e->value());
+    }
+    EXPECT_EQ(dumpDocument(d), start);
+    for (const auto* e : {&added, &given, &changed}) {
+        redo(d, e->value());
+    }
+    EXPECT_EQ(dumpDocument(d), edited);
+
+    // Refused: unknown fabric, an empty name, a non-positive density, Poisson's ratio ≥ 1.
+    EXPECT_FALSE(setPanelMaterial(d, id, "silk").ok());
+    GarmentMaterial bad = denim;
+    bad.name = "";
+    EXPECT_FALSE(setMaterial(d, bad).ok());
+    bad = denim;
+    bad.material.density = 0;
+    EXPECT_FALSE(setMaterial(d, bad).ok());
+    bad = denim;
+    bad.material.poisson = 1;
+    EXPECT_FALSE(setMaterial(d, bad).ok());
+    bad = denim;
+    bad.material.bending = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_FALSE(setMaterial(d, bad).ok());
+    EXPECT_EQ(dumpDocument(d), edited);
+}
+
 // --- Random edit sequences --------------------------------------------------------------
 
 struct RandomEditor {
@@ -197,7 +253,7 @@ struct RandomEditor {
 
     Result<Edit> edit(GarmentDocument& d) {
         const PanelId p = panel(d);
-        switch (pick(14)) {
+        switch (pick(16)) {
         case 0:
             return movePoint(d, p, point(d, p), Vec2(uniform(-0.3, 0.3), uniform(0, 0.6)));
         case 1:
@@ -249,6 +305,21 @@ struct RandomEditor {
             return duplicatePanel(d, p, name(d));
         case 12:
             return renamePanel(d, p, name(d));
+        case 13:
+            return setPanelMaterial(d, p,
+                                    d.materials.empty() || chance(0.2)
+                                        ? "no such fabric"
+                                        : d.materials[pick(d.materials.size())].name);
+        case 14: {
+            GarmentMaterial m;
+            m.name = d.materials.empty() || chance(0.3)
+                         ? "fabric " + std::to_string(names++)
+                         : d.materials[pick(d.materials.size())].name;
+            m.material.density = chance(0.1) ? -0.1 : uniform(0.05, 0.4);
+            m.material.bending = uniform(1e-7, 1e-4);
+            m.material.poisson = chance(0.05) ? 1.5 : uniform(0, 0.45);
+            return setMaterial(d, m);
+        }
         default: {
             Placement placement;
             placement.slot = chance(0.5) ? "torso_front" : "torso_back";

@@ -239,6 +239,29 @@ TEST(DrapeSession, NewMaterialContinuesFromTheCurrentDrape) {
     EXPECT_EQ(f.session.figures().seamGapMax, 0.0) << "sewn seams stay sewn";
 }
 
+TEST(DrapeSession, AnAddedMaterialGivenToAPanelContinuesTheDrape) {
+    Fixture f;
+    ASSERT_TRUE(f.session.prepare().ok());
+    ASSERT_EQ(f.session.advance(0.1), DrapeStatus::Running);
+    const double t = f.session.time();
+    const sim::MatX3 x = f.session.positions();
+    GarmentMaterial silk;
+    silk.name = "silk";
+    silk.material.density = 0.06;
+    ASSERT_TRUE(f.session.addMaterial(silk).ok());
+    EXPECT_FALSE(f.session.addMaterial(silk).ok()) << "the name is taken";
+    EXPECT_FALSE(f.session.addMaterial(GarmentMaterial{}).ok()) << "no name";
+    EXPECT_TRUE(sameBits(f.session.positions(), x)) << "nothing uses it yet";
+    Panel patch = f.session.project().garment.panels[2];
+    patch.material = "silk";
+    ASSERT_TRUE(f.session.setPanel(2, patch).ok());
+    EXPECT_EQ(f.session.figures().panelsMeshed, 0) << "the same mesh";
+    EXPECT_TRUE(sameBits(f.session.positions(), x)) << "every panel where it was";
+    EXPECT_EQ(f.session.time(), t);
+    EXPECT_EQ(f.session.simulation()->scene().cloths[2].material.density, 0.06);
+    EXPECT_EQ(f.session.advance(0.02), DrapeStatus::Running);
+}
+
 TEST(DrapeSession, EditsDuringSewingKeepItsClock) {
     // A slider dragged while the seams close: many edits, and sewing still ends (by itself or
     // at its set time, 0.3 s after the start), with gravity on after it.

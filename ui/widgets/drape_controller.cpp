@@ -55,6 +55,33 @@ void DrapeController::setDocument(patterns::GarmentDocument document) {
     post([this, document = std::move(document)]() mutable { editOnWorker(std::move(document)); });
 }
 
+void DrapeController::setDrapeSettings(const patterns::DrapeSettings& settings) {
+    post([this, settings] {
+        const bool remesh = settings.particleDistance != m_project.drape.particleDistance;
+        m_project.drape = settings;
+        if (m_session->simulation() == nullptr) {
+            m_session->setProject(m_project); // taken by the next prepare
+            return;
+        }
+        if (auto set = m_session->setDrapeSettings(settings); !set.ok()) {
+            const QString message = QString::fromStdString(set.error().toString());
+            QMetaObject::invokeMethod(this, [this, message] { Q_EMIT failed(message); });
+            return;
+        }
+        if (remesh) {
+            m_running.store(false);
+            m_stepped.store(false); // snapshots before the re-mesh are of the old mesh
+            m_grab = 0;
+        }
+        for (const patterns::DrapeEvent& e : m_session->takeEvents()) {
+            const QString message = QString::fromStdString(e.message);
+            QMetaObject::invokeMethod(this, [this, message] { Q_EMIT event(message); });
+        }
+        publishScene();
+        QMetaObject::invokeMethod(this, [this, remesh] { Q_EMIT rebuilt(!remesh); });
+    });
+}
+
 void DrapeController::start() {
     post([this] {
         if (m_session->phase() != patterns::DrapePhase::Empty && !m_session->finished()) {
@@ -336,6 +363,13 @@ std::string dumpPanel(const patterns::doc::Panel& panel) {
     return patterns::dumpDocument(one);
 }
 
+/// The fabrics' values as text (names and every number), to compare two lists.
+std::string dumpMaterial(const patterns::GarmentMaterial& material) {
+    patterns::GarmentDocument one;
+    one.materials.push_back(material);
+    return patterns::dumpDocument(one);
+}
+
 } // namespace
 
 void DrapeController::editOnWorker(patterns::GarmentDocument document) {
@@ -346,19 +380,42 @@ void DrapeController::editOnWorker(patterns::GarmentDocument document) {
                        m_session->phase() != patterns::DrapePhase::Failed &&
                        next.panels.size() == now.panels.size() &&
                        document.panels.size() == m_project.document.panels.size() &&
-                       sameSeams(next, now) && next.materials.size() == now.materials.size();
+                       sameSeams(next, now) && next.materials.size() >= now.materials.size();
+    std::vector<std::size_t> placed; // panels whose placement alone changed
     for (std::size_t p = 0; incremental && p < document.panels.size(); ++p) {
         const patterns::doc::Panel& before = m_project.document.panels[p];
         const patterns::doc::Panel& after = document.panels[p];
         if (before.id != after.id || before.name != after.name) {
             incremental = false;
         } else if (dumpPanel(before) != dumpPanel(after)) {
-            changed.push_back(p);
+            patterns::doc::Panel moved = before;
+            moved.placement = after.placement;
+            (dumpPanel(moved) == dumpPanel(after) ? placed : changed).push_back(p);
+        }
+    }
+    // Fabrics: the same names in the same order, new ones after them; those whose values
+    // changed are set, new ones added.
+    std::vector<std::size_t> refabric;
+    for (std::size_t m = 0; incremental && m < now.materials.size(); ++m) {
+        if (next.materials[m].name != now.materials[m].name) {
+            incremental = false;
+        } else if (dumpMaterial(next.materials[m]) != dumpMaterial(now.materials[m])) {
+            refabric.push_back(m);
         }
     }
     const sim::Simulation* simulation = m_session->simulation();
+    for (std::size_t k = 0; incremental && k < refabric.size(); ++k) {
+        const patterns::GarmentMaterial& m = next.materials[refabric[k]];
+        incremental = m_session->setMaterial(m.name, m.material).ok();
+    }
+    for (std::size_t m = now.materials.size(); incremental && m < next.materials.size(); ++m) {
+        incremental = m_session->addMaterial(next.materials[m]).ok();
+    }
     for (std::size_t k = 0; incremental && k < changed.size(); ++k) {
         incremental = m_session->setPanel(changed[k], next.panels[changed[k]]).ok();
+    }
+    for (std::size_t k = 0; incremental && k < placed.size(); ++k) {
+        incremental = m_session->placePanel(placed[k], next.panels[placed[k]].placement).ok();
     }
     m_project.document = std::move(document);
     m_project.garment = std::move(next);
@@ -408,6 +465,7 @@ void DrapeController::publishScene() {
     scene->bodyPositions = m_session->body().vertices;
     scene->bodyTriangles = m_session->body().triangles;
     scene->garment = garment;
+    scene->bodySlots = m_session->body().slots;
     m_phase.store(static_cast<int>(m_session->phase()));
     publishPins();
     const std::lock_guard lock(m_mutex);

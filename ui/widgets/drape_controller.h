@@ -35,6 +35,8 @@ struct StaticScene {
     sim::MatX3 bodyPositions;  ///< (|B|×3) [m]
     sim::MatX3i bodyTriangles; ///< (|T|×3)
     patterns::Garment garment; ///< the garment as meshed (the pattern view draws it)
+    /// The body's arrangement slots (the 3D view marks them; panels are placed on them).
+    std::vector<patterns::ArrangementSlot> bodySlots;
 };
 
 /// The figures the status bar shows, from the latest snapshot and the session's phase.
@@ -64,10 +66,17 @@ class DrapeController : public QObject {
     void setProject(patterns::Project project, const QString& path);
     /// The window's edited document. When the same panels and seams remain, the panels whose
     /// drawing or pins changed are re-meshed and the drape continues from where it is
-    /// (DrapeSession::setPanel: unchanged panels stay where they are); when panels were added,
-    /// removed, reordered or renamed or seams changed, the garment is placed again. rebuilt()
+    /// (DrapeSession::setPanel: unchanged panels stay where they are), a panel whose placement
+    /// alone changed is placed again on its slot (DrapeSession::placePanel), and fabrics whose
+    /// values changed take them and new fabrics are added as the drape goes on; when panels
+    /// were added, removed, reordered or renamed, seams changed or fabrics were removed or
+    /// reordered, the garment is placed again. rebuilt()
     /// or failed() follow.
     void setDocument(patterns::GarmentDocument document);
+    /// New drape settings for the project: a new particle distance re-meshes and places the
+    /// garment again, anything else continues the drape (DrapeSession::setDrapeSettings).
+    /// rebuilt() or failed() follow.
+    void setDrapeSettings(const patterns::DrapeSettings& settings);
     void start();
     void pause();
     /// The garment back where it was placed, nothing stepped.

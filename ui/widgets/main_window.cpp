@@ -26,6 +26,7 @@
 #include <QMimeData>
 #include <QSaveFile>
 #include <QSettings>
+#include <QShowEvent>
 #include <QSplitter>
 #include <QStandardPaths>
 #include <QStatusBar>
@@ -118,6 +119,7 @@ MainWindow::MainWindow(QString samplesDir, QWidget* parent)
         QStandardPaths::writableLocation(QStandardPaths::AppLocalDataLocation) + "/recovery";
     m_project.name = "untitled";
     buildMenus();
+    buildDocks();
     updateTitle();
     connect(&m_undo, &QUndoStack::cleanChanged, this, [this] { updateTitle(); });
     connect(&m_autosave, &QTimer::timeout, this, [this] { autosave(); });
@@ -192,7 +194,7 @@ MainWindow::MainWindow(QString samplesDir, QWidget* parent)
     resize(1280, 760);
     const QSettings settings;
     restoreGeometry(settings.value("window/geometry").toByteArray());
-    restoreState(settings.value("window/state").toByteArray());
+    // The docks' and toolbars' state is restored in the first showEvent.
     m_splitter->restoreState(settings.value("window/splitter").toByteArray());
 }
 
@@ -249,6 +251,7 @@ void MainWindow::buildMenus() {
     file->addSeparator();
     file->addAction(tr("&Export draped mesh…"), this, &MainWindow::exportMesh);
     file->addAction(tr("Save &picture…"), this, &MainWindow::savePicture);
+    addFileActions(file);
     file->addSeparator();
     QAction* quit = file->addAction(tr("&Quit"), this, &QWidget::close);
     quit->setShortcut(QKeySequence::Quit);
@@ -272,8 +275,10 @@ void MainWindow::buildMenus() {
     m_run->setShortcut(Qt::Key_Space);
     QAction* reset = sim->addAction(tr("&Reset"), this, [this] { m_drape->reset(); });
     reset->setShortcut(QKeySequence(Qt::CTRL | Qt::Key_R));
+    m_reset = reset;
 
     QMenu* view = menuBar()->addMenu(tr("&View"));
+    m_viewMenu = view;
     int key = Qt::Key_1;
     for (const render::View v : render::ALL_VIEWS) {
         QAction* a = view->addAction(QString::fromUtf8(render::viewName(v).data()), this,
@@ -364,6 +369,7 @@ void MainWindow::adopt(patterns::Project project, const QString& path, bool modi
     m_undo.clear();
     m_modifiedOutsideStack = modified;
     m_pattern->setDocument(m_project.document);
+    docksFollowDocument(true);
     statusBar()->showMessage(tr("Opening %1…").arg(path.isEmpty() ? tr("untitled") : path));
     m_drape->setProject(m_project, path);
     updateTitle();
@@ -524,6 +530,7 @@ bool MainWindow::edit(
 void MainWindow::documentChanged() {
     patterns::syncGarment(m_project);
     m_pattern->setDocument(m_project.document, true);
+    docksFollowDocument();
     m_drape->setDocument(m_project.document);
     updateTitle();
 }
@@ -653,6 +660,16 @@ bool MainWindow::offerRecovery() {
 
 // ---- Window events ----
 
+void MainWindow::showEvent(QShowEvent* event) {
+    QMainWindow::showEvent(event);
+    if (!m_stateRestored) {
+        // Once the window has its restored size: before it, the docks' widths are scaled to
+        // the default size (298 px saved came back as 237 in a 1100 px window).
+        m_stateRestored = true;
+        restoreState(QSettings().value("window/state").toByteArray());
+    }
+}
+
 void MainWindow::closeEvent(QCloseEvent* event) {
     if (!maybeSave()) {
         event->ignore();
@@ -660,7 +677,9 @@ void MainWindow::closeEvent(QCloseEvent* event) {
     }
     QSettings settings;
     settings.setValue("window/geometry", saveGeometry());
-    settings.setValue("window/state", saveState());
+    if (m_stateRestored) { // else the saved state was never applied: keep it
+        settings.setValue("window/state", saveState());
+    }
     settings.setValue("window/splitter", m_splitter->saveState());
     removeRecoveryFile();
     m_autosave.stop();
@@ -718,6 +737,7 @@ void MainWindow::updateStatus() {
     m_fps.setText(tr("%1 fps, %2 ms")
                       .arg(m_viewport->framesPerSecond(), 0, 'f', 0)
                       .arg(m_viewport->drawMilliseconds(), 0, 'f', 0));
+    docksFollowDrape(p);
 }
 
 void MainWindow::exportMesh() {

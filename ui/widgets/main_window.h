@@ -25,7 +25,11 @@ class QSplitter;
 
 namespace atelier::ui {
 
+class FabricDock;
+class PanelDock;
 class PatternView;
+class SeamDock;
+class SimulationDock;
 class Viewport;
 
 /// The questions the window asks the user. Each defaults to a modal dialog; tests replace them
@@ -108,6 +112,28 @@ class MainWindow : public QMainWindow {
     Viewport& viewport() { return *m_viewport; }
     PatternView& patternView() { return *m_pattern; }
 
+    // ---- Docks, arrangement and file additions ----
+
+    PanelDock& panelDock() { return *m_panelDock; }
+    SeamDock& seamDock() { return *m_seamDock; }
+    FabricDock& fabricDock() { return *m_fabricDock; }
+    SimulationDock& simulationDock() { return *m_simulationDock; }
+    /// Places `panel` on the body's slot `slot` (placePanel, its offset, rotation and clearance
+    /// kept): one undoable edit; the panel is placed again there.
+    bool placePanelOnSlot(patterns::PanelId panel, const QString& slot);
+    /// New drape settings for the project: an undoable change (a new particle distance
+    /// re-meshes and places the garment again; other values continue the drape).
+    bool setDrapeSettings(const patterns::DrapeSettings& settings);
+    /// Writes the pattern as SVG (io::writePatternSvg, as `atelier-cli export-pattern`), with a
+    /// 10 mm seam allowance, atomically. An error is a message; false then.
+    bool exportPatternSvg(const QString& path);
+    /// Renders the 3D view as it is (camera, drape) at `width`×`height` pixels to a PNG,
+    /// atomically. An error is a message; false then.
+    bool renderImage(const QString& path, int width, int height);
+    /// On the very first start (no settings at all) opens the tshirt sample and says where the
+    /// others are; false (nothing done) otherwise or without the sample.
+    bool openFirstRunSample();
+
   Q_SIGNALS:
     /// The project is open and placed (the views show it).
     void projectReady();
@@ -116,14 +142,25 @@ class MainWindow : public QMainWindow {
 
   protected:
     void closeEvent(QCloseEvent* event) override;
+    void showEvent(QShowEvent* event) override;
     void dragEnterEvent(QDragEnterEvent* event) override;
     void dropEvent(QDropEvent* event) override;
 
   private:
     friend class EditCommand;
     friend class BodyCommand;
+    friend class DrapeSettingsCommand;
     void setBody(const patterns::BodySource& body);
     void buildMenus();
+    /// The docks, their View menu entries and their connections (after buildMenus).
+    void buildDocks();
+    /// File menu entries: export pattern SVG, render image, import body.
+    void addFileActions(QMenu* file);
+    /// Shows the document (and drape settings) in the docks; `newProject`: nothing selected.
+    void docksFollowDocument(bool newProject = false);
+    /// Feeds the live plot and the Simulation dock's phase (the status timer).
+    void docksFollowDrape(const DrapeProgress& progress);
+    void applyDrapeSettings(const patterns::DrapeSettings& settings);
     void updateStatus();
     void exportMesh();
     void savePicture();
@@ -150,6 +187,14 @@ class MainWindow : public QMainWindow {
     QSplitter* m_splitter = nullptr;
     QString m_samplesDir;
     QAction* m_run = nullptr;
+    QAction* m_reset = nullptr;
+    QMenu* m_viewMenu = nullptr;
+    PanelDock* m_panelDock = nullptr;
+    SeamDock* m_seamDock = nullptr;
+    FabricDock* m_fabricDock = nullptr;
+    SimulationDock* m_simulationDock = nullptr;
+    QAction* m_showSlots = nullptr;
+    bool m_stateRestored = false; ///< the docks' state, restored when first shown
     QMenu* m_recent = nullptr;
     QLabel m_phase;
     QLabel m_time;

@@ -8,8 +8,10 @@
 #include <QImage>
 #include <QMouseEvent>
 #include <QPainter>
+#include <QPolygonF>
 #include <QWheelEvent>
 
+#include <algorithm>
 #include <cmath>
 
 namespace atelier::ui {
@@ -55,6 +57,25 @@ Eigen::AlignedBox3d staticBounds(const StaticScene& s) {
         box.extend(s.bodyPositions.row(i).transpose());
     }
     return box;
+}
+
+constexpr double SLOT_MARKER_RADIUS_PX = 7;
+
+/// A point of the slot's surface at `along` from its origin [m], on its facing meridian: the
+/// profile's radius and section centre there (or the slot's radius on its axis).
+Eigen::Vector3d slotSurfacePoint(const patterns::ArrangementSlot& slot, double along) {
+    double radius = slot.radius;
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    if (!slot.profile.empty() && slot.profileStep > 0) {
+        const auto k =
+            static_cast<std::size_t>(std::clamp((along - slot.alongMin) / slot.profileStep, 0.0,
+                                                static_cast<double>(slot.profile.size() - 1)));
+        radius = slot.profile[k];
+        if (k < slot.profileCentre.size()) {
+            centre = slot.profileCentre[k];
+        }
+    }
+    return slot.origin + along * slot.axis + centre + radius * slot.facing;
 }
 
 } // namespace
@@ -122,14 +143,16 @@ void Viewport::setView(render::View view) {
     update();
 }
 
-render::Camera Viewport::camera() const {
+render::Camera Viewport::camera(float aspect) const {
     const float pitch = std::clamp(m_pitch, -0.49f * PI, 0.49f * PI);
     const Eigen::Vector3f dir(std::cos(pitch) * std::sin(m_yaw), std::sin(pitch),
                               std::cos(pitch) * std::cos(m_yaw));
     render::Camera c;
     c.eye = m_target + m_distance * dir;
     c.view = lookAt(c.eye, m_target, Eigen::Vector3f::UnitY());
-    const float aspect = height() > 0 ? float(width()) / float(height()) : 1.0f;
+    if (aspect <= 0) {
+        aspect = height() > 0 ? float(width()) / float(height()) : 1.0f;
+    }
     c.projection = perspective(FOV_Y_DEG * PI / 180, aspect, std::max(0.01f, m_distance * 0.01f),
                                m_distance * 10 + 10);
     return c;
@@ -219,6 +242,40 @@ void Viewport::draw() {
     m_draft = moving;
 }
 
+QImage Viewport::renderImage(int width, int height, QString* error) {
+    const auto fail = [error](const QString& why) {
+        if (error != nullptr) {
+            *error = why;
+        }
+        return QImage();
+    };
+    if (!m_static) {
+        return fail(tr("nothing to render: open a project"));
+    }
+    if (width < 1 || height < 1) {
+        return fail(tr("a picture needs at least one pixel"));
+    }
+    if (!ensureRenderer()) {
+        return fail(m_error);
+    }
+    draw(); // the scene and its pins as they are now, on the GPU
+    if (!m_error.isEmpty()) {
+        return fail(m_error);
+    }
+    render::RenderOptions options;
+    options.width = width;
+    options.height = height;
+    options.background = {0.93f, 0.93f, 0.94f, 1.0f};
+    options.samples = 4;
+    auto image = m_renderer->render(options, camera(float(width) / float(height)));
+    if (!image.ok()) {
+        return fail(QString::fromStdString(image.error().toString()));
+    }
+    const io::RgbaImage& img = image.value();
+    return QImage(img.pixels.data(), img.width, img.height, img.width * 4, QImage::Format_RGBA8888)
+        .copy();
+}
+
 void Viewport::paintEvent(QPaintEvent* /*event*/) {
     QPainter painter(this);
     if (m_static && ensureRenderer()) {
@@ -235,6 +292,7 @@ void Viewport::paintEvent(QPaintEvent* /*event*/) {
         } else {
             painter.drawImage(QPointF(0, 0), m_picture);
         }
+        paintSlots(painter);
     } else {
         painter.fillRect(rect(), QColor(237, 237, 240));
         painter.setPen(QColor(90, 90, 100));
@@ -340,8 +398,91 @@ bool Viewport::togglePinAt(const QPointF& at) {
     return true;
 }
 
+void Viewport::setSlotsShown(bool shown) {
+    m_slotsShown = shown;
+    update();
+}
+
+std::optional<QPointF> Viewport::slotMarker(const QString& name) const {
+    if (!m_slotsShown || !m_static) {
+        return std::nullopt;
+    }
+    for (const patterns::ArrangementSlot& slot : m_static->bodySlots) {
+        if (QString::fromStdString(slot.name) == name) {
+            const auto at = render::projectToPixel(
+                camera(), slotSurfacePoint(slot, 0.5 * (slot.alongMin + slot.alongMax)), width(),
+                height());
+            if (at) {
+                return QPointF(at->x(), at->y());
+            }
+        }
+    }
+    return std::nullopt;
+}
+
+QString Viewport::slotAt(const QPointF& at) const {
+    QString nearest;
+    double best = SLOT_MARKER_RADIUS_PX + 2;
+    for (const patterns::ArrangementSlot& slot :
+         m_static ? m_static->bodySlots : std::vector<patterns::ArrangementSlot>()) {
+        const QString name = QString::fromStdString(slot.name);
+        if (const auto p = slotMarker(name)) {
+            const double d = std::hypot(p->x() - at.x(), p->y() - at.y());
+            if (d <= best) {
+                best = d;
+                nearest = name;
+            }
+        }
+    }
+    return nearest;
+}
+
+void Viewport::setHighlightedSlot(const QString& name) {
+    if (name != m_highlightedSlot) {
+        m_highlightedSlot = name;
+        update();
+    }
+}
+
+void Viewport::paintSlots(QPainter& painter) const {
+    if (!m_slotsShown || !m_static) {
+        return;
+    }
+    painter.setRenderHint(QPainter::Antialiasing);
+    const render::Camera c = camera();
+    constexpr int SAMPLES = 16;
+    for (const patterns::ArrangementSlot& slot : m_static->bodySlots) {
+        QPolygonF line;
+        for (int k = 0; k <= SAMPLES; ++k) {
+            const double along = slot.alongMin + (slot.alongMax - slot.alongMin) * k / SAMPLES;
+            if (const auto p =
+                    render::projectToPixel(c, slotSurfacePoint(slot, along), width(), height())) {
+                line << QPointF(p->x(), p->y());
+            }
+        }
+        const QString name = QString::fromStdString(slot.name);
+        const bool highlighted = name == m_highlightedSlot; // the selected panel's
+        const QColor colour = highlighted ? QColor(230, 120, 0) : QColor(40, 110, 200);
+        painter.setPen(QPen(QColor(colour.red(), colour.green(), colour.blue(), 170),
+                            highlighted ? 3 : 2, Qt::DashLine));
+        painter.drawPolyline(line);
+        if (const auto at = slotMarker(name)) {
+            painter.setPen(QPen(colour.darker(130), highlighted ? 2.5 : 1.5));
+            painter.setBrush(QColor(255, 255, 255, 220));
+            painter.drawEllipse(*at, SLOT_MARKER_RADIUS_PX, SLOT_MARKER_RADIUS_PX);
+            painter.drawText(*at + QPointF(SLOT_MARKER_RADIUS_PX + 3, 4), name);
+        }
+    }
+}
+
 void Viewport::mousePressEvent(QMouseEvent* event) {
     m_lastMouse = event->position().toPoint();
+    if (event->button() == Qt::LeftButton && event->modifiers() == Qt::NoModifier && m_slotsShown) {
+        if (const QString slot = slotAt(event->position()); !slot.isEmpty()) {
+            Q_EMIT slotClicked(slot);
+            return;
+        }
+    }
     if (event->button() == Qt::LeftButton && (event->modifiers() & Qt::AltModifier)) {
         togglePinAt(event->position());
         return;

@@ -17,6 +17,8 @@
 #include <QTimer>
 #include <QWidget>
 
+class QPainter;
+
 #include <memory>
 #include <optional>
 
@@ -41,6 +43,10 @@ class Viewport : public QWidget {
     double drawMilliseconds() const { return m_drawMs; }
     /// The last picture drawn (for File > Save picture and tests).
     QImage picture() const { return m_picture; }
+    /// A picture of the scene as it is now, from the view's camera, at `width`×`height` pixels
+    /// with 4× multisampling (File > Render image); null when it cannot, with the reason in
+    /// `error`.
+    QImage renderImage(int width, int height, QString* error = nullptr);
     /// Pins the cloth vertex nearest the garment point under `at` (widget coordinates), or
     /// unpins the pin whose head is under it; what Alt+click does. False when there is neither.
     bool togglePinAt(const QPointF& at);
@@ -49,6 +55,24 @@ class Viewport : public QWidget {
     std::optional<QPointF> drawnAt(int vertex) const;
     /// The renderer's error, if it could not start (no OpenGL 3.3).
     QString rendererError() const { return m_error; }
+
+    /// Shows the body's arrangement slots (View > Body slots): each a line down the middle of
+    /// the slot's surface, where a panel's centre goes, with a marker and its name at half
+    /// height. A left click on a marker emits slotClicked().
+    void setSlotsShown(bool shown);
+    bool slotsShown() const { return m_slotsShown; }
+    /// Where slot `name`'s marker is drawn, in widget coordinates; nullopt when it is not
+    /// (hidden, unknown, behind the camera).
+    std::optional<QPointF> slotMarker(const QString& name) const;
+    /// The slot whose marker is under `at` (widget coordinates), or empty.
+    QString slotAt(const QPointF& at) const;
+    /// Draws slot `name` (the selected panel's) in the highlight colour; empty: none.
+    void setHighlightedSlot(const QString& name);
+    QString highlightedSlot() const { return m_highlightedSlot; }
+
+  Q_SIGNALS:
+    /// A slot's marker was clicked (placing the selected panel there is the window's part).
+    void slotClicked(const QString& slot);
 
   public Q_SLOTS:
     /// A new static scene (a new project, framed from three-quarter; or an edited garment,
@@ -64,7 +88,8 @@ class Viewport : public QWidget {
 
   private:
     void poll();
-    render::Camera camera() const;
+    /// The view's camera for pictures of this aspect ratio (0: the widget's).
+    render::Camera camera(float aspect = 0) const;
     /// The ray under a widget point: origin and unit direction, world [m].
     std::pair<Eigen::Vector3f, Eigen::Vector3f> ray(const QPointF& at) const;
     /// The garment triangle under a widget point, as drawn last: its index, barycentric
@@ -98,6 +123,11 @@ class Viewport : public QWidget {
     Eigen::Vector3f m_grabPoint;  ///< where the grab's plane passes, world [m]
     Eigen::Vector3f m_grabNormal; ///< the plane's normal: the view direction when grabbed
 
+    /// Draws the slots' lines, markers and names over the picture.
+    void paintSlots(QPainter& painter) const;
+
+    bool m_slotsShown = false;
+    QString m_highlightedSlot;
     QElapsedTimer m_fpsClock;
     int m_framesThisSecond = 0;
     double m_fps = 0;

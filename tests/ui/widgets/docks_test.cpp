@@ -1,0 +1,425 @@
+// The window's docks, arrangement and file additions without a display
+// (QT_QPA_PLATFORM=offscreen): each dock's change is one undoable document edit that reaches
+// the drape, slots are placed on from the dock and from the 3D view, the live plot follows a
+// drape, the pattern exports as the CLI's SVG, and the very first start opens the tshirt.
+#include "ui/render/headless_context.h"
+#include "ui/widgets/drape_plot.h"
+#include "ui/widgets/fabric_dock.h"
+#include "ui/widgets/main_window.h"
+#include "ui/widgets/panel_dock.h"
+#include "ui/widgets/pattern_view.h"
+#include "ui/widgets/seam_dock.h"
+#include "ui/widgets/simulation_dock.h"
+#include "ui/widgets/viewport.h"
+#include "ui/widgets/widget_test_support.h"
+
+#include "io/pattern_svg.h"
+
+#include "patterns/document_edit.h"
+
+#include <QApplication>
+#include <QComboBox>
+#include <QDir>
+#include <QDoubleSpinBox>
+#include <QFileInfo>
+#include <QImage>
+#include <QLineEdit>
+#include <QMouseEvent>
+#include <QPushButton>
+#include <QSettings>
+#include <QTemporaryDir>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace atelier::ui {
+namespace {
+
+using test::openAndWait;
+using test::QuietPrompts;
+using test::waitFor;
+
+const QString GARMENTS = QStringLiteral(ATELIER_SOURCE_DIR "/assets/garments");
+
+/// A window on the skirt, placed, its front panel selected.
+struct SkirtWindow {
+    QTemporaryDir dir;
+    MainWindow window{GARMENTS};
+    QuietPrompts prompts;
+    patterns::PanelId front;
+
+    bool open() {
+        prompts.install(window);
+        window.setRecoveryDirectory(dir.filePath("recovery"));
+        window.resize(1200, 700);
+        window.show();
+        if (!openAndWait(window, GARMENTS + "/skirt.atelier")) {
+            return false;
+        }
+        front = window.project().document.panels.front().id;
+        window.patternView().selectPanel(front);
+        QCoreApplication::processEvents();
+        return window.panelDock().panel() == front;
+    }
+    const patterns::doc::Panel& frontPanel() const {
+        return *window.project().document.panel(front);
+    }
+    /// The drape holds the window's document (every edit reached the worker).
+    bool drapeFollows() {
+        return waitFor(
+            [&] {
+                return patterns::dumpDocument(window.drape().document()) ==
+                       patterns::dumpDocument(window.project().document);
+            },
+            120);
+    }
+};
+
+TEST(PanelDock, RenamesThePanelUndoably) {
+    SkirtWindow s;
+    ASSERT_TRUE(s.open());
+    const std::string before = patterns::dumpDocument(s.window.project().document);
+    QLineEdit* name = s.window.panelDock().nameField();
+    EXPECT_EQ(name->text(), "front");
+    name->setText("skirt front");
+    Q_EMIT name->editingFinished();
+    EXPECT_EQ(s.frontPanel().name, "skirt front");
+    EXPECT_EQ(s.window.undoStack().count(), 1);
+    EXPECT_TRUE(s.window.undoStack().undoText().contains("rename"));
+    EXPECT_TRUE(s.drapeFollows());
+    ASSERT_TRUE(waitFor(
+        [&] { return s.window.drape().staticScene()->panelNames[0] == "skirt front"; }, 120))
+        << "the garment is placed again with the new name";
+
+    // A name another panel has is refused, with a message, and the field shows the name again.
+    name->setText("back");
+    Q_EMIT name->editingFinished();
+    EXPECT_EQ(s.window.undoStack().count(), 1);
+    ASSERT_EQ(s.prompts.errors.size(), 1);
+    EXPECT_TRUE(s.prompts.errors.front().contains("back"))
+        << s.prompts.errors.front().toStdString();
+    EXPECT_EQ(name->text(), "skirt front");
+
+    s.window.undoStack().undo();
+    EXPECT_EQ(patterns::dumpDocument(s.window.project().document), before);
+    EXPECT_EQ(name->text(), "front") << "the dock shows the document after the undo";
+    EXPECT_TRUE(s.drapeFollows());
+}
+
+TEST(PanelDock, PlacesThePanelOnAnotherSlotUndoably) {
+    SkirtWindow s;
+    ASSERT_TRUE(s.open());
+    const patterns::Placement was = s.frontPanel().placement;
+    QComboBox* slot = s.window.panelDock().slotChooser();
+    ASSERT_GT(slot->count(), 2) << "the body's slots";
+    EXPECT_EQ(slot->currentText().toStdString(), was.slot);
+    const int other = slot->findText("torso_front");
+    ASSERT_GE(other, 0);
+    const auto scene = s.window.drape().staticScene();
+    QSignalSpy rebuilt(&s.window.drape(), &DrapeController::rebuilt);
+    slot->setCurrentIndex(other);
+    Q_EMIT slot->activated(other);
+    EXPECT_EQ(s.frontPanel().placement.slot, "torso_front");
+    EXPECT_EQ(s.frontPanel().placement.offset, was.offset) << "offset, rotation kept";
+    EXPECT_EQ(s.frontPanel().placement.rotation, was.rotation);
+    ASSERT_TRUE(waitFor([&] { return rebuilt.count() >= 1; }, 120));
+    EXPECT_TRUE(rebuilt.front().front().toBool()) << "the other panel stays where it was";
+    EXPECT_TRUE(s.drapeFollows());
+    // The front panel starts somewhere else; the back stays exactly where it was.
+    const auto placed = s.window.drape().staticScene();
+    ASSERT_EQ(placed->startPositions.rows(), scene->startPositions.rows());
+    const auto [first, count] = placed->panelTriangles.front();
+    const int frontVertices =
+        placed->garmentTriangles.middleRows(first, count).maxCoeff() + 1; // panel 0's range
+    const auto rest = placed->startPositions.rows() - frontVertices;
+    EXPECT_GT((placed->startPositions.topRows(frontVertices) -
+               scene->startPositions.topRows(frontVertices))
+                  .rowwise()
+                  .norm()
+                  .maxCoeff(),
+              0.01);
+    EXPECT_EQ(placed->startPositions.bottomRows(rest), scene->startPositions.bottomRows(rest));
+
+    // An offset field: 25 mm along the slot, one more edit.
+    s.window.panelDock().alongField()->setValue(was.offset.y() * 1000 + 25);
+    EXPECT_NEAR(s.frontPanel().placement.offset.y(), was.offset.y() + 0.025, 1e-9);
+    EXPECT_EQ(s.window.undoStack().count(), 2);
+
+    s.window.undoStack().undo();
+    s.window.undoStack().undo();
+    EXPECT_EQ(s.frontPanel().placement.slot, was.slot);
+    EXPECT_EQ(s.frontPanel().placement.offset, was.offset);
+    EXPECT_EQ(slot->currentText().toStdString(), was.slot);
+    EXPECT_TRUE(s.drapeFollows());
+    EXPECT_TRUE(s.prompts.errors.isEmpty()) << s.prompts.errors.join("; ").toStdString();
+}
+
+TEST(Viewport, AClickOnASlotMarkerPlacesTheSelectedPanelThere) {
+    SkirtWindow s;
+    ASSERT_TRUE(s.open());
+    Viewport& view = s.window.viewport();
+    EXPECT_FALSE(view.slotMarker("torso_front")) << "slots are hidden by default";
+    view.setSlotsShown(true);
+    view.setView(render::View::Front);
+    QCoreApplication::processEvents();
+    const auto marker = view.slotMarker("torso_front");
+    ASSERT_TRUE(marker);
+    ASSERT_TRUE(view.rect().contains(marker->toPoint()));
+    EXPECT_EQ(view.slotAt(*marker), "torso_front");
+    EXPECT_EQ(view.highlightedSlot().toStdString(), s.frontPanel().placement.slot)
+        << "the selected panel's slot";
+    QMouseEvent press(QEvent::MouseButtonPress, *marker, view.mapToGlobal(*marker), Qt::LeftButton,
+                      Qt::LeftButton, Qt::NoModifier);
+    QApplication::sendEvent(&view, &press);
+    EXPECT_EQ(s.frontPanel().placement.slot, "torso_front");
+    EXPECT_EQ(view.highlightedSlot(), "torso_front");
+    EXPECT_EQ(s.window.undoStack().count(), 1);
+    EXPECT_TRUE(s.drapeFollows());
+
+    // Another project: no panel shown, so a click on a marker places nothing.
+    ASSERT_TRUE(openAndWait(s.window, GARMENTS + "/tshirt.atelier"));
+    EXPECT_FALSE(s.window.panelDock().panel());
+    EXPECT_TRUE(view.highlightedSlot().isEmpty());
+    QCoreApplication::processEvents();
+    const auto torso = view.slotMarker("torso_front");
+    ASSERT_TRUE(torso);
+    const std::string opened = patterns::dumpDocument(s.window.project().document);
+    QMouseEvent again(QEvent::MouseButtonPress, *torso, view.mapToGlobal(*torso), Qt::LeftButton,
+                      Qt::LeftButton, Qt::NoModifier);
+    QApplication::sendEvent(&view, &again);
+    EXPECT_EQ(patterns::dumpDocument(s.window.project().document), opened);
+    EXPECT_EQ(s.window.undoStack().count(), 0);
+}
+
+TEST(PanelDock, GivesThePanelAPresetFabricInOneUndoableStep) {
+    SkirtWindow s;
+    ASSERT_TRUE(s.open());
+    const std::string before = patterns::dumpDocument(s.window.project().document);
+    QComboBox* fabric = s.window.panelDock().fabricChooser();
+    EXPECT_EQ(fabric->currentText(), "fabric");
+    const int denim = fabric->findData("denim");
+    ASSERT_GE(denim, 0) << "presets not in the document are offered";
+    QSignalSpy rebuilt(&s.window.drape(), &DrapeController::rebuilt);
+    fabric->setCurrentIndex(denim);
+    Q_EMIT fabric->activated(denim);
+    const patterns::GarmentDocument& d = s.window.project().document;
+    EXPECT_EQ(s.frontPanel().material, "denim");
+    ASSERT_EQ(d.materials.size(), 2U);
+    EXPECT_EQ(d.materials.back().name, "denim");
+    EXPECT_EQ(d.materials.back().material.name, "denim");
+    EXPECT_EQ(d.panels.back().material, "fabric") << "the other panel keeps its fabric";
+    EXPECT_EQ(s.window.undoStack().count(), 1) << "adding the fabric and giving it: one step";
+    EXPECT_EQ(s.window.fabricDock().fabric(), "denim");
+    EXPECT_TRUE(s.drapeFollows());
+    ASSERT_TRUE(waitFor([&] { return rebuilt.count() >= 2; }, 120)) << "two edits, two rebuilds";
+    EXPECT_TRUE(rebuilt.at(0).front().toBool() && rebuilt.at(1).front().toBool())
+        << "the new fabric is added to the drape, which goes on";
+
+    // Back to the document's first fabric: a second, plain edit.
+    const int first = fabric->findData("fabric");
+    fabric->setCurrentIndex(first);
+    Q_EMIT fabric->activated(first);
+    EXPECT_EQ(s.frontPanel().material, "fabric");
+    EXPECT_EQ(s.window.undoStack().count(), 2);
+    s.window.undoStack().undo();
+    s.window.undoStack().undo();
+    EXPECT_EQ(patterns::dumpDocument(s.window.project().document), before);
+    EXPECT_TRUE(s.drapeFollows());
+}
+
+TEST(FabricDock, EditsTheFabricAndShowsItsBendingLength) {
+    SkirtWindow s;
+    ASSERT_TRUE(s.open());
+    FabricDock& dock = s.window.fabricDock();
+    EXPECT_EQ(dock.fabric(), "fabric");
+    const sim::Material was = s.window.project().document.materials.front().material;
+    // The figure is the cantilever's: ρ g c³ = B.
+    const double c = bendingLength(was.bending, was.density);
+    EXPECT_NEAR(was.density * GRAVITY * c * c * c, was.bending, 1e-12 * was.bending);
+    EXPECT_TRUE(dock.figuresText().contains(QString::number(c * 1000, 'f', 1)))
+        << dock.figuresText().toStdString();
+
+    dock.densityField()->setValue(was.density * 1000 * 2); // twice as heavy
+    const sim::Material now = s.window.project().document.materials.front().material;
+    EXPECT_NEAR(now.density, 2 * was.density, 1e-4);
+    EXPECT_EQ(now.bending, was.bending) << "fields left alone keep their exact values";
+    EXPECT_EQ(now.stretchWeft, was.stretchWeft);
+    const double shorter = bendingLength(now.bending, now.density);
+    EXPECT_NEAR(shorter, c / std::cbrt(2.0), 1e-3 * c);
+    EXPECT_TRUE(dock.figuresText().contains(QString::number(shorter * 1000, 'f', 1)));
+    EXPECT_TRUE(s.drapeFollows());
+
+    // A preset's values.
+    const int silk = dock.presetChooser()->findText("silk");
+    ASSERT_GT(silk, 0);
+    dock.presetChooser()->setCurrentIndex(silk);
+    Q_EMIT dock.presetChooser()->activated(silk);
+    EXPECT_EQ(s.window.project().document.materials.front().material.name, "silk");
+    EXPECT_EQ(s.window.project().document.materials.front().name, "fabric");
+    EXPECT_EQ(s.window.undoStack().count(), 2);
+    s.window.undoStack().undo();
+    s.window.undoStack().undo();
+    EXPECT_EQ(s.window.project().document.materials.front().material.density, was.density);
+    EXPECT_TRUE(s.drapeFollows());
+    EXPECT_TRUE(s.prompts.errors.isEmpty()) << s.prompts.errors.join("; ").toStdString();
+}
+
+TEST(SeamDock, ShowsASeamsSidesAndMismatchAndReversesAndDeletesIt) {
+    SkirtWindow s;
+    ASSERT_TRUE(s.open());
+    SeamDock& dock = s.window.seamDock();
+    const patterns::GarmentDocument& d = s.window.project().document;
+    ASSERT_FALSE(d.seams.empty());
+    const patterns::doc::Seam seam = d.seams.front();
+    const std::string before = patterns::dumpDocument(d);
+    EXPECT_FALSE(dock.seam());
+    EXPECT_FALSE(dock.reverseButton()->isEnabled());
+    dock.showSeam(seam.id);
+    ASSERT_EQ(dock.seam(), seam.id);
+    const double a = seamSideLength(d, seam.a);
+    const double b = seamSideLength(d, seam.b);
+    EXPECT_GT(a, 0.05);
+    EXPECT_TRUE(dock.sideText(0).contains(QString::number(a * 1000, 'f', 1)))
+        << dock.sideText(0).toStdString();
+    EXPECT_TRUE(dock.sideText(0).contains("front")) << dock.sideText(0).toStdString();
+    EXPECT_TRUE(dock.sideText(1).contains(QString::number(b * 1000, 'f', 1)));
+    EXPECT_TRUE(dock.sideText(1).contains("back"));
+    EXPECT_TRUE(dock.mismatchText().contains(QString::number((a - b) * 1000, 'f', 1)))
+        << dock.mismatchText().toStdString();
+    dock.showSeam(patterns::SeamId{999999});
+    EXPECT_FALSE(dock.seam()) << "an unknown seam shows nothing";
+    dock.showSeam(seam.id);
+
+    dock.reverseButton()->click();
+    const patterns::doc::Seam reversed = *s.window.project().document.seam(seam.id);
+    ASSERT_EQ(reversed.b.size(), seam.b.size());
+    EXPECT_EQ(reversed.b.front().t0, seam.b.back().t1);
+    EXPECT_TRUE(s.drapeFollows());
+    dock.deleteButton()->click();
+    EXPECT_EQ(s.window.project().document.seam(seam.id), nullptr);
+    EXPECT_FALSE(dock.seam()) << "the deleted seam is no longer shown";
+    EXPECT_EQ(s.window.undoStack().count(), 2);
+    s.window.undoStack().undo();
+    s.window.undoStack().undo();
+    EXPECT_EQ(patterns::dumpDocument(s.window.project().document), before);
+    ASSERT_NE(s.window.project().document.seam(seam.id), nullptr);
+    EXPECT_EQ(s.window.project().document.seam(seam.id)->b.front().t0, seam.b.front().t0);
+    EXPECT_TRUE(s.drapeFollows());
+}
+
+TEST(SimulationDock, ThePlotFollowsTheDrapeAndSettingsAreUndoable) {
+    SkirtWindow s;
+    ASSERT_TRUE(s.open());
+    SimulationDock& dock = s.window.simulationDock();
+    DrapePlot& plot = dock.plot();
+    EXPECT_TRUE(plot.samples().empty());
+    s.window.drape().start();
+    ASSERT_TRUE(waitFor([&] { return plot.samples().size() >= 3; }, 240))
+        << "the status timer feeds the plot while the drape runs";
+    s.window.drape().pause();
+    ASSERT_TRUE(waitFor([&] { return !s.window.drape().running(); }, 10));
+    const auto& samples = plot.samples();
+    for (std::size_t i = 1; i < samples.size(); ++i) {
+        EXPECT_GT(samples[i].time, samples[i - 1].time);
+        EXPECT_TRUE(std::isfinite(samples[i].energy));
+    }
+    EXPECT_GT(samples.back().energy, 0);
+    EXPECT_EQ(samples.back().phase, s.window.drape().progress().phase);
+
+    // The time step: continues the drape; undo gives the old one back.
+    const double dt = s.window.project().drape.dt;
+    QSignalSpy continued(&s.window.drape(), &DrapeController::rebuilt);
+    dock.timeStepField()->setValue(2.0);
+    EXPECT_EQ(s.window.project().drape.dt, 0.002);
+    EXPECT_EQ(s.window.project().drape.particleDistance, 0.01) << "left alone, exactly";
+    EXPECT_TRUE(s.window.isModified());
+    s.window.undoStack().undo();
+    EXPECT_EQ(s.window.project().drape.dt, dt);
+    EXPECT_NEAR(dock.timeStepField()->value(), dt * 1000, 1e-3);
+    ASSERT_TRUE(waitFor([&] { return continued.count() >= 2; }, 120));
+    EXPECT_TRUE(continued.at(0).front().toBool()) << "a new time step continues the drape";
+    EXPECT_TRUE(continued.at(1).front().toBool());
+
+    // The particle distance: re-meshed and placed again, the plot starts over on the reset.
+    QSignalSpy rebuilt(&s.window.drape(), &DrapeController::rebuilt);
+    const auto triangles = s.window.drape().staticScene()->garmentTriangles.rows();
+    dock.particleDistanceField()->setValue(20);
+    EXPECT_EQ(s.window.project().drape.particleDistance, 0.02);
+    ASSERT_TRUE(waitFor([&] { return rebuilt.count() >= 1; }, 120));
+    EXPECT_FALSE(rebuilt.front().front().toBool()) << "placed again";
+    EXPECT_LT(s.window.drape().staticScene()->garmentTriangles.rows(), triangles / 2);
+    s.window.undoStack().undo();
+    ASSERT_TRUE(waitFor([&] { return rebuilt.count() >= 2; }, 120));
+    EXPECT_EQ(s.window.drape().staticScene()->garmentTriangles.rows(), triangles);
+    EXPECT_TRUE(s.prompts.errors.isEmpty()) << s.prompts.errors.join("; ").toStdString();
+}
+
+TEST(MainWindow, ExportsThePatternAsTheCliDoes) {
+    SkirtWindow s;
+    ASSERT_TRUE(s.open());
+    const QString path = s.dir.filePath("skirt.svg");
+    ASSERT_TRUE(s.window.exportPatternSvg(path));
+    std::ifstream in(path.toStdString(), std::ios::binary);
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    // The library function atelier-cli export-pattern calls, with its defaults.
+    const auto expected = io::patternSvg(s.window.project().garment, {});
+    ASSERT_TRUE(expected.ok());
+    EXPECT_EQ(bytes.str(), expected.value().text);
+    EXPECT_NE(bytes.str().find("front"), std::string::npos);
+
+    // A folder that does not exist: a message, no crash, nothing written.
+    EXPECT_FALSE(s.window.exportPatternSvg(s.dir.filePath("missing/skirt.svg")));
+    EXPECT_EQ(s.prompts.errors.size(), 1);
+}
+
+TEST(MainWindow, RendersTheViewAtTheSizeAsked) {
+    {
+        auto context = render::HeadlessContext::create();
+        if (!context.ok()) {
+            GTEST_SKIP() << "no EGL context here: " << context.error().toString();
+        }
+    }
+    SkirtWindow s;
+    ASSERT_TRUE(s.open());
+    const QString path = s.dir.filePath("skirt.png");
+    ASSERT_TRUE(s.window.renderImage(path, 320, 200)) << s.prompts.errors.join("; ").toStdString();
+    const QImage image = QImage(path).convertToFormat(QImage::Format_RGB32);
+    ASSERT_EQ(image.size(), QSize(320, 200));
+    // The background in a corner, the garment or body in the middle.
+    EXPECT_NE(image.pixel(160, 100), image.pixel(0, 0));
+    EXPECT_FALSE(s.window.renderImage(path, 0, 200)) << "no pixels: refused";
+}
+
+TEST(MainWindow, TheVeryFirstStartOpensTheTshirt) {
+    // Settings of this test alone, empty: a first start.
+    const QString settingsFile = QSettings().fileName();
+    const QString previous = QFileInfo(QFileInfo(settingsFile).absolutePath()).absolutePath();
+    const QTemporaryDir fresh;
+    QSettings::setPath(QSettings::NativeFormat, QSettings::UserScope, fresh.path());
+    ASSERT_TRUE(QSettings().allKeys().isEmpty());
+    {
+        QTemporaryDir dir;
+        MainWindow window(GARMENTS);
+        QuietPrompts prompts;
+        prompts.install(window);
+        window.setRecoveryDirectory(dir.filePath("recovery"));
+        QSignalSpy ready(&window, &MainWindow::projectReady);
+        ASSERT_TRUE(window.openFirstRunSample());
+        EXPECT_EQ(QFileInfo(window.projectPath()).fileName(), "tshirt.atelier");
+        EXPECT_EQ(window.project().name, "tshirt");
+        EXPECT_TRUE(waitFor([&] { return ready.count() >= 1; }, 120));
+        EXPECT_FALSE(window.openFirstRunSample()) << "only the first start";
+    }
+    {
+        MainWindow again(GARMENTS);
+        EXPECT_FALSE(again.openFirstRunSample()) << "the settings remember the first start";
+        EXPECT_TRUE(again.projectPath().isEmpty());
+    }
+    QSettings::setPath(QSettings::NativeFormat, QSettings::UserScope, previous);
+}
+
+} // namespace
+} // namespace atelier::ui

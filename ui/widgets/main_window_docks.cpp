@@ -1,0 +1,334 @@
+// The window's docks (panel, seam, fabric, simulation with its live plot), the arrangement on
+// the body's slots, and the File menu's pattern export, picture render and body import: the
+// MainWindow members declared under "Docks, arrangement and file additions".
+#include "ui/widgets/drape_plot.h"
+#include "ui/widgets/fabric_dock.h"
+#include "ui/widgets/main_window.h"
+#include "ui/widgets/panel_dock.h"
+#include "ui/widgets/pattern_view.h"
+#include "ui/widgets/seam_dock.h"
+#include "ui/widgets/simulation_dock.h"
+#include "ui/widgets/viewport.h"
+
+#include "io/materials.h"
+#include "io/mesh_import.h"
+#include "io/pattern_svg.h"
+
+#include <QAction>
+#include <QDateTime>
+#include <QDir>
+#include <QDockWidget>
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QMenu>
+#include <QSaveFile>
+#include <QSettings>
+#include <QStatusBar>
+#include <QUndoCommand>
+
+#include <cmath>
+#include <initializer_list>
+#include <map>
+
+namespace atelier::ui {
+
+namespace {
+
+/// Picture size of File > Render image [px].
+constexpr int RENDER_WIDTH = 1920;
+constexpr int RENDER_HEIGHT = 1080;
+
+} // namespace
+
+/// New drape settings for the project (not a document edit): redo and undo swap them.
+class DrapeSettingsCommand : public QUndoCommand {
+  public:
+    DrapeSettingsCommand(MainWindow* window, patterns::DrapeSettings before,
+                         patterns::DrapeSettings after)
+        : QUndoCommand(MainWindow::tr("drape settings")), m_window(window), m_before(before),
+          m_after(after) {}
+    void redo() override { m_window->applyDrapeSettings(m_after); }
+    void undo() override { m_window->applyDrapeSettings(m_before); }
+
+  private:
+    MainWindow* m_window;
+    patterns::DrapeSettings m_before;
+    patterns::DrapeSettings m_after;
+};
+
+void MainWindow::buildDocks() {
+    m_panelDock = new PanelDock(this);
+    m_seamDock = new SeamDock(this);
+    m_fabricDock = new FabricDock(this);
+    m_simulationDock = new SimulationDock(m_run, m_reset, this);
+    addDockWidget(Qt::RightDockWidgetArea, m_panelDock);
+    addDockWidget(Qt::RightDockWidgetArea, m_fabricDock);
+    addDockWidget(Qt::RightDockWidgetArea, m_seamDock);
+    addDockWidget(Qt::RightDockWidgetArea, m_simulationDock);
+    tabifyDockWidget(m_panelDock, m_fabricDock);
+    tabifyDockWidget(m_fabricDock, m_seamDock);
+    m_panelDock->raise();
+
+    QStringList presetNames;
+    std::map<std::string, sim::Material> presets;
+    for (const auto& [name, material] : io::builtinMaterialPresets()) {
+        presetNames << QString::fromStdString(name);
+        presets.emplace(name, material);
+    }
+    m_panelDock->setPresetNames(presetNames);
+    m_fabricDock->setPresets(std::move(presets));
+
+    m_viewMenu->addSeparator();
+    m_showSlots = m_viewMenu->addAction(tr("Body &slots"));
+    m_showSlots->setCheckable(true);
+    m_showSlots->setShortcut(QKeySequence(Qt::CTRL | Qt::Key_L));
+    m_showSlots->setChecked(QSettings().value("view/slots", false).toBool());
+    m_viewport->setSlotsShown(m_showSlots->isChecked());
+    connect(m_showSlots, &QAction::toggled, this, [this](bool on) {
+        m_viewport->setSlotsShown(on);
+        QSettings().setValue("view/slots", on);
+    });
+    QMenu* docks = m_viewMenu->addMenu(tr("&Docks"));
+    for (QDockWidget* dock : std::initializer_list<QDockWidget*>{m_panelDock, m_fabricDock,
+                                                                 m_seamDock, m_simulationDock}) {
+        docks->addAction(dock->toggleViewAction());
+    }
+
+    // Selection: the dock shows the panel picked in the pattern and its fabric.
+    connect(m_pattern, &PatternView::panelSelected, this, [this](const QString& /*name*/) {
+        const patterns::PanelId panel = m_pattern->selectedPanel();
+        if (!panel) {
+            return; // the docks keep the last panel, as the 3D view's slot clicks need one
+        }
+        m_panelDock->showPanel(panel.value);
+        if (const patterns::doc::Panel* p = m_project.document.panel(panel)) {
+            m_fabricDock->showFabric(QString::fromStdString(p->material));
+            m_viewport->setHighlightedSlot(QString::fromStdString(p->placement.slot));
+        }
+    });
+    // The body's slots, once a scene is there.
+    const auto slotNames = [this] {
+        QStringList names;
+        if (const auto scene = m_drape->staticScene()) {
+            for (const patterns::ArrangementSlot& slot : scene->bodySlots) {
+                names << QString::fromStdString(slot.name);
+            }
+        }
+        m_panelDock->setSlotNames(names);
+    };
+    connect(m_drape, &DrapeController::opened, this, slotNames);
+    connect(m_drape, &DrapeController::rebuilt, this, slotNames);
+    connect(m_viewport, &Viewport::slotClicked, this, [this](const QString& slot) {
+        if (!m_panelDock->panel()) {
+            statusBar()->showMessage(tr("Select a panel, then click a slot to place it"), 4000);
+            return;
+        }
+        placePanelOnSlot(m_panelDock->panel(), slot);
+    });
+
+    // Each dock's request is one undoable edit.
+    connect(
+        m_panelDock, &PanelDock::renameRequested, this, [this](quint32 panel, const QString& name) {
+            if (!edit([&](patterns::GarmentDocument& d) {
+                    return patterns::renamePanel(d, patterns::PanelId{panel}, name.toStdString());
+                })) {
+                docksFollowDocument(); // the refused name goes back to the panel's
+            }
+        });
+    connect(m_panelDock, &PanelDock::placeRequested, this,
+            [this](quint32 panel, const patterns::Placement& placement) {
+                if (!edit([&](patterns::GarmentDocument& d) {
+                        return patterns::placePanel(d, patterns::PanelId{panel}, placement);
+                    })) {
+                    docksFollowDocument();
+                }
+            });
+    connect(m_panelDock, &PanelDock::fabricRequested, this,
+            [this](quint32 panel, const QString& fabric, bool preset) {
+                const patterns::PanelId id{panel};
+                const std::string name = fabric.toStdString();
+                if (!preset) {
+                    edit([&](patterns::GarmentDocument& d) {
+                        return patterns::setPanelMaterial(d, id, name);
+                    });
+                } else if (const auto found = io::builtinMaterialPresets().find(name);
+                           found != io::builtinMaterialPresets().end()) {
+                    // The preset becomes a fabric of the document and the panel's: one step.
+                    m_undo.beginMacro(tr("fabric %1").arg(fabric));
+                    patterns::GarmentMaterial material{name, found->second};
+                    material.material.name = name;
+                    if (edit([&](patterns::GarmentDocument& d) {
+                            return patterns::setMaterial(d, material);
+                        })) {
+                        edit([&](patterns::GarmentDocument& d) {
+                            return patterns::setPanelMaterial(d, id, name);
+                        });
+                    }
+                    m_undo.endMacro();
+                }
+                m_fabricDock->showFabric(fabric);
+            });
+    connect(m_seamDock, &SeamDock::reverseRequested, this, [this](quint32 seam) {
+        edit([&](patterns::GarmentDocument& d) {
+            return patterns::reverseSeam(d, patterns::SeamId{seam});
+        });
+    });
+    connect(m_seamDock, &SeamDock::removeRequested, this, [this](quint32 seam) {
+        edit([&](patterns::GarmentDocument& d) {
+            return patterns::removeSeam(d, patterns::SeamId{seam});
+        });
+    });
+    connect(m_fabricDock, &FabricDock::materialRequested, this,
+            [this](const patterns::GarmentMaterial& material) {
+                if (!edit([&](patterns::GarmentDocument& d) {
+                        return patterns::setMaterial(d, material);
+                    })) {
+                    docksFollowDocument();
+                }
+            });
+    connect(m_simulationDock, &SimulationDock::settingsRequested, this,
+            [this](const patterns::DrapeSettings& settings) { setDrapeSettings(settings); });
+    docksFollowDocument();
+}
+
+void MainWindow::docksFollowDocument(bool newProject) {
+    if (newProject) { // ids of the project left behind may name other objects in this one
+        m_panelDock->showPanel(0);
+        m_seamDock->showSeam({});
+    }
+    m_panelDock->setDocument(m_project.document);
+    m_seamDock->setDocument(m_project.document);
+    m_fabricDock->setDocument(m_project.document);
+    m_simulationDock->setSettings(m_project.drape);
+    const patterns::doc::Panel* shown = m_project.document.panel(m_panelDock->panel());
+    m_viewport->setHighlightedSlot(
+        shown == nullptr ? QString() : QString::fromStdString(shown->placement.slot));
+}
+
+void MainWindow::docksFollowDrape(const DrapeProgress& progress) {
+    m_simulationDock->setPhase(m_phase.text());
+    if (progress.phase == patterns::DrapePhase::Empty) {
+        m_simulationDock->plot().clear();
+    } else if (progress.steps > 0) {
+        m_simulationDock->plot().addSample(
+            {progress.time, progress.kineticEnergy, progress.contacts, progress.phase});
+    }
+}
+
+bool MainWindow::placePanelOnSlot(patterns::PanelId panel, const QString& slot) {
+    const patterns::doc::Panel* p = m_project.document.panel(panel);
+    if (p == nullptr) {
+        showError(tr("No panel #%1 to place").arg(panel.value));
+        return false;
+    }
+    patterns::Placement placement = p->placement;
+    placement.slot = slot.toStdString();
+    return edit(
+        [&](patterns::GarmentDocument& d) { return patterns::placePanel(d, panel, placement); });
+}
+
+bool MainWindow::setDrapeSettings(const patterns::DrapeSettings& settings) {
+    if (!(settings.particleDistance > 0) || !(settings.dt > 0) ||
+        !std::isfinite(settings.particleDistance) || !std::isfinite(settings.dt)) {
+        showError(tr("The particle distance and the time step must be positive"));
+        m_simulationDock->setSettings(m_project.drape);
+        return false;
+    }
+    m_undo.push(new DrapeSettingsCommand(this, m_project.drape, settings));
+    return true;
+}
+
+void MainWindow::applyDrapeSettings(const patterns::DrapeSettings& settings) {
+    m_project.drape = settings;
+    m_simulationDock->setSettings(settings);
+    m_drape->setDrapeSettings(settings);
+    updateTitle();
+}
+
+// ---- Files ----
+
+void MainWindow::addFileActions(QMenu* file) {
+    file->addAction(tr("Export pattern as S&VG…"), this, [this] {
+        const QString path = QFileDialog::getSaveFileName(
+            this, tr("Export the pattern"), lastDirectory(), tr("SVG drawings (*.svg)"));
+        if (!path.isEmpty()) {
+            exportPatternSvg(path);
+        }
+    });
+    file->addAction(tr("&Render image…"), this, [this] {
+        const QString path = QFileDialog::getSaveFileName(
+            this, tr("Render the 3D view (%1×%2)").arg(RENDER_WIDTH).arg(RENDER_HEIGHT),
+            lastDirectory(), tr("PNG pictures (*.png)"));
+        if (!path.isEmpty()) {
+            renderImage(path, RENDER_WIDTH, RENDER_HEIGHT);
+        }
+    });
+    file->addAction(tr("Import &body…"), this, [this] {
+        QStringList patterns;
+        for (const std::string& suffix : io::bodyMeshExtensions()) {
+            patterns << QString::fromStdString("*" + suffix);
+        }
+        const QString path =
+            QFileDialog::getOpenFileName(this, tr("Drape on a body mesh"), lastDirectory(),
+                                         tr("Body meshes (%1)").arg(patterns.join(' ')));
+        if (!path.isEmpty()) {
+            QSettings().setValue("files/lastDirectory", QFileInfo(path).absolutePath());
+            setBodyMesh(path);
+        }
+    });
+}
+
+bool MainWindow::exportPatternSvg(const QString& path) {
+    if (m_project.document.panels.empty()) {
+        showError(tr("The project has no panels to export"));
+        return false;
+    }
+    patterns::syncGarment(m_project);
+    auto written = io::writePatternSvg(path.toStdString(), m_project.garment, {});
+    if (!written.ok()) {
+        showError(tr("Could not export the pattern to %1:\n%2")
+                      .arg(path, QString::fromStdString(written.error().toString())));
+        return false;
+    }
+    statusBar()->showMessage(tr("Wrote %1: %2 panels on a %3 × %4 mm sheet")
+                                 .arg(path)
+                                 .arg(written.value().panels.size())
+                                 .arg(written.value().widthMm, 0, 'f', 0)
+                                 .arg(written.value().heightMm, 0, 'f', 0),
+                             6000);
+    return true;
+}
+
+bool MainWindow::renderImage(const QString& path, int width, int height) {
+    QString why;
+    const QImage image = m_viewport->renderImage(width, height, &why);
+    if (image.isNull()) {
+        showError(tr("Could not render %1: %2").arg(path, why));
+        return false;
+    }
+    QSaveFile out(path); // written whole or not at all
+    if (!out.open(QIODevice::WriteOnly) || !image.save(&out, "PNG") || !out.commit()) {
+        showError(tr("Could not write %1: %2").arg(path, out.errorString()));
+        return false;
+    }
+    statusBar()->showMessage(tr("Wrote %1 (%2×%3)").arg(path).arg(width).arg(height), 4000);
+    return true;
+}
+
+bool MainWindow::openFirstRunSample() {
+    QSettings settings;
+    if (!settings.allKeys().isEmpty()) {
+        return false; // not the first start
+    }
+    settings.setValue("app/firstRun", QDateTime::currentDateTimeUtc().toString(Qt::ISODate));
+    const QString tshirt = QDir(m_samplesDir).filePath("tshirt.atelier");
+    if (m_samplesDir.isEmpty() || !QFileInfo(tshirt).isFile() || !openProject(tshirt)) {
+        return false;
+    }
+    statusBar()->showMessage(tr("Welcome: this is the tshirt sample. Space drapes it; File > "
+                                "Samples has the others, File > New starts from nothing."),
+                             15000);
+    return true;
+}
+
+} // namespace atelier::ui

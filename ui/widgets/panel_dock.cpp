@@ -1,0 +1,183 @@
+#include "ui/widgets/panel_dock.h"
+
+#include <QComboBox>
+#include <QDoubleSpinBox>
+#include <QFormLayout>
+#include <QLabel>
+#include <QLineEdit>
+#include <QSignalBlocker>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace atelier::ui {
+
+namespace {
+
+QDoubleSpinBox* spinBox(double min, double max, int decimals, const QString& suffix) {
+    auto* box = new QDoubleSpinBox;
+    box->setRange(min, max);
+    box->setDecimals(decimals);
+    box->setSuffix(suffix);
+    box->setKeyboardTracking(false); // one value when typing ends, not one per key
+    return box;
+}
+
+constexpr double MM = 1000.0;
+constexpr double DEG = 180.0 / std::numbers::pi;
+
+} // namespace
+
+PanelDock::PanelDock(QWidget* parent) : QDockWidget(tr("Panel"), parent) {
+    setObjectName("panel-dock");
+    auto* body = new QWidget;
+    auto* form = new QFormLayout(body);
+    m_title = new QLabel;
+    m_name = new QLineEdit;
+    m_slot = new QComboBox;
+    m_around = spinBox(-2000, 2000, 1, tr(" mm"));
+    m_along = spinBox(-2000, 2000, 1, tr(" mm"));
+    m_rotation = spinBox(-360, 360, 1, tr("°"));
+    m_clearance = spinBox(0, 500, 1, tr(" mm"));
+    m_fabric = new QComboBox;
+    form->addRow(m_title);
+    form->addRow(tr("Name"), m_name);
+    form->addRow(tr("Slot"), m_slot);
+    form->addRow(tr("Offset around"), m_around);
+    form->addRow(tr("Offset along"), m_along);
+    form->addRow(tr("Rotation"), m_rotation);
+    form->addRow(tr("Clearance"), m_clearance);
+    form->addRow(tr("Fabric"), m_fabric);
+    setWidget(body);
+
+    connect(m_name, &QLineEdit::editingFinished, this, [this] {
+        const patterns::doc::Panel* p = shown();
+        if (p != nullptr && m_name->text().toStdString() != p->name) {
+            Q_EMIT renameRequested(m_panel.value, m_name->text());
+        }
+    });
+    connect(m_slot, &QComboBox::activated, this, [this] { emitPlacement(); });
+    for (QDoubleSpinBox* box : {m_around, m_along, m_rotation, m_clearance}) {
+        connect(box, &QDoubleSpinBox::valueChanged, this, [this] { emitPlacement(); });
+    }
+    connect(m_fabric, &QComboBox::activated, this, [this](int index) {
+        const patterns::doc::Panel* p = shown();
+        if (p == nullptr || index < 0) {
+            return;
+        }
+        const QString name = m_fabric->itemData(index).toString();
+        const bool preset = m_fabric->itemData(index, Qt::UserRole + 1).toBool();
+        if (preset || name.toStdString() != p->material) {
+            Q_EMIT fabricRequested(m_panel.value, name, preset);
+        }
+    });
+    refresh();
+}
+
+void PanelDock::setDocument(const patterns::GarmentDocument& document) {
+    m_document = document;
+    if (m_document.panel(m_panel) == nullptr) {
+        m_panel = {};
+    }
+    refresh();
+}
+
+void PanelDock::setSlotNames(const QStringList& names) {
+    m_slotNames = names;
+    refresh();
+}
+
+void PanelDock::setPresetNames(const QStringList& names) {
+    m_presetNames = names;
+    refresh();
+}
+
+void PanelDock::showPanel(quint32 panel) {
+    m_panel = patterns::PanelId{panel};
+    if (m_document.panel(m_panel) == nullptr) {
+        m_panel = {};
+    }
+    refresh();
+}
+
+const patterns::doc::Panel* PanelDock::shown() const {
+    return m_document.panel(m_panel);
+}
+
+void PanelDock::emitPlacement() {
+    const patterns::doc::Panel* p = shown();
+    if (p == nullptr) {
+        return;
+    }
+    // The fields round to 0.1 mm and 0.1°: a field the user left alone keeps its exact value.
+    const auto changed = [](const QDoubleSpinBox* field, double shownValue) {
+        return std::abs(field->value() - shownValue) >= 0.05;
+    };
+    const patterns::Placement& now = p->placement;
+    patterns::Placement placement = now;
+    placement.slot = m_slot->currentText().toStdString();
+    if (changed(m_around, now.offset.x() * MM)) {
+        placement.offset.x() = m_around->value() / MM;
+    }
+    if (changed(m_along, now.offset.y() * MM)) {
+        placement.offset.y() = m_along->value() / MM;
+    }
+    if (changed(m_rotation, now.rotation * DEG)) {
+        placement.rotation = m_rotation->value() / DEG;
+    }
+    if (changed(m_clearance, now.clearance * MM)) {
+        placement.clearance = m_clearance->value() / MM;
+    }
+    if (placement.slot != now.slot || placement.offset != now.offset ||
+        placement.rotation != now.rotation || placement.clearance != now.clearance) {
+        Q_EMIT placeRequested(m_panel.value, placement);
+    }
+}
+
+void PanelDock::refresh() {
+    const QSignalBlocker blockers[] = {QSignalBlocker(m_name),     QSignalBlocker(m_slot),
+                                       QSignalBlocker(m_around),   QSignalBlocker(m_along),
+                                       QSignalBlocker(m_rotation), QSignalBlocker(m_clearance),
+                                       QSignalBlocker(m_fabric)};
+    const patterns::doc::Panel* p = shown();
+    widget()->setEnabled(p != nullptr);
+    m_title->setText(p == nullptr ? tr("Select a panel") : tr("Panel #%1").arg(m_panel.value));
+    m_slot->clear();
+    m_fabric->clear();
+    if (p == nullptr) {
+        m_name->clear();
+        return;
+    }
+    m_name->setText(QString::fromStdString(p->name));
+    QStringList slotNames = m_slotNames;
+    const QString slot = QString::fromStdString(p->placement.slot);
+    if (!slotNames.contains(slot)) {
+        slotNames.prepend(slot); // the body has no such slot: shown as it is in the file
+    }
+    m_slot->addItems(slotNames);
+    m_slot->setCurrentText(slot);
+    m_around->setValue(p->placement.offset.x() * MM);
+    m_along->setValue(p->placement.offset.y() * MM);
+    m_rotation->setValue(p->placement.rotation * DEG);
+    m_clearance->setValue(p->placement.clearance * MM);
+    for (const patterns::GarmentMaterial& m : m_document.materials) {
+        const QString name = QString::fromStdString(m.name);
+        m_fabric->addItem(name, name);
+        if (m.name == p->material) {
+            m_fabric->setCurrentIndex(m_fabric->count() - 1);
+        }
+    }
+    for (const QString& preset : m_presetNames) {
+        if (m_document.materials.end() == std::find_if(m_document.materials.begin(),
+                                                       m_document.materials.end(),
+                                                       [&](const patterns::GarmentMaterial& m) {
+                                                           return m.name == preset.toStdString();
+                                                       })) {
+            m_fabric->addItem(tr("%1 (preset)").arg(preset), preset);
+            m_fabric->setItemData(m_fabric->count() - 1, true, Qt::UserRole + 1);
+        }
+    }
+}
+
+} // namespace atelier::ui

@@ -1,0 +1,72 @@
+#pragma once
+/// The Panel dock: the selected panel's name, its placement on the body (slot, offset around
+/// and along the slot, rotation, clearance) and its fabric. Each change is a request the window
+/// turns into one undoable document edit (renamePanel, placePanel, setPanelMaterial); the dock
+/// shows the document as it is after it.
+
+#include "patterns/document.h"
+
+#include <QDockWidget>
+#include <QStringList>
+
+class QComboBox;
+class QDoubleSpinBox;
+class QLabel;
+class QLineEdit;
+
+namespace atelier::ui {
+
+class PanelDock : public QDockWidget {
+    Q_OBJECT
+  public:
+    explicit PanelDock(QWidget* parent = nullptr);
+
+    /// The document to show (after every change of it).
+    void setDocument(const patterns::GarmentDocument& document);
+    /// The body's slot names (the slot chooser's entries).
+    void setSlotNames(const QStringList& names);
+    /// Fabric presets offered beside the document's fabrics (picking one adds it).
+    void setPresetNames(const QStringList& names);
+    /// The panel shown, or none.
+    patterns::PanelId panel() const { return m_panel; }
+
+    // The fields, for tests and keyboard users' focus chains.
+    QLineEdit* nameField() const { return m_name; }
+    QComboBox* slotChooser() const { return m_slot; }
+    QDoubleSpinBox* aroundField() const { return m_around; }
+    QDoubleSpinBox* alongField() const { return m_along; }
+    QDoubleSpinBox* rotationField() const { return m_rotation; }
+    QDoubleSpinBox* clearanceField() const { return m_clearance; }
+    QComboBox* fabricChooser() const { return m_fabric; }
+
+  public Q_SLOTS:
+    /// Shows panel `panel` (0: none; the fields are disabled).
+    void showPanel(quint32 panel);
+
+  Q_SIGNALS:
+    void renameRequested(quint32 panel, const QString& name);
+    /// The placement the fields show now (slot, offset, rotation, clearance) [m, rad].
+    void placeRequested(quint32 panel, const patterns::Placement& placement);
+    /// A fabric of the document, or a preset's name (`preset` true) to add and give the panel.
+    void fabricRequested(quint32 panel, const QString& fabric, bool preset);
+
+  private:
+    void refresh();
+    void emitPlacement();
+    const patterns::doc::Panel* shown() const;
+
+    patterns::GarmentDocument m_document;
+    patterns::PanelId m_panel;
+    QStringList m_slotNames;
+    QStringList m_presetNames;
+    QLabel* m_title;
+    QLineEdit* m_name;
+    QComboBox* m_slot;
+    QDoubleSpinBox* m_around;
+    QDoubleSpinBox* m_along;
+    QDoubleSpinBox* m_rotation;
+    QDoubleSpinBox* m_clearance;
+    QComboBox* m_fabric;
+};
+
+} // namespace atelier::ui
