@@ -124,6 +124,8 @@ class MainWindow : public QMainWindow {
     friend class BodyCommand;
     void setBody(const patterns::BodySource& body);
     void buildMenus();
+    /// The pattern view's tools in a Tools menu and a tool bar; its edits on the undo stack.
+    void buildPatternTools();
     void updateStatus();
     void exportMesh();
     void savePicture();
