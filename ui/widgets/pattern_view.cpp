@@ -1026,6 +1026,12 @@ bool PatternView::sew() {
 void PatternView::mousePressEvent(QMouseEvent* event) {
     const QPoint at = event->position().toPoint();
     const QPointF scene = mapToScene(at);
+    m_pressPassedOn = event->button() != Qt::LeftButton;
+    if (event->button() == Qt::MiddleButton) {
+        m_pan = at; // pans in every tool
+        event->accept();
+        return;
+    }
     if (event->button() != Qt::LeftButton) {
         QGraphicsView::mousePressEvent(event);
         return;
@@ -1058,10 +1064,8 @@ void PatternView::mousePressEvent(QMouseEvent* event) {
     case Tool::Seam:
         if (const auto pick = pickEdge(at, {})) {
             pickSeamEdge(*pick, event->modifiers());
-            event->accept();
-            return;
         }
-        QGraphicsView::mousePressEvent(event);
+        event->accept();
         return;
     case Tool::Select:
         break;
@@ -1125,6 +1129,7 @@ void PatternView::mousePressEvent(QMouseEvent* event) {
     if (m_selectedSeam) {
         selectSeam({});
     }
+    m_pressPassedOn = true;
     QGraphicsView::mousePressEvent(event); // selects the panel under the mouse, or pans
     for (QGraphicsItem* item : items(at)) {
         const patterns::PanelId id{item->data(DATA_PANEL).value<quint32>()};
@@ -1138,6 +1143,14 @@ void PatternView::mousePressEvent(QMouseEvent* event) {
 void PatternView::mouseMoveEvent(QMouseEvent* event) {
     const QPoint at = event->position().toPoint();
     const QPointF scene = mapToScene(at);
+    if (m_pan) {
+        const QPoint delta = at - *m_pan;
+        m_pan = at;
+        horizontalScrollBar()->setValue(horizontalScrollBar()->value() - delta.x());
+        verticalScrollBar()->setValue(verticalScrollBar()->value() - delta.y());
+        event->accept();
+        return;
+    }
     if (m_drawing) {
         m_drawing->cursor = snap(scene, event->modifiers(), {}, {});
         drawOverlay();
@@ -1199,6 +1212,11 @@ void PatternView::mouseMoveEvent(QMouseEvent* event) {
 }
 
 void PatternView::mouseReleaseEvent(QMouseEvent* event) {
+    if (event->button() == Qt::MiddleButton && m_pan) {
+        m_pan.reset();
+        event->accept();
+        return;
+    }
     if (event->button() != Qt::LeftButton) {
         QGraphicsView::mouseReleaseEvent(event);
         return;
@@ -1231,7 +1249,11 @@ void PatternView::mouseReleaseEvent(QMouseEvent* event) {
             Q_EMIT message(d.rotate ? tr("Rotated in the 2D layout (the pattern is unchanged)")
                                     : tr("Moved in the 2D layout (the pattern is unchanged)"));
         }
-        QGraphicsView::mouseReleaseEvent(event);
+        if (m_pressPassedOn) {
+            QGraphicsView::mouseReleaseEvent(event); // pressed through it, on the panel
+        } else {
+            event->accept();
+        }
         return;
     }
     if (m_handleDrag) {
@@ -1248,7 +1270,13 @@ void PatternView::mouseReleaseEvent(QMouseEvent* event) {
         return;
     }
     if (!m_drag) {
-        QGraphicsView::mouseReleaseEvent(event);
+        // The view's own release only after its own press: after a press this view took (an
+        // edge picked), it would take the click for one on the background and deselect.
+        if (m_pressPassedOn) {
+            QGraphicsView::mouseReleaseEvent(event);
+        } else {
+            event->accept();
+        }
         return;
     }
     const Drag drag = *m_drag;

@@ -1,7 +1,8 @@
 #pragma once
 /// The 2D view: the garment document's panels as the designer drew them (outlines, holes,
 /// internal lines) and its seams, one colour per panel as in the 3D view and one per seam.
-/// Zoom with the wheel, pan by dragging the background. Tools (toolActions()):
+/// Zoom with the wheel, pan by dragging the background (Select) or with the middle button
+/// (every tool). Tools (toolActions()):
 /// - Select (A): a click selects a panel and shows its outline and hole points, and the Bézier
 ///   handles of its curved edges. Drag a point or a handle to move it (lengths shown; Shift
 ///   snaps to a 5 mm grid, Ctrl+Shift to 1 mm; points snap to other points within a few
@@ -247,6 +248,8 @@ class PatternView : public QGraphicsView {
     std::optional<HandleDrag> m_handleDrag;
     std::optional<LayoutDrag> m_layoutDrag;
     std::optional<Drawing> m_drawing;
+    /// The middle button is down: the view pans with the mouse (from here, viewport).
+    std::optional<QPoint> m_pan;
     std::optional<SidePick> m_sides[2];
     /// The second side was reversed by the user (R) against the direction chosen for it.
     bool m_secondReversed = false;
@@ -255,6 +258,8 @@ class PatternView : public QGraphicsView {
     QActionGroup* m_toolGroup = nullptr;
     std::map<Tool, QAction*> m_toolActions;
     QList<QAction*> m_editActions;
+    /// The last left press went on to QGraphicsView (selection, panning), so its release does.
+    bool m_pressPassedOn = false;
     /// Items are being removed (a redraw, the destructor): selection changes are not acted on.
     bool m_redrawing = false;
 };

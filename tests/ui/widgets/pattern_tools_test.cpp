@@ -396,6 +396,7 @@ TEST(PatternView, DraggingABezierHandleBendsTheEdge) {
     const patterns::EdgeId edge = panel.outline.edges[static_cast<std::size_t>(bottom)].id;
     click(f.surface(), view.viewPoint(panel.id, edgeMiddle(panel, bottom)));
     ASSERT_EQ(view.selectedEdge(), edge);
+    EXPECT_EQ(view.selectedPanel(), panel.id) << "a click on its edge keeps the panel selected";
     ASSERT_TRUE(view.toggleCurve());
     const auto curveOf = [&] {
         const patterns::doc::Panel& p = *f.document().panel(panel.id);
@@ -468,12 +469,34 @@ TEST(PatternView, MovingAndRotatingAPanelChangesTheLayoutNotTheDocument) {
     EXPECT_NEAR(up.y(), 0, 1e-6);
     EXPECT_EQ(patterns::dumpDocument(f.document()), before) << "the document is unchanged";
     EXPECT_EQ(f.window.undoStack().count(), 1);
+    // A point of the turned panel dragged 20 mm right on the screen moves 20 mm up in its
+    // pattern (to within a pixel, 2 mm).
+    const QPoint cornerAt = view.viewPoint(panel.id, corner);
+    drag(f.surface(), cornerAt, cornerAt + QPoint(10, 0));
+    ASSERT_EQ(f.window.undoStack().count(), 2)
+        << f.errors.join("; ").toStdString() << " selected point " << view.selectedPoint().value
+        << " panel " << view.selectedPanel().value;
+    const patterns::Vec2 dragged = f.document().panel(panel.id)->outline.points.front().position;
+    EXPECT_NEAR(dragged.x() - corner.x(), 0, 0.0025);
+    EXPECT_NEAR(dragged.y() - corner.y(), 0.02, 0.0025);
+    f.window.undoStack().undo();
+    EXPECT_EQ(patterns::dumpDocument(f.document()), before);
     // An edit keeps the layout.
     view.setTool(PatternView::Tool::Rectangle);
     drag(f.surface(), f.at({400, 400}), f.at({600, 500}));
     ASSERT_EQ(f.document().panels.size(), 2U);
     const QPointF upAfter = view.scenePoint(panel.id, {0, 0.1}) - view.scenePoint(panel.id, {0, 0});
     EXPECT_NEAR(upAfter.x(), 100, 1e-6);
+    // The middle button pans, in a drawing tool too.
+    const QPoint was = view.viewPoint(panel.id, {0, 0});
+    const QPoint grip = f.at({900, 900});
+    sendMouse(f.surface(), QEvent::MouseButtonPress, grip, Qt::MiddleButton, Qt::MiddleButton);
+    sendMouse(f.surface(), QEvent::MouseMove, grip + QPoint(40, 30), Qt::NoButton,
+              Qt::MiddleButton);
+    sendMouse(f.surface(), QEvent::MouseButtonRelease, grip + QPoint(40, 30), Qt::MiddleButton,
+              Qt::NoButton);
+    EXPECT_EQ(view.viewPoint(panel.id, {0, 0}) - was, QPoint(40, 30));
+    EXPECT_EQ(f.document().panels.size(), 2U) << "nothing drawn";
     EXPECT_TRUE(f.errors.isEmpty()) << f.errors.join("; ").toStdString();
 }
 
