@@ -326,6 +326,49 @@ TEST(PatternView, DrawARectangleMirrorItsCopySewThePairAndUndoToTheEmptyProject)
     EXPECT_TRUE(f.errors.isEmpty()) << f.errors.join("; ").toStdString();
 }
 
+TEST(PatternView, TheSeamToolExtendsASideAlongTheOutlineWholeOrPartly) {
+    Fixture f;
+    PatternView& view = f.view();
+    view.setTool(PatternView::Tool::Rectangle);
+    drag(f.surface(), f.at({-200, -100}), f.at({200, 100}), Qt::ShiftModifier);
+    ASSERT_EQ(f.document().panels.size(), 1U);
+    const patterns::doc::Panel panel = f.document().panels.front();
+    const Eigen::AlignedBox2d box = boxOf(panel);
+    const int bottom = edgeFacing(panel, {0, -1});
+    const int top = edgeFacing(panel, {0, 1});
+    const int left = edgeFacing(panel, {-1, 0});
+    view.setTool(PatternView::Tool::Seam);
+    click(f.surface(), view.viewPoint(panel.id, edgeMiddle(panel, bottom)));
+    // Shift+click the top edge: bottom, right, top, whole, along the outline.
+    click(f.surface(), view.viewPoint(panel.id, edgeMiddle(panel, top)), Qt::ShiftModifier);
+    ASSERT_EQ(view.seamPick(0).size(), 3U);
+    EXPECT_EQ(view.seamPick(0).front().edge, panel.outline.edges[bottom].id);
+    EXPECT_EQ(view.seamPick(0).back().edge, panel.outline.edges[top].id);
+    EXPECT_NEAR(rangesLength(f.document(), view.seamPick(0)), 2 * box.sizes().x() + box.sizes().y(),
+                1e-9);
+    // Ctrl+Shift+click a quarter of the way up the left edge: the shorter way round, from the
+    // bottom edge's far end against the outline, ending at the clicked point.
+    const patterns::Vec2 quarter(box.min().x(), box.min().y() + box.sizes().y() / 4);
+    click(f.surface(), view.viewPoint(panel.id, quarter), Qt::ShiftModifier | Qt::ControlModifier);
+    const std::vector<patterns::doc::SeamRange> side = view.seamPick(0);
+    ASSERT_EQ(side.size(), 2U);
+    EXPECT_EQ(side[0].edge, panel.outline.edges[bottom].id);
+    EXPECT_EQ(side[0].t0, 1);
+    EXPECT_EQ(side[0].t1, 0);
+    EXPECT_EQ(side[1].edge, panel.outline.edges[left].id);
+    EXPECT_EQ(side[1].t0, 1);
+    // Within a pixel (2 mm) of the click.
+    EXPECT_NEAR(rangesLength(f.document(), side), box.sizes().x() + box.sizes().y() / 4, 0.002);
+    EXPECT_TRUE(view.seamPick(1).empty());
+    // Enter with one side does nothing; Esc drops the pick.
+    QTest::keyClick(&view, Qt::Key_Return);
+    EXPECT_TRUE(f.document().seams.empty());
+    QTest::keyClick(&view, Qt::Key_Escape);
+    EXPECT_TRUE(view.seamPick(0).empty());
+    EXPECT_TRUE(view.feedback().isEmpty());
+    EXPECT_TRUE(f.errors.isEmpty()) << f.errors.join("; ").toStdString();
+}
+
 TEST(PatternView, APolygonIsDrawnByClicksAndEscCancelsOne) {
     Fixture f;
     PatternView& view = f.view();
