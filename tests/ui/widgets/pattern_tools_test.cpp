@@ -63,13 +63,14 @@ void click(QWidget* surface, QPoint at, Qt::KeyboardModifiers modifiers = {}) {
 }
 
 /// A window on a new project (no panels, one fabric), 0.5 pixel per millimetre around the
-/// scene's origin; errors are collected.
+/// scene's origin; errors are collected. `fresh`: the project the window starts with, as the
+/// program opened without a file (not File > New).
 struct Fixture {
     QTemporaryDir dir;
     MainWindow window{GARMENTS};
     QStringList errors;
 
-    Fixture() {
+    explicit Fixture(bool fresh = false) {
         Prompts p;
         p.error = [this](const QString& message) { errors << message; };
         p.saveChanges = [](const QString&) { return QMessageBox::Discard; };
@@ -79,9 +80,11 @@ struct Fixture {
         window.setRecoveryDirectory(dir.filePath("recovery"));
         window.resize(1000, 700);
         window.show();
-        QSignalSpy ready(&window, &MainWindow::projectReady);
-        window.newProject();
-        waitFor([&] { return ready.count() >= 1; }, 60);
+        if (!fresh) {
+            QSignalSpy ready(&window, &MainWindow::projectReady);
+            window.newProject();
+            waitFor([&] { return ready.count() >= 1; }, 60);
+        }
         view().resetTransform();
         view().scale(0.5, 0.5);
         view().centerOn(0, 0);
@@ -370,8 +373,9 @@ TEST(PatternView, TheSeamToolExtendsASideAlongTheOutlineWholeOrPartly) {
 }
 
 TEST(PatternView, APolygonIsDrawnByClicksAndEscCancelsOne) {
-    Fixture f;
+    Fixture f(true);
     PatternView& view = f.view();
+    QSignalSpy rebuilt(&f.window.drape(), &DrapeController::rebuilt);
     view.setTool(PatternView::Tool::Polygon);
     // Five corners, clockwise on the screen (y down): counter-clockwise in the pattern (y up).
     const std::vector<QPointF> corners = {
@@ -397,6 +401,11 @@ TEST(PatternView, APolygonIsDrawnByClicksAndEscCancelsOne) {
         EXPECT_LT(nearest, 2.0);
     }
     EXPECT_NEAR(signedArea(drawn), (400.0 * 200 + 400.0 * 120 / 2) / 1e6, 0.002);
+    // The window started without a file: the drape places the first panel all the same.
+    ASSERT_TRUE(waitFor([&] { return rebuilt.count() >= 1 || !f.errors.isEmpty(); }, 120));
+    ASSERT_TRUE(f.errors.isEmpty()) << f.errors.join("; ").toStdString();
+    ASSERT_TRUE(f.window.drape().staticScene());
+    EXPECT_EQ(f.window.drape().staticScene()->panelNames.size(), 1U);
 
     // Two clicks then Esc: nothing.
     click(f.surface(), f.at({-200, 400}));
