@@ -1,6 +1,7 @@
 // The pattern view's tools under QT_QPA_PLATFORM=offscreen, driven with mouse and key events
 // on its viewport: drawing rectangles and polygons, bending a curve by its handle, moving and
 // rotating panels in the layout, and the seam tool; and the geometry behind them.
+#include "ui/render/scene.h"
 #include "ui/widgets/drape_controller.h"
 #include "ui/widgets/main_window.h"
 #include "ui/widgets/pattern_tools.h"
@@ -13,6 +14,7 @@
 #include <QAction>
 #include <QApplication>
 #include <QElapsedTimer>
+#include <QImage>
 #include <QSettings>
 #include <QSignalSpy>
 #include <QStandardPaths>
@@ -299,6 +301,29 @@ TEST(PatternView, DrawARectangleMirrorItsCopySewThePairAndUndoToTheEmptyProject)
     EXPECT_EQ(seam.b[0].t0, picked.t0);
     EXPECT_EQ(seam.b[0].t1, picked.t1);
     EXPECT_TRUE(view.seamPick(0).empty()) << "the pick is done";
+    // Both sides are drawn in the seam's colour (the first seam's).
+    const QImage picture = view.viewport()->grab().toImage();
+    const render::Colour c = render::seamColour(0);
+    const auto seamColoured = [&](QPoint at) {
+        for (int dy = -2; dy <= 2; ++dy) {
+            for (int dx = -2; dx <= 2; ++dx) {
+                const QColor p = picture.pixelColor(at + QPoint(dx, dy));
+                if (std::abs(p.redF() - c.r) + std::abs(p.greenF() - c.g) +
+                        std::abs(p.blueF() - c.b) <
+                    0.1) {
+                    return true;
+                }
+            }
+        }
+        return false;
+    };
+    const double pixelRatio = picture.devicePixelRatio();
+    EXPECT_TRUE(
+        seamColoured(view.viewPoint(original.id, edgeMiddle(original, right)) * pixelRatio));
+    EXPECT_TRUE(seamColoured(view.viewPoint(copyId, edgeMiddle(copy, left)) * pixelRatio));
+    EXPECT_FALSE(seamColoured(view.viewPoint(copyId, edgeMiddle(copy, edgeFacing(copy, {1, 0}))) *
+                              pixelRatio))
+        << "not on an edge that is not sewn";
     EXPECT_EQ(view.selectedSeam(), seam.id);
     // The new seam is selected: its lengths and mismatch for the status bar.
     ASSERT_GE(said.count(), 1);
