@@ -33,6 +33,21 @@ Colour panelColour(int index) {
     return PALETTE[static_cast<std::size_t>(((index % n) + n) % n)];
 }
 
+Colour seamColour(int index) {
+    static constexpr std::array<Colour, 8> PALETTE = {{
+        {0.85f, 0.10f, 0.45f, 1.0f}, // magenta
+        {0.10f, 0.45f, 0.90f, 1.0f}, // blue
+        {0.95f, 0.55f, 0.00f, 1.0f}, // orange
+        {0.05f, 0.60f, 0.25f, 1.0f}, // green
+        {0.55f, 0.15f, 0.80f, 1.0f}, // violet
+        {0.00f, 0.65f, 0.70f, 1.0f}, // cyan
+        {0.80f, 0.15f, 0.10f, 1.0f}, // red
+        {0.45f, 0.35f, 0.05f, 1.0f}, // brown
+    }};
+    const auto n = static_cast<int>(PALETTE.size());
+    return PALETTE[static_cast<std::size_t>(((index % n) + n) % n)];
+}
+
 Colour bodyColour() {
     return {0.74f, 0.72f, 0.69f, 1.0f};
 }

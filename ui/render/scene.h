@@ -73,6 +73,10 @@ Eigen::AlignedBox3d sceneBounds(const Scene& scene);
 /// The colour of panel `index` (0, 1, ...): a palette of distinct, soft fabric tones, cycled.
 Colour panelColour(int index);
 
+/// The colour of seam `index` (0, 1, ...) in the document's order: saturated tones that stand
+/// out on the panel colours, cycled. The pattern view draws each seam's two sides in it.
+Colour seamColour(int index);
+
 /// The body's colour: a light warm grey, like a dress form.
 Colour bodyColour();
 

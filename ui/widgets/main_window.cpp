@@ -7,6 +7,7 @@
 #include "io/body_file.h"
 #include "io/dxf_aama.h"
 #include "io/garmentcode.h"
+#include "io/materials.h"
 #include "io/mesh_import.h"
 #include "io/obj.h"
 #include "io/project_file.h"
@@ -53,6 +54,19 @@ bool isBodyMesh(const QString& path) {
 bool openable(const QString& path) {
     const QString suffix = QFileInfo(path).suffix().toLower();
     return suffix == "atelier" || suffix == "json" || suffix == "dxf" || isBodyMesh(path);
+}
+
+/// A project without panels, with one fabric ("fabric", the cotton preset, as a DXF import's)
+/// for the panels drawn in it.
+patterns::Project untitledProject() {
+    patterns::Project project;
+    project.name = "untitled";
+    const io::MaterialPresets& presets = io::builtinMaterialPresets();
+    if (const auto cotton = presets.find("cotton"); cotton != presets.end()) {
+        project.document.materials.push_back(patterns::GarmentMaterial{"fabric", cotton->second});
+        patterns::syncGarment(project);
+    }
+    return project;
 }
 
 } // namespace
@@ -117,9 +131,10 @@ MainWindow::MainWindow(QString samplesDir, QWidget* parent)
         [this](const QString& message) { QMessageBox::warning(this, tr("Atelier"), message); }};
     m_recoveryDir =
         QStandardPaths::writableLocation(QStandardPaths::AppLocalDataLocation) + "/recovery";
-    m_project.name = "untitled";
+    m_project = untitledProject();
     buildMenus();
     buildDocks();
+    buildPatternTools();
     updateTitle();
     connect(&m_undo, &QUndoStack::cleanChanged, this, [this] { updateTitle(); });
     connect(&m_autosave, &QTimer::timeout, this, [this] { autosave(); });
@@ -355,9 +370,7 @@ bool MainWindow::newProject() {
     if (!maybeSave()) {
         return false;
     }
-    patterns::Project project;
-    project.name = "untitled";
-    adopt(std::move(project), QString(), false);
+    adopt(untitledProject(), QString(), false);
     return true;
 }
 
@@ -557,6 +570,26 @@ bool MainWindow::duplicateSelectedPanel() {
     const patterns::PanelId id = panel->id;
     return edit(
         [id, name](patterns::GarmentDocument& d) { return patterns::duplicatePanel(d, id, name); });
+}
+
+// ---- Pattern tools ----
+
+void MainWindow::buildPatternTools() {
+    // The pattern view's tools make their edits through the undo stack.
+    m_pattern->setEditor([this](const PatternView::EditMaker& make) { return edit(make); });
+    connect(m_pattern, &PatternView::message, this,
+            [this](const QString& text) { statusBar()->showMessage(text, 8000); });
+    QMenu* menu = menuBar()->addMenu(tr("&Tools"));
+    QToolBar* bar = addToolBar(tr("Pattern tools"));
+    bar->setObjectName("pattern-toolbar");
+    for (QAction* a : m_pattern->toolActions()) {
+        menu->addAction(a);
+        bar->addAction(a);
+    }
+    menu->addSeparator();
+    for (QAction* a : m_pattern->editActions()) {
+        menu->addAction(a);
+    }
 }
 
 // ---- Autosave and recovery ----

@@ -161,6 +161,8 @@ class MainWindow : public QMainWindow {
     /// Feeds the live plot and the Simulation dock's phase (the status timer).
     void docksFollowDrape(const DrapeProgress& progress);
     void applyDrapeSettings(const patterns::DrapeSettings& settings);
+    /// The pattern view's tools in a Tools menu and a tool bar; its edits on the undo stack.
+    void buildPatternTools();
     void updateStatus();
     void exportMesh();
     void savePicture();

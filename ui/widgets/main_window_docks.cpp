@@ -168,6 +168,11 @@ void MainWindow::buildDocks() {
                 }
                 m_fabricDock->showFabric(fabric);
             });
+    // A seam picked in the pattern shows in the Seam dock.
+    connect(m_pattern, &PatternView::seamSelected, this, [this](quint32 seam) {
+        m_seamDock->showSeam(patterns::SeamId{seam});
+        m_seamDock->raise();
+    });
     connect(m_seamDock, &SeamDock::reverseRequested, this, [this](quint32 seam) {
         edit([&](patterns::GarmentDocument& d) {
             return patterns::reverseSeam(d, patterns::SeamId{seam});

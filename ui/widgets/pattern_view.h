@@ -1,20 +1,41 @@
 #pragma once
 /// The 2D view: the garment document's panels as the designer drew them (outlines, holes,
-/// internal lines), laid side by side in pattern space, one colour per panel as in the 3D view.
-/// Zoom with the wheel, pan by dragging the background; a click selects a panel and shows its
-/// outline and hole points as handles. Dragging a handle moves the point (the lengths of its
-/// two edges shown; Shift snaps to a 5 mm grid, Ctrl+Shift to 1 mm), Delete deletes the
-/// selected point, a double-click on an edge of the selected panel adds a point there. The view
-/// edits nothing itself: it asks, by signal, and the window makes the edit.
+/// internal lines) and its seams, one colour per panel as in the 3D view and one per seam.
+/// Zoom with the wheel, pan by dragging the background (Select) or with the middle button
+/// (every tool). Tools (toolActions()):
+/// - Select (A): a click selects a panel and shows its outline and hole points, and the Bézier
+///   handles of its curved edges. Drag a point or a handle to move it (lengths shown; Shift
+///   snaps to a 5 mm grid, Ctrl+Shift to 1 mm; points snap to other points within a few
+///   pixels); click an edge to select it (V makes it a curve or straight again); double-click
+///   an edge to add a point; Delete deletes the selected point, or the selected seam (click a
+///   sewn edge). Drag a panel's body to move it and its round handle to rotate it (Shift: 15°
+///   steps): the layout of the 2D view only, not the document.
+/// - Rectangle (S): drag out a rectangle, a new panel.
+/// - Polygon (H): click corners; click the first one, double-click or press Enter to close,
+///   Backspace drops the last, Esc cancels.
+/// - Seam (N): click an outline edge, Shift+click to extend the range to another edge (Ctrl:
+///   from or to the clicked point), then the same on the second side; R reverses the second
+///   side, Enter sews, Esc cancels.
+/// The view edits nothing itself: it asks, by signal or through the editor the window gives it
+/// (setEditor), and draws the document the window hands back.
 
 #include "patterns/document.h"
+#include "patterns/document_edit.h"
 #include "patterns/garment.h"
 
-#include <QGraphicsView>
+#include "sim/core/result.h"
 
+#include <QGraphicsView>
+#include <QTransform>
+
+#include <functional>
 #include <map>
 #include <optional>
+#include <string>
+#include <vector>
 
+class QAction;
+class QActionGroup;
 class QGraphicsPathItem;
 class QGraphicsSimpleTextItem;
 
@@ -23,6 +44,13 @@ namespace atelier::ui {
 class PatternView : public QGraphicsView {
     Q_OBJECT
   public:
+    enum class Tool { Select, Rectangle, Polygon, Seam };
+    Q_ENUM(Tool)
+    /// Makes one edit of the document (as MainWindow::edit takes it).
+    using EditMaker = std::function<Result<patterns::Edit>(patterns::GarmentDocument&)>;
+    /// Applies an edit through the window's undo stack; false when it was refused.
+    using Editor = std::function<bool(const EditMaker&)>;
+
     explicit PatternView(QWidget* parent = nullptr);
     ~PatternView() override;
     PatternView(const PatternView&) = delete;
@@ -34,26 +62,70 @@ class PatternView : public QGraphicsView {
     void setDocument(const patterns::GarmentDocument& document, bool keepLayout = false);
     /// The panels drawn (one item each), for tests.
     int panelCount() const { return m_panels; }
+    /// Where the tools send their edits (drawn panels, curves, seams). Without one they do
+    /// nothing.
+    void setEditor(Editor editor) { m_editor = std::move(editor); }
+
+    // ---- Tools ----
+
+    Tool tool() const { return m_tool; }
+    /// Changes the tool, dropping a drawing or seam pick under way.
+    void setTool(Tool tool);
+    /// Select, Rectangle, Polygon and Seam: checkable, exclusive, with their shortcuts.
+    QList<QAction*> toolActions() const;
+    /// Curve edge (V), Reverse seam (R), Sew (Enter in the Seam tool), for a menu.
+    QList<QAction*> editActions() const;
+    /// The text shown beside the mouse while drawing or dragging (empty otherwise): lengths,
+    /// sizes, positions [mm].
+    QString feedback() const;
+
+    // ---- Selection ----
 
     /// The selected panel, or none.
     patterns::PanelId selectedPanel() const { return m_selectedPanel; }
     void selectPanel(patterns::PanelId panel);
     /// The selected outline or hole point of the selected panel, or none.
     patterns::PointId selectedPoint() const { return m_selectedPoint; }
+    /// The selected outline or hole edge of the selected panel, or none.
+    patterns::EdgeId selectedEdge() const { return m_selectedEdge; }
+    /// The selected seam, or none.
+    patterns::SeamId selectedSeam() const { return m_selectedSeam; }
+    void selectSeam(patterns::SeamId seam);
     /// Where pattern point `at` [m] of `panel` is drawn, in the view's viewport coordinates.
     QPoint viewPoint(patterns::PanelId panel, const patterns::Vec2& at) const;
+    /// The same in scene coordinates [mm, y down], exactly.
+    QPointF scenePoint(patterns::PanelId panel, const patterns::Vec2& at) const;
     /// The edge lengths shown while a point is dragged (empty otherwise).
     QString dragLengths() const;
+
+    // ---- Edits the tools make ----
+
+    /// Makes the selected edge a cubic curve (handles on its chord, a third from each end), or
+    /// straight again when it is curved (setCurve). False when no edge is selected or refused.
+    bool toggleCurve();
+    /// In the Seam tool with a second side picked: that side runs the other way. Otherwise the
+    /// selected seam is sewn the other way round (reverseSeam). False when neither.
+    bool reverseSeam();
+    /// Sews the two sides picked with the Seam tool (addSeam). False when a side is missing or
+    /// the edit is refused.
+    bool sew();
+    /// The ranges picked with the Seam tool: side 0 (a) or 1 (b).
+    const std::vector<patterns::doc::SeamRange>& seamPick(int side) const;
 
   Q_SIGNALS:
     /// The selected panel's name (empty when none).
     void panelSelected(const QString& name);
+    /// A seam was picked with the mouse (its id's value).
+    void seamSelected(quint32 seam);
     /// A point was dragged to (x, y) [m] and let go.
     void pointMoveRequested(quint32 panel, quint32 point, double x, double y);
     /// Delete was pressed with a point selected.
     void pointDeleteRequested(quint32 panel, quint32 point);
     /// An edge was double-clicked at curve parameter t, at (x, y) on it [m].
     void pointAddRequested(quint32 panel, quint32 edge, double t, double x, double y);
+    /// A line for the status bar: the selected seam's lengths and mismatch, what a tool does.
+    void message(const QString& text);
+    void toolChanged(atelier::ui::PatternView::Tool tool);
 
   protected:
     void wheelEvent(QWheelEvent* event) override;
@@ -70,35 +142,126 @@ class PatternView : public QGraphicsView {
         patterns::Vec2 position = patterns::Vec2::Zero(); ///< where it is now [m]
         bool moved = false;
     };
-    /// An outline or hole edge of the selected panel within a few pixels of `at` (viewport).
-    struct EdgePick {
+    /// A Bézier handle being dragged.
+    struct HandleDrag {
+        patterns::PanelId panel;
         patterns::EdgeId edge;
+        int control = 1;            ///< 1 or 2
+        patterns::doc::Curve curve; ///< with the handle where it is now
+        bool moved = false;
+    };
+    /// A panel being moved or rotated in the layout.
+    struct LayoutDrag {
+        patterns::PanelId panel;
+        QTransform start;   ///< its layout when pressed
+        QPointF pressScene; ///< where it was pressed [scene]
+        QPointF pivot;      ///< rotation centre [scene]
+        bool rotate = false;
+        bool moved = false;
+        QPoint pressView; ///< where it was pressed [viewport]
+    };
+    /// A rectangle or polygon being drawn [scene].
+    struct Drawing {
+        std::vector<QPointF> points;
+        QPointF cursor;
+        bool dragging = false; ///< the rectangle's button is down
+    };
+    /// One side of a seam being picked: a run along one panel's outline.
+    struct SidePick {
+        patterns::PanelId panel;
+        int fromEdge = 0;
+        double fromT = 0;
+        int toEdge = 0;
+        double toT = 1;
+        bool forward = true;
+        bool partialStart = false; ///< from the clicked point (Ctrl), not the edge's end
+    };
+    /// An outline (or hole) edge within a few pixels of a viewport point.
+    struct EdgePick {
+        patterns::PanelId panel;
+        patterns::EdgeId edge;
+        int index = 0;                              ///< of the edge in its contour
+        bool outline = true;                        ///< on the outline (not a hole)
         double t = 0;                               ///< curve parameter of the nearest point
         patterns::Vec2 at = patterns::Vec2::Zero(); ///< that point [m]
     };
-    std::optional<EdgePick> pickEdge(const QPoint& at) const;
+    /// The edge nearest `at` within a few pixels: of panel `only` (outline and holes), or of
+    /// every panel's outline when `only` is none.
+    std::optional<EdgePick> pickEdge(const QPoint& at, patterns::PanelId only) const;
+    std::optional<EdgePick> pickEdge(const QPoint& at) const {
+        return pickEdge(at, m_selectedPanel);
+    }
+    /// The seam with a range through `pick`, or none.
+    patterns::SeamId seamAt(const EdgePick& pick) const;
     const patterns::doc::Panel* panel(patterns::PanelId id) const;
-    double offset(patterns::PanelId id) const;
+    /// The panel's layout: pattern millimetres (y up) to scene (y down).
+    QTransform layout(patterns::PanelId id) const;
     /// Pattern coordinates [m] of a scene point over panel `id`.
     patterns::Vec2 toPattern(patterns::PanelId id, const QPointF& scene) const;
     QPointF toScene(patterns::PanelId id, const patterns::Vec2& at) const;
+    /// Scene units (mm) per viewport pixel.
+    double sceneUnitsPerPixel() const;
+    /// A scene point snapped: onto an outline or hole point within a few pixels (not
+    /// `exclude`), else with Shift onto the grid of panel `gridPanel`'s pattern coordinates
+    /// (the scene's millimetres when none): 5 mm, 1 mm with Ctrl.
+    QPointF snap(const QPointF& scene, Qt::KeyboardModifiers modifiers, patterns::PointId exclude,
+                 patterns::PanelId gridPanel) const;
     void redraw();
     void drawHandles();
+    /// The drawing, the seam pick and the feedback text, drawn again.
+    void drawOverlay();
+    void clearOverlay();
     /// Redraws the dragged panel's outline with the point at the drag's position and the
     /// lengths of its two edges beside it.
     void showDrag();
+    void showHandleDrag();
+    void setFeedback(const QString& text, const QPointF& scene);
+    void selectSeamAndSay(patterns::SeamId seam);
+    /// Closes the polygon being drawn (≥ 3 corners) into a new panel.
+    bool finishPolygon();
+    /// Adds the panel of `corners` [scene], placed in the view where they were drawn.
+    bool addDrawnPanel(const std::vector<QPointF>& corners);
+    bool applyEdit(const EditMaker& make);
+    std::vector<patterns::doc::SeamRange> rangesOf(const SidePick& side) const;
+    void pickSeamEdge(const EdgePick& pick, Qt::KeyboardModifiers modifiers);
+    /// The picked sides' ranges again; the second one runs so that the seam sews start to
+    /// start as the panels lie in the view, unless the user reversed it.
+    void updateSeamPick();
+    void cancelTool();
 
     QGraphicsScene m_scene;
     patterns::GarmentDocument m_document;
-    /// Horizontal shift of each panel in the scene [mm], by panel id.
-    std::map<std::uint32_t, double> m_offsets;
+    Editor m_editor;
+    /// Each panel's layout in the scene (pattern mm, y up → scene), by panel id.
+    std::map<std::uint32_t, QTransform> m_layouts;
+    /// The layout of the next panel added under this name (one just drawn).
+    std::optional<std::pair<std::string, QTransform>> m_pendingLayout;
     std::map<std::uint32_t, QGraphicsPathItem*> m_items;
     std::vector<QGraphicsItem*> m_handles;
+    std::vector<QGraphicsItem*> m_overlay;
     QGraphicsSimpleTextItem* m_lengths = nullptr;
+    QString m_feedback;
     int m_panels = 0;
     patterns::PanelId m_selectedPanel;
     patterns::PointId m_selectedPoint;
+    patterns::EdgeId m_selectedEdge;
+    patterns::SeamId m_selectedSeam;
     std::optional<Drag> m_drag;
+    std::optional<HandleDrag> m_handleDrag;
+    std::optional<LayoutDrag> m_layoutDrag;
+    std::optional<Drawing> m_drawing;
+    /// The middle button is down: the view pans with the mouse (from here, viewport).
+    std::optional<QPoint> m_pan;
+    std::optional<SidePick> m_sides[2];
+    /// The second side was reversed by the user (R) against the direction chosen for it.
+    bool m_secondReversed = false;
+    std::vector<patterns::doc::SeamRange> m_seamRanges[2];
+    Tool m_tool = Tool::Select;
+    QActionGroup* m_toolGroup = nullptr;
+    std::map<Tool, QAction*> m_toolActions;
+    QList<QAction*> m_editActions;
+    /// The last left press went on to QGraphicsView (selection, panning), so its release does.
+    bool m_pressPassedOn = false;
     /// Items are being removed (a redraw, the destructor): selection changes are not acted on.
     bool m_redrawing = false;
 };
