@@ -2,6 +2,7 @@
 
 #include "patterns/placement.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -17,6 +18,16 @@ Error sessionError(std::string message) {
 }
 
 } // namespace
+
+double interactiveStep(const DrapeSettings& settings) {
+    const double frame = 1.0 / sim::SceneSpec().frameRate; // the assembled scene's frames
+    const double limit = std::min(settings.particleDistance * 1.0 /* s/m */, MAX_INTERACTIVE_STEP);
+    if (!(limit > settings.dt)) {
+        return settings.dt;
+    }
+    const double step = frame / std::ceil(frame / limit - 1e-9);
+    return std::max(step, settings.dt);
+}
 
 std::string_view phaseName(DrapePhase phase) {
     switch (phase) {
@@ -141,7 +152,11 @@ Result<void> DrapeSession::prepare() {
 
 Result<void> DrapeSession::build(const Start& start) {
     AssembledGarment assembled;
-    if (auto err = assembleGarment(m_project.garment, m_mesh, m_body, m_project.drape, assembled)) {
+    DrapeSettings settings = m_project.drape;
+    if (m_interactive) {
+        settings.dt = interactiveStep(settings);
+    }
+    if (auto err = assembleGarment(m_project.garment, m_mesh, m_body, settings, assembled)) {
         return sessionError(*err);
     }
     sim::SceneSpec& scene = assembled.scene;

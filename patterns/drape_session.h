@@ -96,6 +96,20 @@ struct PinnedVertex {
 /// mannequin with its measurement checks). Called only when the project's body source changes.
 using BodyProvider = std::function<Result<Body>(const BodySource& source)>;
 
+/// The step a window drapes with, for `settings`: the project's step `dt`, enlarged where the
+/// mesh is coarse enough for it. The step may reach the particle distance × 1 s/m (20 ms at
+/// 20 mm, never above 20 ms); of the steps up to that, the largest that divides an output frame
+/// (1/30 s) evenly, since steps end on frame times (a 10 ms step takes four per frame: 10, 10,
+/// 10 and 3.3 ms). A project whose step is already at or above that keeps it. At 20 mm: 1/60 s,
+/// two steps a frame instead of four; the four samples drape clean with it, and faster in wall
+/// time per simulated second (docs/benchmarks.md, "Threads, a shared machine and interactive
+/// speed"; docs/decisions/025-interactive-step.md) [s].
+double interactiveStep(const DrapeSettings& settings);
+
+/// The largest step interactiveStep() takes [s]: the 20 mm samples drape clean at 20 ms; at
+/// 1/30 s the 20 mm tshirt keeps a 16 mm seam gap at rest.
+inline constexpr double MAX_INTERACTIVE_STEP = 0.02;
+
 class DrapeSession {
   public:
     explicit DrapeSession(BodyProvider bodies);
@@ -152,6 +166,11 @@ class DrapeSession {
     const sim::Simulation* simulation() const { return m_simulation.get(); }
     /// Publishes a snapshot after every step into snapshots() (off by default).
     void setPublishing(bool on);
+    /// Steps with interactiveStep() instead of the project's step (off by default): a window
+    /// drapes so, and `atelier-cli bench drape` measures it. Applies from the next prepare()
+    /// or rebuild; the project's settings are not changed.
+    void setInteractive(bool on) { m_interactive = on; }
+    bool interactive() const { return m_interactive; }
     /// Any thread may read() the latest snapshot from here, across restarts.
     sim::SnapshotBuffer& snapshots() { return m_snapshots; }
 
@@ -222,6 +241,7 @@ class DrapeSession {
     std::unique_ptr<sim::Simulation> m_simulation;
     sim::SnapshotBuffer m_snapshots;
     bool m_publishing = false;
+    bool m_interactive = false;
 
     std::atomic<DrapePhase> m_phase{DrapePhase::Empty};
     std::atomic<bool> m_pause{false};

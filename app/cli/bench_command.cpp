@@ -133,7 +133,9 @@ void addDrape(CLI::App& bench) {
     cmd->add_option("--time-limit", o->timeLimit,
                     "Simulated time limit [s] (default: the project's)")
         ->check(CLI::PositiveNumber);
-    cmd->add_option("--dt", o->dt, "Step [s] (default: the project's)")->check(CLI::PositiveNumber);
+    cmd->add_option("--dt", o->dt,
+                    "Step [s] (default: the window's, the project's enlarged on coarse meshes)")
+        ->check(CLI::PositiveNumber);
     cmd->add_option("--linear-solver", o->linearSolver,
                     "Implicit solve's preconditioner (default: the project's)")
         ->check(CLI::IsMember({"block-jacobi", "block-ic0"}));

@@ -118,6 +118,7 @@ int runDrapeBench(const DrapeBenchOptions& o) {
     patterns::DrapeSession session([&](const patterns::BodySource& source) {
         return io::loadBody(source, dir, o.project, *limits);
     });
+    session.setInteractive(!(o.dt > 0)); // the window's step, unless --dt sets one
     session.setProject(std::move(project));
     if (auto prepared = session.prepare(); !prepared.ok()) {
         std::cerr << "error: " << o.project << ": " << prepared.error().toString() << "\n";
@@ -188,7 +189,8 @@ int runDrapeBench(const DrapeBenchOptions& o) {
     j["step_median_s"] = quantile(0.5);
     j["step_p99_s"] = quantile(0.99);
     j["step_longest_s"] = stepSeconds.empty() ? 0.0 : stepSeconds.back();
-    j["dt_s"] = session.project().drape.dt;
+    j["dt_s"] = session.simulation()->scene().integrator.dt;
+    j["interactive_step"] = session.interactive();
     const sim::RunStats& stats = session.simulation()->stats();
     j["linear_solver"] = std::string(sim::linearSolverName(session.project().drape.linearSolver));
     j["cg_iterations"] = stats.cgIterations;
@@ -197,6 +199,7 @@ int runDrapeBench(const DrapeBenchOptions& o) {
     j["linear_solve_worst_residual"] = stats.worstRelativeResidual;
     j["seam_gap_max_m"] = f.seamGapMax;
     j["intersecting_triangle_pairs"] = session.simulation()->intersectingTrianglePairs();
+    j["max_penetration_m"] = stats.maxPenetration;
     j["largest_forced_weld_m"] = session.simulation()->stats().largestForcedWeld;
     const std::string text = io::jsonText(j);
     if (o.out.empty()) {

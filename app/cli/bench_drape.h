@@ -17,7 +17,7 @@ struct DrapeBenchOptions {
     std::string out;                ///< JSON output (default: stdout)
     double particleDistanceMm = -1; ///< override of the project's [mm]
     double timeLimit = -1;          ///< override of the project's simulated time limit [s]
-    double dt = -1;                 ///< override of the project's step [s]
+    double dt = -1;                 ///< step [s] (< 0: the window's, patterns::interactiveStep)
     std::string linearSolver;       ///< override of the project's linear solver; empty = keep
     int threads = 0;                ///< engine threads (0: all cores)
     double readerHz = 0;            ///< snapshots read by another thread per second (0: none)

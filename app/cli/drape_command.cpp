@@ -340,6 +340,7 @@ int runDrape(const DrapeOptions& options, const DrapeFinished& finished) {
     }
 
     patterns::DrapeSession session(projectBodies(options.project, *limits));
+    session.setInteractive(options.interactive);
     session.setProject(std::move(*project));
     if (auto prepared = session.prepare(); !prepared.ok()) {
         const Error& e = prepared.error();
@@ -471,6 +472,8 @@ void addDrapeCommand(CLI::App& app) {
     cmd->add_option("--linear-solver", options->linearSolver,
                     "Implicit solve's preconditioner (default: the project's)")
         ->check(CLI::IsMember({"block-jacobi", "block-ic0"}));
+    cmd->add_flag("--interactive", options->interactive,
+                  "Step as the window does (the project's step, enlarged on coarse meshes)");
     cmd->add_option("--frames-dir", options->framesDir,
                     "Write the garment at every output frame to DIR/frame_NNNNN.obj");
     cmd->add_option("--max-vertices", options->maxVertices,

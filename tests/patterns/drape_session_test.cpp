@@ -86,6 +86,37 @@ sim::MatX3 panelRows(const DrapeSession& s, std::size_t p) {
     return s.positions().middleRows(o[p], o[p + 1] - o[p]);
 }
 
+TEST(InteractiveStep, EnlargedOnCoarseMeshesInWholeStepsPerFrame) {
+    DrapeSettings s;
+    s.dt = 0.01;
+    s.particleDistance = 0.02; // up to 20 ms: two steps per 1/30 s frame
+    EXPECT_DOUBLE_EQ(interactiveStep(s), 1.0 / 60);
+    s.particleDistance = 0.015; // up to 15 ms: three
+    EXPECT_DOUBLE_EQ(interactiveStep(s), 1.0 / 90);
+    s.particleDistance = 0.05; // never above MAX_INTERACTIVE_STEP
+    EXPECT_DOUBLE_EQ(interactiveStep(s), 1.0 / 60);
+    s.particleDistance = 0.01; // the project's step is at the limit already
+    EXPECT_EQ(interactiveStep(s), 0.01);
+    s.particleDistance = 0.011; // 11 ms would take four steps of 8.3 ms: keep 10 ms
+    EXPECT_EQ(interactiveStep(s), 0.01);
+    s.particleDistance = 0.02;
+    s.dt = 0.025; // a step larger than the rule's is the project's choice
+    EXPECT_EQ(interactiveStep(s), 0.025);
+}
+
+TEST(DrapeSession, InteractiveStepsTheSceneAndLeavesTheProject) {
+    Fixture f;
+    const double projectStep = f.session.project().drape.dt;
+    f.session.setInteractive(true);
+    ASSERT_TRUE(f.session.prepare().ok());
+    const double step = interactiveStep(f.session.project().drape);
+    EXPECT_GT(step, projectStep);
+    EXPECT_EQ(f.session.simulation()->scene().integrator.dt, step);
+    EXPECT_EQ(f.session.project().drape.dt, projectStep);
+    EXPECT_EQ(f.session.step(), DrapeStatus::Running);
+    EXPECT_NEAR(f.session.time(), step, 1e-12) << "one step of the interactive size";
+}
+
 TEST(DrapeSession, PhasesAndEventsOfASewnBand) {
     Fixture f;
     EXPECT_EQ(f.session.phase(), DrapePhase::Empty);

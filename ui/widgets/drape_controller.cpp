@@ -15,6 +15,7 @@ DrapeController::DrapeController(QObject* parent) : QObject(parent) {
             return io::loadBody(source, m_projectFile.parent_path(), m_projectFile);
         });
     m_session->setPublishing(true);
+    m_session->setInteractive(true); // the step `atelier-cli bench drape` measures
     m_worker = std::thread([this] { loop(); });
 }
 
