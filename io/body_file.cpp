@@ -93,12 +93,7 @@ Result<patterns::Body> loadBody(const patterns::BodySource& source,
     if (!std::filesystem::exists(path)) {
         return Error{projectFile.string(), "/body/mesh", "body mesh not found: " + path.string()};
     }
-    BodyImportOptions options;
-    // The project reader checked the spellings.
-    options.units = parseLengthUnit(source.meshUnits.empty() ? "auto" : source.meshUnits)
-                        .value_or(LengthUnit::Auto);
-    options.up = parseUpAxis(source.meshUp.empty() ? "auto" : source.meshUp).value_or(UpAxis::Auto);
-    auto imported = importBody(path, options, limits);
+    auto imported = importBody(path, bodyImportOptions(source), limits);
     if (!imported.ok()) {
         return imported.error();
     }
@@ -114,6 +109,15 @@ Result<patterns::Body> loadBody(const patterns::BodySource& source,
         return Error{path.string(), "", *problem};
     }
     return body;
+}
+
+BodyImportOptions bodyImportOptions(const patterns::BodySource& source) {
+    BodyImportOptions options;
+    // The project reader checked the spellings.
+    options.units = parseLengthUnit(source.meshUnits.empty() ? "auto" : source.meshUnits)
+                        .value_or(LengthUnit::Auto);
+    options.up = parseUpAxis(source.meshUp.empty() ? "auto" : source.meshUp).value_or(UpAxis::Auto);
+    return options;
 }
 
 Result<patterns::BodySource> readMeasurementsFile(const std::filesystem::path& path,

@@ -3,6 +3,7 @@
 /// file; and measurement files for `atelier-cli body`.
 
 #include "io/limits.h"
+#include "io/mesh_import.h"
 #include "io/result.h"
 
 #include "patterns/mannequin.h"
@@ -20,6 +21,9 @@ namespace atelier::io {
 /// measurements that do not fit together.
 Result<patterns::BodyMeasurements> bodyMeasurements(const patterns::BodySource& source,
                                                     const std::string& file);
+
+/// The import options of the source's mesh: its unit and up axis, detected where not given.
+BodyImportOptions bodyImportOptions(const patterns::BodySource& source);
 
 /// The mannequin of the source (meshPath empty).
 Result<patterns::Mannequin> makeBody(const patterns::BodySource& source, const std::string& file);

@@ -251,7 +251,8 @@ const std::vector<std::string>& bodyMeshExtensions() {
     return EXTENSIONS;
 }
 
-void weldByPosition(sim::MatX3& positions, sim::MatX3i& triangles, double distance, long& dropped) {
+void weldByPosition(sim::MatX3& positions, sim::MatX3i& triangles, double distance, long& dropped,
+                    std::vector<int>* sourceToWelded) {
     const Eigen::Index n = positions.rows();
     std::vector<int> target(static_cast<std::size_t>(n));
     std::iota(target.begin(), target.end(), 0);
@@ -326,6 +327,13 @@ void weldByPosition(sim::MatX3& positions, sim::MatX3i& triangles, double distan
         }
     }
     positions = std::move(compact);
+    if (sourceToWelded != nullptr) {
+        sourceToWelded->resize(static_cast<std::size_t>(n));
+        for (Eigen::Index i = 0; i < n; ++i) {
+            (*sourceToWelded)[static_cast<std::size_t>(i)] =
+                newIndex[static_cast<std::size_t>(target[static_cast<std::size_t>(i)])];
+        }
+    }
     triangles.resize(static_cast<Eigen::Index>(kept.size()), 3);
     for (std::size_t f = 0; f < kept.size(); ++f) {
         for (int k = 0; k < 3; ++k) {
@@ -476,14 +484,15 @@ Result<ImportedBody> normaliseBody(const RawMesh& raw, const std::string& file,
         x.row(i) = report.up == UpAxis::Z ? sim::Vec3(p.x(), p.z(), -p.y()) : p;
     }
     x *= scale;
-    x.col(1).array() -= x.col(1).minCoeff();
+    out.floorOffset = x.col(1).minCoeff();
+    x.col(1).array() -= out.floorOffset;
     report.height = x.col(1).maxCoeff();
     if (auto problem = checkBodyExtent(x, limits.maxBodyExtent)) {
         return fail(*problem);
     }
 
     sim::MatX3i triangles = raw.triangles;
-    weldByPosition(x, triangles, options.weldDistance, report.droppedTriangles);
+    weldByPosition(x, triangles, options.weldDistance, report.droppedTriangles, &out.fromSource);
     if (triangles.rows() < 4) {
         return fail("once vertices closer than " + figure(options.weldDistance) +
                     " m are welded, " + std::to_string(triangles.rows()) +
@@ -526,30 +535,101 @@ Result<RawMesh> readMesh(const std::filesystem::path& path, std::uint64_t maxByt
     return readWithAssimp(path, ext, text.value(), maxVertices);
 }
 
-Result<ImportedBody> importBody(const std::filesystem::path& path, const BodyImportOptions& options,
-                                const Limits& limits) {
-    const std::string file = path.string();
+namespace {
+
+/// A body file as read: our OBJ reader for .obj, assimp for the other formats.
+Result<RawMesh> readBodyFile(const std::filesystem::path& path, const Limits& limits) {
     const std::string ext = lowerExtension(path);
     if (auto error = unsupported(path, ext)) {
         return *error;
     }
-    RawMesh raw;
-    if (ext == ".obj") {
-        auto obj = readObj(path, limits.maxMeshBytes);
-        if (!obj.ok()) {
-            return obj.error();
-        }
-        raw.positions = std::move(obj.value().positions);
-        raw.triangles = std::move(obj.value().triangles);
-        raw.format = "OBJ";
-    } else {
-        auto read = readMesh(path, limits.maxMeshBytes, limits.maxBodyVertices);
-        if (!read.ok()) {
-            return read.error();
-        }
-        raw = std::move(read).value();
+    if (ext != ".obj") {
+        return readMesh(path, limits.maxMeshBytes, limits.maxBodyVertices);
     }
-    return normaliseBody(raw, file, options, limits);
+    auto obj = readObj(path, limits.maxMeshBytes);
+    if (!obj.ok()) {
+        return obj.error();
+    }
+    RawMesh raw;
+    raw.positions = std::move(obj.value().positions);
+    raw.triangles = std::move(obj.value().triangles);
+    raw.format = "OBJ";
+    return raw;
+}
+
+} // namespace
+
+Result<ImportedBody> importBody(const std::filesystem::path& path, const BodyImportOptions& options,
+                                const Limits& limits) {
+    auto raw = readBodyFile(path, limits);
+    if (!raw.ok()) {
+        return raw.error();
+    }
+    return normaliseBody(raw.value(), path.string(), options, limits);
+}
+
+Result<BodyMotion> importBodyMotion(const std::vector<std::filesystem::path>& files,
+                                    const BodyImportOptions& options, const Limits& limits) {
+    if (files.size() < 2) {
+        return Error{files.empty() ? std::string() : files.front().string(), "",
+                     "a motion needs at least two frames, " + std::to_string(files.size()) +
+                         (files.size() == 1 ? " was given" : " were given")};
+    }
+    BodyMotion motion;
+    auto first = importBody(files.front(), options, limits);
+    if (!first.ok()) {
+        return first.error();
+    }
+    motion.first = std::move(first).value();
+    const ImportedBody& body = motion.first;
+    // The first frame's import, as a map from file coordinates to the body's.
+    const BodyImportReport& how = body.report;
+    const double scale = metresPerUnit(how.units);
+    sim::MatX3i firstTriangles;
+    long long firstVertexCount = 0;
+    for (std::size_t k = 0; k < files.size(); ++k) {
+        const std::string file = files[k].string();
+        auto raw = readBodyFile(files[k], limits);
+        if (!raw.ok()) {
+            return raw.error();
+        }
+        const RawMesh& mesh = raw.value();
+        if (k == 0) {
+            firstTriangles = mesh.triangles;
+            firstVertexCount = mesh.positions.rows();
+        } else if (mesh.positions.rows() != firstVertexCount ||
+                   mesh.triangles.rows() != firstTriangles.rows() ||
+                   mesh.triangles != firstTriangles) {
+            return Error{file, "",
+                         "frame " + std::to_string(k) + " is not the first frame's mesh moved (" +
+                             std::to_string(mesh.positions.rows()) + " vertices and " +
+                             std::to_string(mesh.triangles.rows()) + " triangles against " +
+                             std::to_string(firstVertexCount) + " and " +
+                             std::to_string(firstTriangles.rows()) +
+                             ", or the triangles differ): every frame must be the same mesh"};
+        }
+        sim::MatX3 x = sim::MatX3::Zero(body.vertices.rows(), 3);
+        for (Eigen::Index i = 0; i < mesh.positions.rows(); ++i) {
+            const int target = body.fromSource[static_cast<std::size_t>(i)];
+            if (target < 0) {
+                continue;
+            }
+            const sim::Vec3 p = mesh.positions.row(i);
+            if (!p.allFinite()) {
+                return Error{file, "", "vertex " + std::to_string(i) + " is not finite"};
+            }
+            sim::Vec3 q = how.up == UpAxis::Z ? sim::Vec3(p.x(), p.z(), -p.y()) : p;
+            q *= scale;
+            q.y() -= body.floorOffset;
+            x.row(target) = q.transpose();
+        }
+        if (auto problem = checkBodyExtent(x, limits.maxBodyExtent)) {
+            return Error{file, "", *problem};
+        }
+        motion.frames.push_back(std::move(x));
+        motion.files.push_back(file);
+    }
+    return motion;
 }
 
 } // namespace atelier::io

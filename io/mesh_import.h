@@ -67,6 +67,10 @@ struct ImportedBody {
     sim::MatX3 vertices;   ///< (|V|×3) [m], Y up, min y = 0
     sim::MatX3i triangles; ///< (|F|×3)
     BodyImportReport report;
+    /// Per vertex of the file: the body vertex it became, or −1 (unused or dropped).
+    std::vector<int> fromSource;
+    /// Metres subtracted from every y to stand the body on y = 0.
+    double floorOffset = 0;
 };
 
 /// A mesh as read from a file, in its own units and axes (the input of normaliseBody).
@@ -108,8 +112,27 @@ Result<ImportedBody> normaliseBody(const RawMesh& raw, const std::string& file,
 
 /// Vertices closer than `distance` merged into one (the first in index order), triangles
 /// reindexed, triangles left degenerate dropped (their count in `dropped`), unused vertices
-/// removed.
-void weldByPosition(sim::MatX3& positions, sim::MatX3i& triangles, double distance, long& dropped);
+/// removed. `sourceToWelded`, when given, receives each input vertex's new index (−1: removed).
+void weldByPosition(sim::MatX3& positions, sim::MatX3i& triangles, double distance, long& dropped,
+                    std::vector<int>* sourceToWelded = nullptr);
+
+/// A body in motion: meshes of one body, one per frame, in the frame of the first.
+struct BodyMotion {
+    ImportedBody first;             ///< the first frame, imported as importBody does
+    std::vector<sim::MatX3> frames; ///< every frame's vertices (the first's included) [m]
+    std::vector<std::string> files; ///< the file of each frame
+};
+
+/// Reads the frames of an animated body (OBJ or any format importBody reads; typically an OBJ
+/// sequence exported from a posed or skinned character), one file per frame in the given
+/// order. The first frame is imported as importBody does; every other frame must hold the same
+/// vertices (count) and triangles, and gets the first frame's unit, up axis, floor offset and
+/// weld, so that the motion (walking, a raised arm, the body moving away) is kept. Errors name
+/// the file: fewer than two frames, a frame whose mesh differs, a non-finite vertex, or a frame
+/// reaching farther than `limits.maxBodyExtent`.
+Result<BodyMotion> importBodyMotion(const std::vector<std::filesystem::path>& files,
+                                    const BodyImportOptions& options = {},
+                                    const Limits& limits = {});
 
 /// Edge figures of a triangle mesh.
 struct EdgeFigures {

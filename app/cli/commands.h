@@ -53,6 +53,10 @@ void addBatchSummaryCommand(CLI::App& app);
 /// (export_pattern_command.cpp).
 void addExportPatternCommand(CLI::App& app);
 
+/// `atelier-cli animate PROJECT.atelier --body-frames FRAMES... --out SEQUENCE.glb`
+/// (animate_command.cpp).
+void addAnimateCommand(CLI::App& app);
+
 /// `atelier-cli import garmentcode SPEC.json --out PROJECT.atelier [--fabric NAME]`
 /// (import_command.cpp).
 void addImportCommand(CLI::App& app);

@@ -38,8 +38,9 @@ struct DrapeOptions {
 };
 
 /// Called once the drape has ended with a finite state, after its files are written: what the
-/// caller does with it; returns the exit code to go on with (given the drape's `code`).
-using DrapeFinished = std::function<int(const patterns::DrapeSession& session, int code)>;
+/// caller does with it (it may drape on: `atelier-cli animate`); returns the exit code to go on
+/// with (given the drape's `code`).
+using DrapeFinished = std::function<int(patterns::DrapeSession& session, int code)>;
 
 /// Drapes `options.project` (meshes, places, sews, drapes until rest or the time limit, as
 /// `atelier-cli drape`), prints progress and problems on stderr, writes the outputs asked for
