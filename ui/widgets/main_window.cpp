@@ -135,6 +135,9 @@ MainWindow::MainWindow(QString samplesDir, QWidget* parent)
     buildMenus();
     buildDocks();
     buildPatternTools();
+    // The untitled project's fabric is the one panels drawn before any file is opened take.
+    m_pattern->setDocument(m_project.document);
+    docksFollowDocument(true);
     updateTitle();
     connect(&m_undo, &QUndoStack::cleanChanged, this, [this] { updateTitle(); });
     connect(&m_autosave, &QTimer::timeout, this, [this] { autosave(); });

@@ -6,6 +6,7 @@
 #include "ui/widgets/main_window.h"
 #include "ui/widgets/pattern_tools.h"
 #include "ui/widgets/pattern_view.h"
+#include "ui/widgets/seam_dock.h"
 
 #include "patterns/curve.h"
 #include "patterns/document_edit.h"
@@ -325,6 +326,7 @@ TEST(PatternView, DrawARectangleMirrorItsCopySewThePairAndUndoToTheEmptyProject)
                               pixelRatio))
         << "not on an edge that is not sewn";
     EXPECT_EQ(view.selectedSeam(), seam.id);
+    EXPECT_EQ(f.window.seamDock().seam(), seam.id) << "the Seam dock shows the selected seam";
     // The new seam is selected: its lengths and mismatch for the status bar.
     ASSERT_GE(said.count(), 1);
     const QString lengths = said.back().front().toString();
