@@ -7,6 +7,7 @@
 #include "ui/widgets/pattern_tools.h"
 #include "ui/widgets/pattern_view.h"
 #include "ui/widgets/seam_dock.h"
+#include "ui/widgets/widget_test_support.h"
 
 #include "patterns/curve.h"
 #include "patterns/document_edit.h"
@@ -32,18 +33,7 @@ namespace {
 
 const QString GARMENTS = QStringLiteral(ATELIER_SOURCE_DIR "/assets/garments");
 
-/// Runs the event loop until `done` or `seconds` have passed; returns done().
-template <class Done> bool waitFor(Done done, double seconds) {
-    QElapsedTimer clock;
-    clock.start();
-    while (!done()) {
-        if (clock.elapsed() > seconds * 1000) {
-            return false;
-        }
-        QCoreApplication::processEvents(QEventLoop::AllEvents, 20);
-    }
-    return true;
-}
+using test::waitFor;
 
 void sendMouse(QWidget* widget, QEvent::Type type, QPoint at, Qt::MouseButton button,
                Qt::MouseButtons buttons, Qt::KeyboardModifiers modifiers = {}) {
@@ -71,15 +61,11 @@ void click(QWidget* surface, QPoint at, Qt::KeyboardModifiers modifiers = {}) {
 struct Fixture {
     QTemporaryDir dir;
     MainWindow window{GARMENTS};
-    QStringList errors;
+    test::QuietPrompts prompts;
+    QStringList& errors = prompts.errors;
 
     explicit Fixture(bool fresh = false) {
-        Prompts p;
-        p.error = [this](const QString& message) { errors << message; };
-        p.saveChanges = [](const QString&) { return QMessageBox::Discard; };
-        p.restore = [](const QString&, const QString&) { return false; };
-        p.saveFileName = [] { return QString(); };
-        window.setPrompts(std::move(p));
+        prompts.install(window);
         window.setRecoveryDirectory(dir.filePath("recovery"));
         window.resize(1000, 700);
         window.show();

@@ -5,6 +5,7 @@
 #include "ui/widgets/main_window.h"
 #include "ui/widgets/pattern_view.h"
 #include "ui/widgets/viewport.h"
+#include "ui/widgets/widget_test_support.h"
 
 #include "io/atomic_file.h"
 #include "io/body_file.h"
@@ -38,18 +39,7 @@ namespace {
 
 const QString GARMENTS = QStringLiteral(ATELIER_SOURCE_DIR "/assets/garments");
 
-/// Runs the event loop until `done` or `seconds` have passed; returns done().
-template <class Done> bool waitFor(Done done, double seconds) {
-    QElapsedTimer clock;
-    clock.start();
-    while (!done()) {
-        if (clock.elapsed() > seconds * 1000) {
-            return false;
-        }
-        QCoreApplication::processEvents(QEventLoop::AllEvents, 20);
-    }
-    return true;
-}
+using test::waitFor;
 
 /// The bytes of a file.
 std::string bytesOf(const QString& path) {
