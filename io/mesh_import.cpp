@@ -251,6 +251,12 @@ const std::vector<std::string>& bodyMeshExtensions() {
     return EXTENSIONS;
 }
 
+bool hasBodyMeshExtension(const std::filesystem::path& path) {
+    const std::vector<std::string>& extensions = bodyMeshExtensions();
+    return std::find(extensions.begin(), extensions.end(), lowerExtension(path)) !=
+           extensions.end();
+}
+
 void weldByPosition(sim::MatX3& positions, sim::MatX3i& triangles, double distance, long& dropped,
                     std::vector<int>* sourceToWelded) {
     const Eigen::Index n = positions.rows();
@@ -576,7 +582,11 @@ Result<BodyMotion> importBodyMotion(const std::vector<std::filesystem::path>& fi
                          (files.size() == 1 ? " was given" : " were given")};
     }
     BodyMotion motion;
-    auto first = importBody(files.front(), options, limits);
+    auto firstRaw = readBodyFile(files.front(), limits);
+    if (!firstRaw.ok()) {
+        return firstRaw.error();
+    }
+    auto first = normaliseBody(firstRaw.value(), files.front().string(), options, limits);
     if (!first.ok()) {
         return first.error();
     }
@@ -585,21 +595,18 @@ Result<BodyMotion> importBodyMotion(const std::vector<std::filesystem::path>& fi
     // The first frame's import, as a map from file coordinates to the body's.
     const BodyImportReport& how = body.report;
     const double scale = metresPerUnit(how.units);
-    sim::MatX3i firstTriangles;
-    long long firstVertexCount = 0;
+    const sim::MatX3i firstTriangles = firstRaw.value().triangles;
+    const long long firstVertexCount = firstRaw.value().positions.rows();
     for (std::size_t k = 0; k < files.size(); ++k) {
         const std::string file = files[k].string();
-        auto raw = readBodyFile(files[k], limits);
+        Result<RawMesh> raw = k == 0 ? std::move(firstRaw) : readBodyFile(files[k], limits);
         if (!raw.ok()) {
             return raw.error();
         }
         const RawMesh& mesh = raw.value();
-        if (k == 0) {
-            firstTriangles = mesh.triangles;
-            firstVertexCount = mesh.positions.rows();
-        } else if (mesh.positions.rows() != firstVertexCount ||
-                   mesh.triangles.rows() != firstTriangles.rows() ||
-                   mesh.triangles != firstTriangles) {
+        if (k > 0 &&
+            (mesh.positions.rows() != firstVertexCount ||
+             mesh.triangles.rows() != firstTriangles.rows() || mesh.triangles != firstTriangles)) {
             return Error{file, "",
                          "frame " + std::to_string(k) + " is not the first frame's mesh moved (" +
                              std::to_string(mesh.positions.rows()) + " vertices and " +

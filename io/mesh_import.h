@@ -94,6 +94,8 @@ Result<RawMesh> readMesh(const std::filesystem::path& path,
 
 /// File extensions importBody reads (lower case, with the dot).
 const std::vector<std::string>& bodyMeshExtensions();
+/// Whether the path's extension (any case) is one of bodyMeshExtensions.
+bool hasBodyMeshExtension(const std::filesystem::path& path);
 
 /// Reads a body mesh (the format from the extension, case-insensitive) and normalises it
 /// (normaliseBody). The file must be a regular file of at most `limits.maxMeshBytes`. Errors

@@ -41,7 +41,6 @@ struct AnimateOptions {
 /// order.
 Result<std::vector<std::filesystem::path>> frameFiles(const std::vector<std::string>& arguments) {
     std::vector<std::filesystem::path> files;
-    const std::vector<std::string>& extensions = io::bodyMeshExtensions();
     for (const std::string& argument : arguments) {
         std::error_code ec;
         if (!std::filesystem::is_directory(argument, ec)) {
@@ -50,11 +49,7 @@ Result<std::vector<std::filesystem::path>> frameFiles(const std::vector<std::str
         }
         std::vector<std::filesystem::path> found;
         for (const auto& entry : std::filesystem::directory_iterator(argument, ec)) {
-            std::string ext = entry.path().extension().string();
-            std::transform(ext.begin(), ext.end(), ext.begin(),
-                           [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-            if (entry.is_regular_file() &&
-                std::find(extensions.begin(), extensions.end(), ext) != extensions.end()) {
+            if (entry.is_regular_file() && io::hasBodyMeshExtension(entry.path())) {
                 found.push_back(entry.path());
             }
         }
@@ -251,12 +246,11 @@ int runAnimate(const AnimateOptions& options) {
         std::cerr << "error: " << motion.error().toString() << "\n";
         return EXIT_BAD_INPUT;
     }
-    for (const std::string& dir : {options.motionDir}) {
-        std::error_code ec;
-        if (!dir.empty() && !std::filesystem::create_directories(dir, ec) && ec) {
-            std::cerr << "error: " << dir << ": cannot create the folder: " << ec.message() << "\n";
-            return EXIT_BAD_INPUT;
-        }
+    if (std::error_code ec; !options.motionDir.empty() &&
+                            !std::filesystem::create_directories(options.motionDir, ec) && ec) {
+        std::cerr << "error: " << options.motionDir
+                  << ": cannot create the folder: " << ec.message() << "\n";
+        return EXIT_BAD_INPUT;
     }
     std::fprintf(stderr, "animate: %zu body frames at %.0f frames per second (%.2f s)\n",
                  motion.value().frames.size(), options.fps,
