@@ -41,6 +41,18 @@ const QString GARMENTS = QStringLiteral(ATELIER_SOURCE_DIR "/assets/garments");
 
 using test::waitFor;
 
+/// Drags `file` onto the window and drops it there: whether the window took the drag and the
+/// drop.
+std::pair<bool, bool> dragAndDrop(MainWindow& window, const QString& file) {
+    QMimeData data;
+    data.setUrls({QUrl::fromLocalFile(file)});
+    QDragEnterEvent enter(QPoint(50, 50), Qt::CopyAction, &data, Qt::LeftButton, {});
+    QApplication::sendEvent(&window, &enter);
+    QDropEvent drop(QPointF(50, 50), Qt::CopyAction, &data, Qt::LeftButton, {});
+    QApplication::sendEvent(&window, &drop);
+    return {enter.isAccepted(), drop.isAccepted()};
+}
+
 /// The bytes of a file.
 std::string bytesOf(const QString& path) {
     std::ifstream in(path.toStdString(), std::ios::binary);
@@ -589,15 +601,10 @@ TEST(MainWindow, ADroppedProjectFileIsOpened) {
     window.setRecoveryDirectory(dir.filePath("recovery"));
     window.show();
     const QString file = GARMENTS + "/skirt.atelier";
-    QMimeData data;
-    data.setUrls({QUrl::fromLocalFile(file)});
-    QDragEnterEvent enter(QPoint(50, 50), Qt::CopyAction, &data, Qt::LeftButton, {});
-    QApplication::sendEvent(&window, &enter);
-    EXPECT_TRUE(enter.isAccepted());
     QSignalSpy ready(&window, &MainWindow::projectReady);
-    QDropEvent drop(QPointF(50, 50), Qt::CopyAction, &data, Qt::LeftButton, {});
-    QApplication::sendEvent(&window, &drop);
-    EXPECT_TRUE(drop.isAccepted());
+    const auto [entered, dropped] = dragAndDrop(window, file);
+    EXPECT_TRUE(entered);
+    EXPECT_TRUE(dropped);
     EXPECT_EQ(window.projectPath(), file);
     ASSERT_TRUE(waitFor([&] { return ready.count() >= 1; }, 120));
     EXPECT_EQ(window.drape().staticScene()->panelNames.size(), 2U);
@@ -618,15 +625,10 @@ TEST(MainWindow, ADroppedDxfPatternOpensItsPiecesAsANewProject) {
     window.setRecoveryDirectory(dir.filePath("recovery"));
     window.show();
     const QString file = QStringLiteral(ATELIER_SOURCE_DIR "/tests/fuzz/corpus/three-pieces.dxf");
-    QMimeData data;
-    data.setUrls({QUrl::fromLocalFile(file)});
-    QDragEnterEvent enter(QPoint(50, 50), Qt::CopyAction, &data, Qt::LeftButton, {});
-    QApplication::sendEvent(&window, &enter);
-    EXPECT_TRUE(enter.isAccepted());
     QSignalSpy ready(&window, &MainWindow::projectReady);
-    QDropEvent drop(QPointF(50, 50), Qt::CopyAction, &data, Qt::LeftButton, {});
-    QApplication::sendEvent(&window, &drop);
-    EXPECT_TRUE(drop.isAccepted());
+    const auto [entered, dropped] = dragAndDrop(window, file);
+    EXPECT_TRUE(entered);
+    EXPECT_TRUE(dropped);
     // An import is a new project: no path yet, modified, its pieces placed and drawn.
     EXPECT_TRUE(window.projectPath().isEmpty());
     EXPECT_TRUE(window.isModified());
@@ -651,15 +653,10 @@ TEST(MainWindow, ADroppedBodyMeshBecomesTheBodyUndoably) {
     ASSERT_TRUE(
         io::writeObj(mesh.toStdString(), mannequin.value().vertices, mannequin.value().triangles)
             .ok());
-    QMimeData data;
-    data.setUrls({QUrl::fromLocalFile(mesh)});
-    QDragEnterEvent enter(QPoint(50, 50), Qt::CopyAction, &data, Qt::LeftButton, {});
-    QApplication::sendEvent(&window, &enter);
-    EXPECT_TRUE(enter.isAccepted());
     QSignalSpy ready(&window, &MainWindow::projectReady);
-    QDropEvent drop(QPointF(50, 50), Qt::CopyAction, &data, Qt::LeftButton, {});
-    QApplication::sendEvent(&window, &drop);
-    EXPECT_TRUE(drop.isAccepted());
+    const auto [entered, dropped] = dragAndDrop(window, mesh);
+    EXPECT_TRUE(entered);
+    EXPECT_TRUE(dropped);
     ASSERT_EQ(window.project().body.meshPath, QFileInfo(mesh).absoluteFilePath().toStdString());
     EXPECT_EQ(window.undoStack().count(), 1);
     EXPECT_TRUE(window.isModified());
