@@ -194,7 +194,8 @@ std::variant<FoundLandmarks, std::string> findLandmarks(const sim::MatX3& vertic
             }
         }
         if (pelvis == nullptr) {
-            return std::string("no section at 0.6 of the height");
+            return std::string("nothing at 0.6 of the height to take for the pelvis (expected "
+                               "a standing figure)");
         }
         L.centre = L.toWorld(Vec3(pelvis->centroid.x(), 0, pelvis->centroid.y()));
         L.centre.y() = y0 + 0.6 * H;
@@ -219,13 +220,13 @@ std::variant<FoundLandmarks, std::string> findLandmarks(const sim::MatX3& vertic
         L.crotchY = y;
     }
 
-    // Armpits: going up from above the hips, where the torso's section suddenly widens on a
-    // side (an arm's loop joining it); below it, the torso's half-width on that side.
+    // Armpits: going up from 3% of the height above the crotch, where the torso's section suddenly
+    // widens on a side (an arm's loop joining it); below it, the torso's half-width on that side.
     const double step = 0.005 * H;
     std::vector<double> levels;
     std::array<std::vector<double>, 2> halfWidth;
     std::array<bool, 2> joined{false, false};
-    for (double y = L.crotchY + 0.15 * H; y < y0 + 0.95 * H && !(joined[0] && joined[1]);
+    for (double y = L.crotchY + 0.03 * H; y < y0 + 0.95 * H && !(joined[0] && joined[1]);
          y += step) {
         const std::optional<Loop> loop = sections.torso(y);
         if (!loop) {
@@ -267,22 +268,56 @@ std::variant<FoundLandmarks, std::string> findLandmarks(const sim::MatX3& vertic
     L.shoulderHalfWidth = std::max(halfWidth[0].back(), halfWidth[1].back());
 
     // Parts: below the crotch the legs; beyond the torso's half-width (on a side, from the
-    // armpit up its width there) the arms; the rest the torso with neck and head.
+    // armpit up its width there) the arms, and what hangs from them below the crotch (hands in
+    // A-pose: reached from an arm's vertices through the mesh's edges without crossing the
+    // torso); the rest the torso with neck and head.
     std::vector<int> part(static_cast<std::size_t>(x.rows()), 0);
-    std::array<std::vector<Vec3>, 4> limbs; // arm l, arm r, leg l, leg r
+    const double armFloor = L.crotchY + 0.03 * H;
     for (Eigen::Index v = 0; v < x.rows(); ++v) {
         const Vec3 p = local.row(v);
-        const std::size_t s = p.x() >= 0 ? 0 : 1;
+        const int s = p.x() >= 0 ? 0 : 1;
         int label = 0;
         if (p.y() < L.crotchY) {
-            label = 3 + static_cast<int>(s);
-        } else if (p.y() > L.crotchY + 0.03 * H &&
-                   std::abs(p.x()) > torsoHalfWidth(s, p.y()) + 0.01 * H) {
-            label = 1 + static_cast<int>(s);
+            label = 3 + s;
+        } else if (p.y() > armFloor &&
+                   std::abs(p.x()) >
+                       torsoHalfWidth(static_cast<std::size_t>(s), p.y()) + 0.01 * H) {
+            label = 1 + s;
         }
         part[static_cast<std::size_t>(v)] = label;
-        if (label > 0) {
-            limbs[static_cast<std::size_t>(label - 1)].push_back(p);
+    }
+    {
+        std::vector<std::vector<int>> next(static_cast<std::size_t>(x.rows()));
+        for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
+            for (int k = 0; k < 3; ++k) {
+                const int a = triangles(t, k);
+                const int b = triangles(t, (k + 1) % 3);
+                next[static_cast<std::size_t>(a)].push_back(b);
+                next[static_cast<std::size_t>(b)].push_back(a);
+            }
+        }
+        std::vector<int> queue;
+        for (Eigen::Index v = 0; v < x.rows(); ++v) {
+            if (part[static_cast<std::size_t>(v)] == 1 || part[static_cast<std::size_t>(v)] == 2) {
+                queue.push_back(static_cast<int>(v));
+            }
+        }
+        while (!queue.empty()) {
+            const int v = queue.back();
+            queue.pop_back();
+            for (const int w : next[static_cast<std::size_t>(v)]) {
+                int& label = part[static_cast<std::size_t>(w)];
+                if (local(w, 1) <= armFloor && label != 1 && label != 2) {
+                    label = part[static_cast<std::size_t>(v)];
+                    queue.push_back(w);
+                }
+            }
+        }
+    }
+    std::array<std::vector<Vec3>, 4> limbs; // arm l, arm r, leg l, leg r
+    for (Eigen::Index v = 0; v < x.rows(); ++v) {
+        if (const int label = part[static_cast<std::size_t>(v)]; label > 0) {
+            limbs[static_cast<std::size_t>(label - 1)].push_back(local.row(v));
         }
     }
 
