@@ -165,13 +165,12 @@ std::variant<FoundLandmarks, std::string> findLandmarks(const sim::MatX3& vertic
     }
     const Eigen::SelfAdjointEigenSolver<sim::Mat2> eig(cov);
     const Vec2 across = eig.eigenvectors().col(1);
-    Vec3 facing(-across.y(), 0, across.x());
+    const Vec3 facing(-across.y(), 0, across.x());
+    // Where the feet point neither way (a dress form's stand), the body files' convention
+    // decides: facing +z.
     const double toes = (feet / nFeet - shins / nShins).dot(facing);
-    if (std::abs(toes) < 0.005 * H) {
-        return std::string("cannot tell which way the body faces (its feet point neither "
-                           "forward nor back)");
-    }
-    L.facing = toes > 0 ? facing : Vec3(-facing);
+    const double sign = std::abs(toes) >= 0.005 * H ? toes : facing.z();
+    L.facing = sign >= 0 ? facing : Vec3(-facing);
     L.left = Vec3::UnitY().cross(L.facing);
 
     // The torso's axis: the centroid of the largest section loop at 0.6 H (the pelvis, above

@@ -19,7 +19,7 @@ namespace atelier::patterns {
 struct BodyLandmarks {
     double floorY = 0;                     ///< lowest vertex
     double height = 0;                     ///< floor to crown
-    sim::Vec3 facing = sim::Vec3::UnitZ(); ///< horizontal unit: where the body looks (toes)
+    sim::Vec3 facing = sim::Vec3::UnitZ(); ///< horizontal unit: where the toes point (+z if not)
     sim::Vec3 left = sim::Vec3::UnitX();   ///< horizontal unit: the body's left, Y × facing
     /// A point on the torso's vertical axis (the centroid of its section above the crotch).
     sim::Vec3 centre = sim::Vec3::Zero();
