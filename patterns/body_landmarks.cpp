@@ -206,6 +206,10 @@ std::variant<FoundLandmarks, std::string> findLandmarks(const sim::MatX3& vertic
     const double fine = 0.0005 * H;
     {
         double y = y0 + 0.6 * H;
+        if (!sections.torso(y)) {
+            return std::string("the section at 0.6 of the height does not enclose its centroid "
+                               "(expected a standing figure)");
+        }
         const double coarse = 0.005 * H;
         while (y > y0 + 0.2 * H && sections.torso(y - coarse)) {
             y -= coarse;
