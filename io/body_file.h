@@ -30,9 +30,9 @@ Result<patterns::Mannequin> makeBody(const patterns::BodySource& source, const s
 
 /// The body a project drapes on: the mannequin, or the mesh at meshPath (relative to
 /// projectDir; imported and normalised by importBody with the source's unit and up axis;
-/// slots estimated from its proportions, see patterns::estimateSlots). The mesh must be a
-/// regular file of at most `limits.maxMeshBytes`, and no side of its normalised bounding box
-/// longer than `limits.maxBodyExtent`. The import's warnings (holes, non-manifold edges),
+/// slots fitted to landmarks found from its shape, see patterns::estimateSlots). The mesh must
+/// be a regular file of at most `limits.maxMeshBytes`, and no side of its normalised bounding
+/// box longer than `limits.maxBodyExtent`. The import's warnings (holes, non-manifold edges),
 /// each prefixed with the mesh file, are appended to `warnings` when given.
 Result<patterns::Body> loadBody(const patterns::BodySource& source,
                                 const std::filesystem::path& projectDir,

@@ -1,5 +1,6 @@
 #include "patterns/mannequin.h"
 
+#include "patterns/body_landmarks.h"
 #include "patterns/body_measure.h"
 #include "patterns/isosurface.h"
 
@@ -12,6 +13,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <variant>
 
 namespace atelier::patterns {
 
@@ -700,94 +702,41 @@ std::vector<ArrangementSlot> computeSlots(const sim::MatX3& x, const std::vector
 } // namespace
 
 std::optional<std::string> estimateSlots(Body& body) {
-    const sim::MatX3& x = body.vertices;
-    if (x.rows() < 100 || body.triangles.rows() < 100) {
-        return "a body mesh needs at least 100 vertices and triangles";
+    auto found = findLandmarks(body.vertices, body.triangles);
+    if (const auto* problem = std::get_if<std::string>(&found)) {
+        return *problem;
     }
-    const double y0 = x.col(1).minCoeff();
-    const double H = x.col(1).maxCoeff() - y0;
-    if (!(H > 0.5 && H < 3.0)) {
-        return "a body mesh must be 0.5–3 m tall, Y up, in metres (found " + std::to_string(H) +
-               " m)";
-    }
-    // Standing-figure proportions (as the mannequin's): the torso column is the waist band's
-    // centre; arms are beyond 0.15 H from it above the crotch; legs below the crotch.
-    const double crotchY = y0 + 0.45 * H;
-    Vec3 centre = Vec3::Zero();
-    int n = 0;
-    for (Eigen::Index v = 0; v < x.rows(); ++v) {
-        if (std::abs(x(v, 1) - (y0 + 0.625 * H)) < 0.02 * H) {
-            centre += Vec3(x.row(v));
-            ++n;
-        }
-    }
-    if (n == 0) {
-        return "no vertices at waist height";
-    }
-    centre /= n;
-    std::vector<int> part(static_cast<std::size_t>(x.rows()), -1);
-    std::array<std::vector<Vec3>, 4> limbs; // arm l, arm r, leg l, leg r
-    for (Eigen::Index v = 0; v < x.rows(); ++v) {
-        const Vec3 p = x.row(v);
-        const double dx = p.x() - centre.x();
-        int label = -1;
-        if (p.y() > crotchY + 0.05 * H && std::abs(dx) > 0.15 * H) {
-            label = dx > 0 ? 1 : 2;
-        } else if (p.y() < crotchY - 0.02 * H) {
-            label = dx > 0 ? 3 : 4;
-        } else if (std::abs(dx) <= 0.12 * H) {
-            label = 0;
-        }
-        part[static_cast<std::size_t>(v)] = label;
-        if (label > 0) {
-            limbs[static_cast<std::size_t>(label - 1)].push_back(p);
-        }
+    const auto& [L, part] = std::get<FoundLandmarks>(found);
+    // The slots are made in the body's own frame (facing +z, its left +x, as the mannequin's)
+    // and turned back into the mesh's.
+    sim::MatX3 local(body.vertices.rows(), 3);
+    for (Eigen::Index v = 0; v < local.rows(); ++v) {
+        local.row(v) = L.toLocal(body.vertices.row(v)).transpose();
     }
     SlotFrame frame;
-    frame.torsoOrigin = Vec3(centre.x(), y0 + 0.625 * H, centre.z());
-    frame.shoulderHalfWidth = 0.12 * H;
-    frame.crotchY = crotchY;
-    frame.shoulderY = y0 + 0.815 * H;
-    frame.neckY = y0 + 0.857 * H;
+    frame.torsoOrigin = Vec3(0, L.waistY, 0);
+    frame.shoulderHalfWidth = L.shoulderHalfWidth + 0.025 * L.height;
+    frame.crotchY = L.crotchY;
+    frame.shoulderY = L.shoulderY;
+    frame.neckY = L.neckY;
     for (std::size_t i = 0; i < 2; ++i) {
-        const auto& arm = limbs[i];
-        const auto& leg = limbs[2 + i];
-        if (arm.size() < 10 || leg.size() < 10) {
-            return std::string("cannot find the ") + (i == 0 ? "left" : "right") +
-                   " arm and leg (expected a standing figure in A-pose, facing +z)";
-        }
-        Vec3 mean = Vec3::Zero();
-        for (const Vec3& p : arm) {
-            mean += p;
-        }
-        mean /= static_cast<double>(arm.size());
-        sim::Mat3 cov = sim::Mat3::Zero();
-        for (const Vec3& p : arm) {
-            cov += (p - mean) * (p - mean).transpose();
-        }
-        Eigen::SelfAdjointEigenSolver<sim::Mat3> eig(cov);
-        Vec3 axis = eig.eigenvectors().col(2);
-        if (axis.y() < 0) {
-            axis = -axis;
-        }
-        double top = -1e9;
-        double bottom = 1e9;
-        for (const Vec3& p : arm) {
-            top = std::max(top, (p - mean).dot(axis));
-            bottom = std::min(bottom, (p - mean).dot(axis));
-        }
-        frame.shoulderJoint[i] = mean + top * axis;
+        frame.shoulderJoint[i] = L.toLocal(L.shoulderJoint[i]);
+        const Vec3 axis(L.armAxis[i].dot(L.left), L.armAxis[i].y(), L.armAxis[i].dot(L.facing));
         frame.armAxis[i] = axis;
-        frame.armLength[i] = top - bottom;
-        Vec3 up = Vec3::UnitY() - axis * axis.y();
+        frame.armLength[i] = (L.shoulderJoint[i] - L.wrist[i]).norm();
+        const Vec3 up = Vec3::UnitY() - axis * axis.y();
         frame.armTop[i] = up.norm() > 1e-6 ? Vec3(up.normalized()) : Vec3(Vec3::UnitX());
-        Vec3 legMean = Vec3::Zero();
-        for (const Vec3& p : leg) {
-            legMean += p;
-        }
-        frame.hipJoint[i] = legMean / static_cast<double>(leg.size());
+        frame.hipJoint[i] = L.toLocal(L.hipJoint[i]);
     }
-    body.slots = computeSlots(x, part, frame);
+    body.slots = computeSlots(local, part, frame);
+    for (ArrangementSlot& s : body.slots) {
+        s.origin = L.toWorld(s.origin);
+        s.axis = L.directionToWorld(s.axis);
+        s.facing = L.directionToWorld(s.facing);
+        for (Vec3& c : s.profileCentre) {
+            c = L.directionToWorld(c);
+        }
+    }
     return std::nullopt;
 }
 

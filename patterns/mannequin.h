@@ -78,9 +78,10 @@ Mannequin makeMannequin(std::string_view base, const BodyMeasurements& m,
                         const MannequinOptions& options = {});
 
 /// Arrangement slots for a body mesh that is not a mannequin (a scan, an export): a standing
-/// figure, Y up, facing +z, arms away from the torso. Landmarks are taken at the mannequin's
-/// proportions of the mesh's height, the arms' axes by principal components of the vertices
-/// beyond the torso column. Returns what is wrong when the mesh does not look like one.
+/// figure, Y up, arms away from the torso (A-pose to T-pose), turned any way about Y. The
+/// slots are the mannequin's, fitted to the landmarks found from the mesh's shape
+/// (findLandmarks, patterns/body_landmarks.h) and turned with it. Returns what is wrong when
+/// the mesh does not look like one.
 std::optional<std::string> estimateSlots(Body& body);
 
 /// Measurements of a mannequin's mesh, taken where its landmarks say.

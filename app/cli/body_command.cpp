@@ -13,16 +13,21 @@
 #include "io/mesh_import.h"
 #include "io/obj.h"
 
+#include "patterns/body_landmarks.h"
 #include "patterns/body_measure.h"
 #include "patterns/mannequin.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <memory>
 #include <string>
+#include <variant>
 
 namespace atelier::app {
 
@@ -67,6 +72,77 @@ nlohmann::ordered_json slotsJson(const std::vector<patterns::ArrangementSlot>& s
         out.push_back(slot);
     }
     return out;
+}
+
+/// The landmarks found from a body mesh's shape (heights from the floor) and its girths.
+nlohmann::ordered_json landmarksJson(const patterns::BodyLandmarks& L) {
+    const auto fromFloor = [&](double y) { return y - L.floorY; };
+    const auto pair = [](const std::array<sim::Vec3, 2>& p) {
+        return nlohmann::ordered_json{{"left", vec(p[0])}, {"right", vec(p[1])}};
+    };
+    return {{"height", L.height},
+            {"facing", vec(L.facing)},
+            {"left", vec(L.left)},
+            {"torso_axis", vec(L.centre)},
+            {"crotch_y", fromFloor(L.crotchY)},
+            {"hip_y", fromFloor(L.hipY)},
+            {"waist_y", fromFloor(L.waistY)},
+            {"bust_y", fromFloor(L.bustY)},
+            {"armpit_y", {fromFloor(L.armpitY[0]), fromFloor(L.armpitY[1])}},
+            {"shoulder_y", fromFloor(L.shoulderY)},
+            {"neck_base_y", fromFloor(L.neckBaseY)},
+            {"neck_y", fromFloor(L.neckY)},
+            {"shoulder_half_width", L.shoulderHalfWidth},
+            {"shoulder_joint", pair(L.shoulderJoint)},
+            {"wrist", pair(L.wrist)},
+            {"arm_axis", pair(L.armAxis)},
+            {"hip_joint", pair(L.hipJoint)},
+            {"thigh_point", pair(L.thighPoint)},
+            {"ankle", pair(L.ankle)},
+            {"girths",
+             {{"bust", L.bust},
+              {"waist", L.waist},
+              {"hip", L.hip},
+              {"neck", L.neck},
+              {"thigh", {L.thigh[0], L.thigh[1]}},
+              {"upper_arm", {L.upperArm[0], L.upperArm[1]}}}}};
+}
+
+/// The landmarks and girths as text (heights from the floor) [m].
+std::string landmarksText(const patterns::BodyLandmarks& L) {
+    const auto h = [&](double y) { return y - L.floorY; };
+    char text[2048];
+    std::snprintf(
+        text, sizeof text,
+        "facing:            (%.3f, %.3f, %.3f)\n"
+        "crotch:            %.4f m (%.3f of the height)\n"
+        "hip:               %.4f m, girth %.4f m\n"
+        "waist:             %.4f m, girth %.4f m\n"
+        "bust:              %.4f m, girth %.4f m\n"
+        "armpits:           %.4f m left, %.4f m right\n"
+        "shoulders:         %.4f m, torso half-width %.4f m at the armpits\n"
+        "neck base:         %.4f m\n"
+        "neck:              %.4f m, girth %.4f m\n"
+        "left arm:          shoulder (%.3f, %.3f, %.3f) to (%.3f, %.3f, %.3f), "
+        "%.1f deg from the vertical, upper arm girth %.4f m\n"
+        "right arm:         shoulder (%.3f, %.3f, %.3f) to (%.3f, %.3f, %.3f), "
+        "%.1f deg from the vertical, upper arm girth %.4f m\n"
+        "left leg:          hip (%.3f, %.3f, %.3f), ankle (%.3f, %.3f, %.3f), thigh girth %.4f m\n"
+        "right leg:         hip (%.3f, %.3f, %.3f), ankle (%.3f, %.3f, %.3f), thigh girth "
+        "%.4f m\n",
+        L.facing.x(), L.facing.y(), L.facing.z(), h(L.crotchY), h(L.crotchY) / L.height, h(L.hipY),
+        L.hip, h(L.waistY), L.waist, h(L.bustY), L.bust, h(L.armpitY[0]), h(L.armpitY[1]),
+        h(L.shoulderY), L.shoulderHalfWidth, h(L.neckBaseY), h(L.neckY), L.neck,
+        L.shoulderJoint[0].x(), L.shoulderJoint[0].y(), L.shoulderJoint[0].z(), L.wrist[0].x(),
+        L.wrist[0].y(), L.wrist[0].z(),
+        std::acos(std::clamp(L.armAxis[0].y(), -1.0, 1.0)) * 180 / M_PI, L.upperArm[0],
+        L.shoulderJoint[1].x(), L.shoulderJoint[1].y(), L.shoulderJoint[1].z(), L.wrist[1].x(),
+        L.wrist[1].y(), L.wrist[1].z(),
+        std::acos(std::clamp(L.armAxis[1].y(), -1.0, 1.0)) * 180 / M_PI, L.upperArm[1],
+        L.hipJoint[0].x(), L.hipJoint[0].y(), L.hipJoint[0].z(), L.ankle[0].x(), L.ankle[0].y(),
+        L.ankle[0].z(), L.thigh[0], L.hipJoint[1].x(), L.hipJoint[1].y(), L.hipJoint[1].z(),
+        L.ankle[1].x(), L.ankle[1].y(), L.ankle[1].z(), L.thigh[1]);
+    return text;
 }
 
 /// The import report as text (stdout of `body FILE --report`).
@@ -121,8 +197,13 @@ int runBodyImport(const BodyOptions& options) {
     for (const std::string& w : r.warnings) {
         std::cerr << "warning: " << options.mesh << ": " << w << "\n";
     }
+    const auto found = patterns::findLandmarks(body.vertices, body.triangles);
+    const auto* landmarks = std::get_if<patterns::FoundLandmarks>(&found);
     if (options.reportGiven && options.report.empty()) {
-        std::cout << importText(options.mesh, r);
+        std::cout << importText(options.mesh, r)
+                  << (landmarks != nullptr
+                          ? landmarksText(landmarks->landmarks)
+                          : "landmarks:         not found: " + std::get<std::string>(found) + "\n");
     }
     int code = EXIT_OK;
     if (outFormat) {
@@ -155,6 +236,12 @@ int runBodyImport(const BodyOptions& options) {
         j["boundary_edges"] = r.boundaryEdges;
         j["non_manifold_edges"] = r.nonManifoldEdges;
         j["warnings"] = r.warnings;
+        if (landmarks != nullptr) {
+            j["landmarks"] = landmarksJson(landmarks->landmarks);
+        } else {
+            j["landmarks"] = nullptr;
+            j["landmarks_problem"] = std::get<std::string>(found);
+        }
         patterns::Body withSlots;
         withSlots.vertices = body.vertices;
         withSlots.triangles = body.triangles;
@@ -253,6 +340,14 @@ int runBody(const BodyOptions& options) {
         r["requested"] = requested;
         r["measured"] = measured;
         r["slots"] = slotsJson(m.body.slots);
+        // What findLandmarks finds on the mannequin's mesh alone (as on an imported body).
+        const auto found = patterns::findLandmarks(m.body.vertices, m.body.triangles);
+        if (const auto* landmarks = std::get_if<patterns::FoundLandmarks>(&found)) {
+            r["landmarks_found"] = landmarksJson(landmarks->landmarks);
+        } else {
+            r["landmarks_found"] = nullptr;
+            r["landmarks_problem"] = std::get<std::string>(found);
+        }
         auto written = io::writeFileAtomically(options.report, io::jsonText(r));
         if (!written.ok()) {
             std::cerr << "error: " << written.error().toString() << "\n";
@@ -290,9 +385,10 @@ void addBodyCommand(CLI::App& app) {
     cmd->add_option("--out,-o", options->out,
                     "Body mesh (mannequin: OBJ; an imported mesh: .obj, .glb, .fbx or .ply)");
     cmd->add_option("--report,-r", options->report,
-                    "Report (JSON): requested and measured measurements, topology, slots; for "
-                    "an imported mesh what was detected (units, up axis, height, counts, holes, "
-                    "non-manifold edges), printed on stdout when no file is given")
+                    "Report (JSON): requested and measured measurements, topology, slots, the "
+                    "landmarks found from the mesh's shape; for an imported mesh what was "
+                    "detected (units, up axis, height, counts, holes, non-manifold edges) and its "
+                    "landmarks and girths, printed on stdout when no file is given")
         ->expected(0, 1);
     addLimitOption(cmd, &options->limits);
     cmd->callback([options, cmd] {

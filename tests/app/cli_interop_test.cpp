@@ -84,6 +84,35 @@ TEST(CliInterop, BodyReportPrintsWhatWasDetected) {
     EXPECT_TRUE(r.contains("slots"));
 }
 
+TEST(CliInterop, BodyReportPrintsTheLandmarksFoundFromTheShape) {
+    const std::filesystem::path body =
+        std::filesystem::path(ATELIER_SOURCE_DIR) / "../shared/data/bodies/makehuman-base-body.obj";
+    if (!std::filesystem::is_regular_file(body)) {
+        GTEST_SKIP() << "test data absent: " << body << " (../shared/data beside the checkout)";
+    }
+    const test::TempDir dir;
+    const CliRun run =
+        runCli(dir, "body " + inQuotes(body) + " --report > " + inQuotes(dir / "out.txt"));
+    ASSERT_EQ(run.exitCode, 0) << run.stderrText;
+    const std::string out = test::readText(dir / "out.txt");
+    for (const char* line : {"crotch:", "waist:", "hip:", "bust:", "armpits:", "shoulders:",
+                             "neck base:", "neck:", "left arm:", "right leg:"}) {
+        EXPECT_NE(out.find(std::string("\n") + line), std::string::npos) << line << "\n" << out;
+    }
+    const CliRun json =
+        runCli(dir, "body " + inQuotes(body) + " --report " + inQuotes(dir / "r.json"));
+    ASSERT_EQ(json.exitCode, 0) << json.stderrText;
+    const auto r = nlohmann::json::parse(test::readText(dir / "r.json"));
+    ASSERT_TRUE(r["landmarks"].is_object()) << r.dump(1);
+    // Heights from the floor, as printed; the crotch as the unit test bounds it.
+    const double crotch = r["landmarks"]["crotch_y"].get<double>();
+    const double height = r["landmarks"]["height"].get<double>();
+    EXPECT_GT(crotch / height, 0.42);
+    EXPECT_LT(crotch / height, 0.50);
+    EXPECT_GT(r["landmarks"]["girths"]["waist"].get<double>(), 0.4);
+    EXPECT_EQ(r["slots"].size(), 15u);
+}
+
 TEST(CliInterop, WhatCannotBeABodyIsRefusedNamingTheFile) {
     const test::TempDir dir;
     std::string tall = boxStlZUpMm();
