@@ -40,8 +40,10 @@ struct AssimpScene {
 
 /// Reads any file of bodyMeshExtensions through assimp with no post-processing but its
 /// validation (assimp's triangulation asserts, and so aborts, on some broken files). The file
-/// must be a regular file of at most `maxBytes`. Errors name the file.
-Result<AssimpScene> readAssimpScene(const std::filesystem::path& path, std::uint64_t maxBytes);
+/// must be a regular file of at most `maxBytes`; a glTF's JSON (.gltf, a .glb's JSON chunk)
+/// nested at most `maxJsonDepth` deep, without a key twice in an object. Errors name the file.
+Result<AssimpScene> readAssimpScene(const std::filesystem::path& path, std::uint64_t maxBytes,
+                                    int maxJsonDepth);
 
 /// Appends the mesh's faces to `triangles` as fans of vertex indices offset by `base`; points
 /// and lines (fewer than 3 corners) carry no surface and are dropped. Errors (naming `file`): a

@@ -246,7 +246,7 @@ Result<BodyMotion> importBodyAnimation(const std::filesystem::path& path,
                     std::to_string(static_cast<long long>(limits.maxFrameRate)) +
                     " frames per second (the limit frame-rate)");
     }
-    auto read = detail::readAssimpScene(path, limits.maxMeshBytes);
+    auto read = detail::readAssimpScene(path, limits.maxMeshBytes, limits.maxJsonDepth);
     if (!read.ok()) {
         return read.error();
     }

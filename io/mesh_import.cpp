@@ -3,6 +3,7 @@
 #include "io/assimp_scene.h"
 #include "io/atomic_file.h"
 #include "io/body_file.h"
+#include "io/json_reader.h"
 #include "io/obj.h"
 
 #include <assimp/Importer.hpp>
@@ -495,7 +496,7 @@ Result<ImportedBody> normaliseBody(const RawMesh& raw, const std::string& file,
 
 Result<RawMesh> readMesh(const std::filesystem::path& path, std::uint64_t maxBytes,
                          long long maxVertices) {
-    auto read = detail::readAssimpScene(path, maxBytes);
+    auto read = detail::readAssimpScene(path, maxBytes, Limits{}.maxJsonDepth);
     if (!read.ok()) {
         return read.error();
     }
@@ -504,12 +505,33 @@ Result<RawMesh> readMesh(const std::filesystem::path& path, std::uint64_t maxByt
 
 namespace detail {
 
+namespace {
+
+/// The JSON of a glTF file: all of a .gltf, the first chunk of a .glb when it is its JSON
+/// chunk (a 12-byte header, then the chunk's length and type "JSON"); empty otherwise.
+std::string_view gltfJson(const std::string& ext, const std::string& text) {
+    if (ext == ".gltf") {
+        return text;
+    }
+    if (ext != ".glb" || text.size() < 20 || text.compare(16, 4, "JSON") != 0) {
+        return {};
+    }
+    std::uint32_t length = 0;
+    for (int k = 3; k >= 0; --k) {
+        length = (length << 8) | static_cast<unsigned char>(text[12 + static_cast<std::size_t>(k)]);
+    }
+    return std::string_view(text).substr(20, length);
+}
+
+} // namespace
+
 AssimpScene::AssimpScene() = default;
 AssimpScene::AssimpScene(AssimpScene&&) noexcept = default;
 AssimpScene& AssimpScene::operator=(AssimpScene&&) noexcept = default;
 AssimpScene::~AssimpScene() = default;
 
-Result<AssimpScene> readAssimpScene(const std::filesystem::path& path, std::uint64_t maxBytes) {
+Result<AssimpScene> readAssimpScene(const std::filesystem::path& path, std::uint64_t maxBytes,
+                                    int maxJsonDepth) {
     const std::string ext = lowerExtension(path);
     if (auto error = unsupported(path, ext)) {
         return *error;
@@ -519,6 +541,13 @@ Result<AssimpScene> readAssimpScene(const std::filesystem::path& path, std::uint
         return text.error();
     }
     const std::string file = path.string();
+    // assimp's glTF reader parses its JSON recursively: 200,000 nested arrays overflow the stack
+    // (a fuzzed .gltf, tests/fuzz/regressions/gltf-body-nested-arrays-stack-overflow).
+    if (const std::string_view json = gltfJson(ext, text.value()); !json.empty()) {
+        if (auto error = checkJsonStructure(json, file, maxJsonDepth)) {
+            return *error;
+        }
+    }
     AssimpScene out;
     out.importer = std::make_unique<Assimp::Importer>();
     const unsigned steps = aiProcess_ValidateDataStructure;
@@ -576,7 +605,11 @@ Result<RawMesh> readBodyFile(const std::filesystem::path& path, const Limits& li
         return *error;
     }
     if (ext != ".obj") {
-        return readMesh(path, limits.maxMeshBytes, limits.maxBodyVertices);
+        auto read = detail::readAssimpScene(path, limits.maxMeshBytes, limits.maxJsonDepth);
+        if (!read.ok()) {
+            return read.error();
+        }
+        return rawMeshOf(path.string(), read.value(), limits.maxBodyVertices);
     }
     auto obj = readObj(path, limits.maxMeshBytes);
     if (!obj.ok()) {

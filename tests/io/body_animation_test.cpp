@@ -214,6 +214,11 @@ TEST(BodyAnimation, BadAnimationsAreRefusedNamingTheFileAndTheProblem) {
     const std::string nan = errorOf(dir.write("nan.gltf", test::skinnedGltf(broken)), options);
     EXPECT_NE(nan.find("node \"upper\": rotation key 1 is not finite"), std::string::npos) << nan;
 
+    // assimp's recursive JSON parser would overflow the stack on a deep enough nesting.
+    const std::string deep = "{\"asset\": " + std::string(300, '[') + std::string(300, ']') + "}";
+    EXPECT_NE(errorOf(dir.write("deep.gltf", deep), options).find("nested deeper than 256"),
+              std::string::npos);
+
     const auto bend = dir.write("bend.gltf", test::skinnedGltf(prism()));
     io::Limits few;
     few.maxFrames = 5;
