@@ -21,7 +21,8 @@ struct Limits {
     /// Deepest nesting of JSON arrays and objects inside each other.
     int maxJsonDepth = 256;
     /// Most vertices of a body mesh read through assimp, every instance of a mesh counted (the
-    /// MakeHuman body has 13,380; a dense scan a few million).
+    /// MakeHuman body has 13,380; a dense scan a few million); of a sampled body animation,
+    /// every frame counted (20,000,000 vertices are 480 MB of positions).
     long long maxBodyVertices = 20'000'000;
     /// Largest extent (bounding-box side) of a body mesh or an OBJ obstacle [m]; a body is
     /// metres and Y up, so a larger one is a unit mistake or a broken file.
@@ -39,9 +40,10 @@ struct Limits {
     /// Cloth vertices and triangles over the whole scene (every cloth together).
     long long maxSceneVertices = 4'000'000;
     long long maxSceneTriangles = 8'000'000;
-    /// Largest output frame rate of a scene [1/s].
+    /// Largest output frame rate of a scene, and sampling rate of a body animation [1/s].
     double maxFrameRate = 1000.0;
-    /// Most output frames of a scene (duration × frame rate).
+    /// Most output frames of a scene (duration × frame rate), and frames sampled from a body
+    /// animation.
     long long maxFrames = 100'000;
     /// Most steps the nominal step asks for (scene duration / dt; project time limit / dt):
     /// a run that could not end. Long runs meant to be stopped by hand stay within it.

@@ -1,7 +1,9 @@
 #include "io/mesh_import.h"
 
+#include "io/assimp_scene.h"
 #include "io/atomic_file.h"
 #include "io/body_file.h"
+#include "io/json_reader.h"
 #include "io/obj.h"
 
 #include <assimp/Importer.hpp>
@@ -55,26 +57,14 @@ std::string formatOfExtension(const std::string& ext) {
     return "STL";
 }
 
-/// Reads a mesh through assimp with no post-processing but its validation (assimp's
-/// triangulation asserts, and so aborts, on some broken files: a fuzzed binary PLY), then
-/// fans polygons into triangles, drops points and lines, and places every mesh instance by
-/// its node's accumulated transform (so the vertices are in scene coordinates).
-/// `text` is the file's content; a .gltf (which may name other files) is read from the file.
-Result<RawMesh> readWithAssimp(const std::filesystem::path& path, const std::string& ext,
-                               const std::string& text, long long maxVertices) {
-    const std::string file = path.string();
-    Assimp::Importer importer;
-    const unsigned steps = aiProcess_ValidateDataStructure;
-    const aiScene* scene =
-        ext == ".gltf"
-            ? importer.ReadFile(file, steps)
-            : importer.ReadFileFromMemory(text.data(), text.size(), steps, ext.substr(1).c_str());
-    if (scene == nullptr) {
-        std::string why = importer.GetErrorString();
-        return Error{file, "", "cannot read the mesh: " + (why.empty() ? "unknown error" : why)};
-    }
+/// Places every mesh instance of an assimp scene by its node's accumulated transform (so the
+/// vertices are in scene coordinates), polygons fanned into triangles.
+Result<RawMesh> rawMeshOf(const std::string& file, const detail::AssimpScene& read,
+                          long long maxVertices) {
+    const aiScene* scene = read.scene;
     RawMesh raw;
-    raw.format = formatOfExtension(ext);
+    raw.format = read.format;
+    raw.metadataUp = read.metadataUp;
     std::vector<sim::Vec3> positions;
     std::vector<std::array<int, 3>> triangles;
     // Depth-first over the nodes with an explicit stack (a deep tree cannot overflow ours).
@@ -106,22 +96,8 @@ Result<RawMesh> readWithAssimp(const std::filesystem::path& path, const std::str
                 const aiVector3D p = transform * mesh->mVertices[v];
                 positions.emplace_back(p.x, p.y, p.z);
             }
-            for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
-                const aiFace& face = mesh->mFaces[f];
-                for (unsigned k = 0; k < face.mNumIndices; ++k) {
-                    if (face.mIndices[k] >= mesh->mNumVertices) {
-                        return Error{file, "",
-                                     "a face names a vertex the mesh does not hold (" +
-                                         std::to_string(face.mIndices[k]) + " of " +
-                                         std::to_string(mesh->mNumVertices) + ")"};
-                    }
-                }
-                // Polygons as fans; points and lines (fewer than 3 corners) carry no surface.
-                for (unsigned k = 1; k + 1 < face.mNumIndices; ++k) {
-                    triangles.push_back({base + static_cast<int>(face.mIndices[0]),
-                                         base + static_cast<int>(face.mIndices[k]),
-                                         base + static_cast<int>(face.mIndices[k + 1])});
-                }
+            if (auto added = detail::appendTriangles(*mesh, base, file, triangles); !added.ok()) {
+                return added.error();
             }
             raw.hasUvs = raw.hasUvs || mesh->HasTextureCoords(0);
             aiString name;
@@ -140,16 +116,6 @@ Result<RawMesh> readWithAssimp(const std::filesystem::path& path, const std::str
         for (int k = 0; k < 3; ++k) {
             raw.triangles(static_cast<Eigen::Index>(f), k) =
                 triangles[f][static_cast<std::size_t>(k)];
-        }
-    }
-    // FBX declares its up axis (UpAxis 1 = Y, 2 = Z); glTF is Y up by its specification;
-    // assimp turns a COLLADA Z_UP file Y up itself.
-    if (ext == ".gltf" || ext == ".glb") {
-        raw.metadataUp = UpAxis::Y;
-    } else if (scene->mMetaData != nullptr) {
-        int up = -1;
-        if (scene->mMetaData->Get("UpAxis", up) && (up == 1 || up == 2)) {
-            raw.metadataUp = up == 1 ? UpAxis::Y : UpAxis::Z;
         }
     }
     return raw;
@@ -530,6 +496,42 @@ Result<ImportedBody> normaliseBody(const RawMesh& raw, const std::string& file,
 
 Result<RawMesh> readMesh(const std::filesystem::path& path, std::uint64_t maxBytes,
                          long long maxVertices) {
+    auto read = detail::readAssimpScene(path, maxBytes, Limits{}.maxJsonDepth);
+    if (!read.ok()) {
+        return read.error();
+    }
+    return rawMeshOf(path.string(), read.value(), maxVertices);
+}
+
+namespace detail {
+
+namespace {
+
+/// The JSON of a glTF file: all of a .gltf, the first chunk of a .glb when it is its JSON
+/// chunk (a 12-byte header, then the chunk's length and type "JSON"); empty otherwise.
+std::string_view gltfJson(const std::string& ext, const std::string& text) {
+    if (ext == ".gltf") {
+        return text;
+    }
+    if (ext != ".glb" || text.size() < 20 || text.compare(16, 4, "JSON") != 0) {
+        return {};
+    }
+    std::uint32_t length = 0;
+    for (int k = 3; k >= 0; --k) {
+        length = (length << 8) | static_cast<unsigned char>(text[12 + static_cast<std::size_t>(k)]);
+    }
+    return std::string_view(text).substr(20, length);
+}
+
+} // namespace
+
+AssimpScene::AssimpScene() = default;
+AssimpScene::AssimpScene(AssimpScene&&) noexcept = default;
+AssimpScene& AssimpScene::operator=(AssimpScene&&) noexcept = default;
+AssimpScene::~AssimpScene() = default;
+
+Result<AssimpScene> readAssimpScene(const std::filesystem::path& path, std::uint64_t maxBytes,
+                                    int maxJsonDepth) {
     const std::string ext = lowerExtension(path);
     if (auto error = unsupported(path, ext)) {
         return *error;
@@ -538,8 +540,61 @@ Result<RawMesh> readMesh(const std::filesystem::path& path, std::uint64_t maxByt
     if (!text.ok()) {
         return text.error();
     }
-    return readWithAssimp(path, ext, text.value(), maxVertices);
+    const std::string file = path.string();
+    // assimp's glTF reader parses its JSON recursively: 200,000 nested arrays overflow the stack
+    // (a fuzzed .gltf, tests/fuzz/regressions/gltf-body-nested-arrays-stack-overflow).
+    if (const std::string_view json = gltfJson(ext, text.value()); !json.empty()) {
+        if (auto error = checkJsonStructure(json, file, maxJsonDepth)) {
+            return *error;
+        }
+    }
+    AssimpScene out;
+    out.importer = std::make_unique<Assimp::Importer>();
+    const unsigned steps = aiProcess_ValidateDataStructure;
+    // A .gltf (which may name other files) is read from the file, the others from memory.
+    out.scene = ext == ".gltf"
+                    ? out.importer->ReadFile(file, steps)
+                    : out.importer->ReadFileFromMemory(text.value().data(), text.value().size(),
+                                                       steps, ext.substr(1).c_str());
+    if (out.scene == nullptr) {
+        std::string why = out.importer->GetErrorString();
+        return Error{file, "", "cannot read the mesh: " + (why.empty() ? "unknown error" : why)};
+    }
+    out.format = formatOfExtension(ext);
+    if (ext == ".gltf" || ext == ".glb") {
+        out.metadataUp = UpAxis::Y;
+    } else if (out.scene->mMetaData != nullptr) {
+        int up = -1;
+        if (out.scene->mMetaData->Get("UpAxis", up) && (up == 1 || up == 2)) {
+            out.metadataUp = up == 1 ? UpAxis::Y : UpAxis::Z;
+        }
+    }
+    return out;
 }
+
+Result<void> appendTriangles(const aiMesh& mesh, int base, const std::string& file,
+                             std::vector<std::array<int, 3>>& triangles) {
+    for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+        const aiFace& face = mesh.mFaces[f];
+        for (unsigned k = 0; k < face.mNumIndices; ++k) {
+            if (face.mIndices[k] >= mesh.mNumVertices) {
+                return Error{file, "",
+                             "a face names a vertex the mesh does not hold (" +
+                                 std::to_string(face.mIndices[k]) + " of " +
+                                 std::to_string(mesh.mNumVertices) + ")"};
+            }
+        }
+        // Polygons as fans; points and lines (fewer than 3 corners) carry no surface.
+        for (unsigned k = 1; k + 1 < face.mNumIndices; ++k) {
+            triangles.push_back({base + static_cast<int>(face.mIndices[0]),
+                                 base + static_cast<int>(face.mIndices[k]),
+                                 base + static_cast<int>(face.mIndices[k + 1])});
+        }
+    }
+    return {};
+}
+
+} // namespace detail
 
 namespace {
 
@@ -550,7 +605,11 @@ Result<RawMesh> readBodyFile(const std::filesystem::path& path, const Limits& li
         return *error;
     }
     if (ext != ".obj") {
-        return readMesh(path, limits.maxMeshBytes, limits.maxBodyVertices);
+        auto read = detail::readAssimpScene(path, limits.maxMeshBytes, limits.maxJsonDepth);
+        if (!read.ok()) {
+            return read.error();
+        }
+        return rawMeshOf(path.string(), read.value(), limits.maxBodyVertices);
     }
     auto obj = readObj(path, limits.maxMeshBytes);
     if (!obj.ok()) {
@@ -574,6 +633,33 @@ Result<ImportedBody> importBody(const std::filesystem::path& path, const BodyImp
     return normaliseBody(raw.value(), path.string(), options, limits);
 }
 
+Result<sim::MatX3> placeAsFirstFrame(const sim::MatX3& positions, const ImportedBody& first,
+                                     const std::string& file, const Limits& limits) {
+    const BodyImportReport& how = first.report;
+    const double scale = metresPerUnit(how.units);
+    sim::MatX3 x = sim::MatX3::Zero(first.vertices.rows(), 3);
+    for (Eigen::Index i = 0; i < positions.rows(); ++i) {
+        const int target = i < static_cast<Eigen::Index>(first.fromSource.size())
+                               ? first.fromSource[static_cast<std::size_t>(i)]
+                               : -1;
+        if (target < 0) {
+            continue;
+        }
+        const sim::Vec3 p = positions.row(i);
+        if (!p.allFinite()) {
+            return Error{file, "", "vertex " + std::to_string(i) + " is not finite"};
+        }
+        sim::Vec3 q = how.up == UpAxis::Z ? sim::Vec3(p.x(), p.z(), -p.y()) : p;
+        q *= scale;
+        q.y() -= first.floorOffset;
+        x.row(target) = q.transpose();
+    }
+    if (auto problem = checkBodyExtent(x, limits.maxBodyExtent)) {
+        return Error{file, "", *problem};
+    }
+    return x;
+}
+
 Result<BodyMotion> importBodyMotion(const std::vector<std::filesystem::path>& files,
                                     const BodyImportOptions& options, const Limits& limits) {
     if (files.size() < 2) {
@@ -592,9 +678,6 @@ Result<BodyMotion> importBodyMotion(const std::vector<std::filesystem::path>& fi
     }
     motion.first = std::move(first).value();
     const ImportedBody& body = motion.first;
-    // The first frame's import, as a map from file coordinates to the body's.
-    const BodyImportReport& how = body.report;
-    const double scale = metresPerUnit(how.units);
     const sim::MatX3i firstTriangles = firstRaw.value().triangles;
     const long long firstVertexCount = firstRaw.value().positions.rows();
     for (std::size_t k = 0; k < files.size(); ++k) {
@@ -615,25 +698,11 @@ Result<BodyMotion> importBodyMotion(const std::vector<std::filesystem::path>& fi
                              std::to_string(firstTriangles.rows()) +
                              ", or the triangles differ): every frame must be the same mesh"};
         }
-        sim::MatX3 x = sim::MatX3::Zero(body.vertices.rows(), 3);
-        for (Eigen::Index i = 0; i < mesh.positions.rows(); ++i) {
-            const int target = body.fromSource[static_cast<std::size_t>(i)];
-            if (target < 0) {
-                continue;
-            }
-            const sim::Vec3 p = mesh.positions.row(i);
-            if (!p.allFinite()) {
-                return Error{file, "", "vertex " + std::to_string(i) + " is not finite"};
-            }
-            sim::Vec3 q = how.up == UpAxis::Z ? sim::Vec3(p.x(), p.z(), -p.y()) : p;
-            q *= scale;
-            q.y() -= body.floorOffset;
-            x.row(target) = q.transpose();
+        auto x = placeAsFirstFrame(mesh.positions, body, file, limits);
+        if (!x.ok()) {
+            return x.error();
         }
-        if (auto problem = checkBodyExtent(x, limits.maxBodyExtent)) {
-            return Error{file, "", *problem};
-        }
-        motion.frames.push_back(std::move(x));
+        motion.frames.push_back(std::move(x).value());
         motion.files.push_back(file);
     }
     return motion;

@@ -123,7 +123,16 @@ struct BodyMotion {
     ImportedBody first;             ///< the first frame, imported as importBody does
     std::vector<sim::MatX3> frames; ///< every frame's vertices (the first's included) [m]
     std::vector<std::string> files; ///< the file of each frame
+    /// The animation sampled, as `0 "walk"` (importBodyAnimation); empty for a mesh sequence.
+    std::string animation;
 };
+
+/// A later frame of a body, `positions` in file coordinates (the vertices, in order, of the
+/// raw mesh `first` was normalised from), in the frame of `first`: its unit, up axis, floor
+/// offset and weld. Errors name `file`: a non-finite vertex, or a side longer than
+/// `limits.maxBodyExtent`.
+Result<sim::MatX3> placeAsFirstFrame(const sim::MatX3& positions, const ImportedBody& first,
+                                     const std::string& file, const Limits& limits = {});
 
 /// Reads the frames of an animated body (OBJ or any format importBody reads; typically an OBJ
 /// sequence exported from a posed or skinned character), one file per frame in the given

@@ -1,6 +1,7 @@
-/// `atelier-cli animate PROJECT --body-frames FRAMES... --out SEQUENCE.glb`: drapes the project
-/// on the first frame of an animated body until rest, then runs the drape along the body's
-/// motion, one body frame after the other, and writes the sequence (docs/animation.md).
+/// `atelier-cli animate PROJECT --body-frames FRAMES... | --body-animation FILE --out
+/// SEQUENCE.glb`: drapes the project on the first frame of an animated body until rest, then
+/// runs the drape along the body's motion, one body frame after the other, and writes the
+/// sequence (docs/animation.md).
 
 #include "app/cli/commands.h"
 #include "app/cli/drape.h"
@@ -8,11 +9,14 @@
 #include "app/cli/limits_option.h"
 
 #include "io/atomic_file.h"
+#include "io/body_animation.h"
 #include "io/body_file.h"
 #include "io/gltf_animation.h"
 #include "io/mesh_import.h"
 #include "io/obj.h"
 #include "io/project_file.h"
+
+#include "patterns/mannequin.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -30,6 +34,10 @@ namespace {
 struct AnimateOptions {
     DrapeOptions drape; ///< the drape to rest on the first frame (its --out, --report, ...)
     std::vector<std::string> bodyFrames;
+    std::string bodyAnimation; ///< a skinned, animated body file, or empty
+    std::string animation;     ///< its animation's name or index; empty = the first
+    double start = 0;          ///< start of the window sampled [s]
+    double duration = -1;      ///< length of the window sampled [s]; < 0 = to the end
     double fps = 30;
     std::string sequence;     ///< the .glb written
     std::string motionDir;    ///< garment and body OBJ per frame, or empty
@@ -65,7 +73,8 @@ Result<std::vector<std::filesystem::path>> frameFiles(const std::vector<std::str
     return files;
 }
 
-/// Reads the motion in the unit and up axis of the project's body, which must be a mesh.
+/// Reads the motion in the unit and up axis of the project's body, which must be a mesh (with
+/// --body-animation, the animated file itself).
 Result<io::BodyMotion> readMotion(const AnimateOptions& options, const io::Limits& limits) {
     auto project = io::loadProject(options.drape.project, limits);
     if (!project.ok()) {
@@ -76,6 +85,28 @@ Result<io::BodyMotion> readMotion(const AnimateOptions& options, const io::Limit
         return Error{options.drape.project, "/body",
                      "the body is the mannequin; to drape along a motion, make the motion's "
                      "first frame the project's body (\"body\": {\"mesh\": FILE})"};
+    }
+    if (!options.bodyAnimation.empty()) {
+        const std::filesystem::path mesh =
+            std::filesystem::absolute(options.drape.project).parent_path() / body.meshPath;
+        std::error_code ec;
+        if (!std::filesystem::exists(options.bodyAnimation, ec)) {
+            return Error{options.bodyAnimation, "", "the body animation file is not found"};
+        }
+        if (!std::filesystem::equivalent(mesh, options.bodyAnimation, ec)) {
+            return Error{options.drape.project, "/body/mesh",
+                         "the body is " + body.meshPath + ", not --body-animation " +
+                             options.bodyAnimation +
+                             "; make the animated file the project's body (\"body\": "
+                             "{\"mesh\": FILE}), so that its unit and up axis apply"};
+        }
+        io::BodyAnimationOptions sampling;
+        sampling.import = io::bodyImportOptions(body);
+        sampling.animation = options.animation;
+        sampling.fps = options.fps;
+        sampling.start = options.start;
+        sampling.duration = options.duration;
+        return io::importBodyAnimation(options.bodyAnimation, sampling, limits);
     }
     auto files = frameFiles(options.bodyFrames);
     if (!files.ok()) {
@@ -241,10 +272,30 @@ int runAnimate(const AnimateOptions& options) {
         std::cerr << "error: --fps must be above 0 and at most 1000\n";
         return EXIT_BAD_INPUT;
     }
+    if (options.bodyFrames.empty() == options.bodyAnimation.empty()) {
+        std::cerr << "error: give the motion as --body-frames or as --body-animation\n";
+        return EXIT_BAD_INPUT;
+    }
     auto motion = readMotion(options, *limits);
     if (!motion.ok()) {
         std::cerr << "error: " << motion.error().toString() << "\n";
         return EXIT_BAD_INPUT;
+    }
+    DrapeOptions drape = options.drape;
+    if (!motion.value().animation.empty()) {
+        // The drape rests on the animation's first frame, not on the file's bind pose.
+        const io::ImportedBody& first = motion.value().first;
+        for (const std::string& w : first.report.warnings) {
+            std::cerr << "warning: " << options.bodyAnimation << ": " << w << "\n";
+        }
+        patterns::Body body;
+        body.vertices = first.vertices;
+        body.triangles = first.triangles;
+        if (auto problem = patterns::estimateSlots(body)) {
+            std::cerr << "error: " << options.bodyAnimation << ": " << *problem << "\n";
+            return EXIT_BAD_INPUT;
+        }
+        drape.body = std::move(body);
     }
     if (std::error_code ec; !options.motionDir.empty() &&
                             !std::filesystem::create_directories(options.motionDir, ec) && ec) {
@@ -252,10 +303,12 @@ int runAnimate(const AnimateOptions& options) {
                   << ": cannot create the folder: " << ec.message() << "\n";
         return EXIT_BAD_INPUT;
     }
-    std::fprintf(stderr, "animate: %zu body frames at %.0f frames per second (%.2f s)\n",
+    std::fprintf(stderr, "animate: %zu body frames at %g frames per second (%.2f s)%s%s\n",
                  motion.value().frames.size(), options.fps,
-                 static_cast<double>(motion.value().frames.size() - 1) / options.fps);
-    return runDrape(options.drape, [&](patterns::DrapeSession& session, int code) {
+                 static_cast<double>(motion.value().frames.size() - 1) / options.fps,
+                 motion.value().animation.empty() ? "" : " of animation ",
+                 motion.value().animation.c_str());
+    return runDrape(drape, [&](patterns::DrapeSession& session, int code) {
         if (code != EXIT_OK) {
             return code;
         }
@@ -274,11 +327,29 @@ void addAnimateCommand(CLI::App& app) {
                     "Garment project (.atelier) whose body "
                     "is the motion's first frame")
         ->required();
-    cmd->add_option("--body-frames", options->bodyFrames,
-                    "The body at each frame: mesh files (same mesh, moved), or a folder of them "
-                    "taken in name order")
-        ->required();
-    cmd->add_option("--fps", options->fps, "Body frames per second (default 30)");
+    CLI::Option* frames =
+        cmd->add_option("--body-frames", options->bodyFrames,
+                        "The body at each frame: mesh files (same mesh, moved), or a folder of "
+                        "them taken in name order");
+    CLI::Option* animated = cmd->add_option(
+        "--body-animation", options->bodyAnimation,
+        "Or a skinned, animated body (glTF, FBX, COLLADA) sampled at --fps; the project's body "
+        "must be this file");
+    frames->excludes(animated);
+    cmd->add_option("--animation", options->animation,
+                    "The animation of --body-animation: its name or index (default: the first)")
+        ->needs(animated);
+    cmd->add_option("--start", options->start,
+                    "Start of the window of the animation sampled [s] (default 0)")
+        ->needs(animated)
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--duration", options->duration,
+                    "Length of the window of the animation sampled [s] (default: to its end)")
+        ->needs(animated)
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--fps", options->fps,
+                    "Body frames per second (default 30); with --body-animation, the frames "
+                    "sampled per second");
     cmd->add_option("--out", options->sequence,
                     "The sequence as one glTF binary (.glb): garment and body, a morph target "
                     "per frame and an animation that plays them")

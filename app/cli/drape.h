@@ -10,6 +10,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,9 @@ struct DrapeOptions {
     /// Further files written once the drape ends (a caller's pictures), checked with the
     /// other outputs before any work.
     std::vector<NamedPath> laterOutputs;
+    /// The body to drape on instead of the project's (`atelier-cli animate`: the first frame
+    /// of a sampled animation, with its slots); empty = the project's.
+    std::optional<patterns::Body> body;
 };
 
 /// Called once the drape has ended with a finite state, after its files are written: what the

@@ -124,8 +124,15 @@ std::optional<std::string> checkBeforeWork(const DrapeOptions& options,
                             options.maxVertices);
 }
 
-/// The drape session's body provider: the project's mannequin or body mesh (io/).
-patterns::BodyProvider projectBodies(const std::string& projectFile, const io::Limits& limits) {
+/// The drape session's body provider: the project's mannequin or body mesh (io/), or the
+/// caller's body.
+patterns::BodyProvider projectBodies(const DrapeOptions& options, const io::Limits& limits) {
+    if (options.body) {
+        return [body = *options.body](const patterns::BodySource&) {
+            return Result<patterns::Body>(body);
+        };
+    }
+    const std::string& projectFile = options.project;
     const std::filesystem::path dir = std::filesystem::absolute(projectFile).parent_path();
     return [dir, projectFile, limits](const patterns::BodySource& source) {
         std::vector<std::string> warnings;
@@ -339,7 +346,7 @@ int runDrape(const DrapeOptions& options, const DrapeFinished& finished) {
         return EXIT_BAD_INPUT;
     }
 
-    patterns::DrapeSession session(projectBodies(options.project, *limits));
+    patterns::DrapeSession session(projectBodies(options, *limits));
     session.setInteractive(options.interactive);
     session.setProject(std::move(*project));
     if (auto prepared = session.prepare(); !prepared.ok()) {

@@ -243,5 +243,34 @@ TEST(CliReports, ANameThatIsNotUtf8KeepsItsReport) {
     EXPECT_EQ(r["scene"].get<std::string>(), (dir / "tiny\xef\xbf\xbd.json").string());
 }
 
+TEST(CliAnimate, ABodyAnimationThatIsNotTheProjectsBodyIsRefusedBeforeAnyWork) {
+    test::TempDir dir;
+    nlohmann::json project = nlohmann::json::parse(test::readText(SKIRT));
+    project["body"] = {{"mesh", "body.glb"}};
+    const auto file = dir.write("skirt.atelier", project.dump());
+    // Never read: the refusals come first.
+    dir.write("body.glb", "not read");
+    dir.write("other.glb", "not read");
+    const std::string out = " --out " + inQuotes(dir / "seq.glb");
+    CliRun run = runCli(dir, "animate " + inQuotes(file) + " --body-animation " +
+                                 inQuotes(dir / "other.glb") + out);
+    EXPECT_EQ(run.exitCode, 2);
+    EXPECT_NE(run.stderrText.find("/body/mesh: the body is body.glb, not --body-animation"),
+              std::string::npos)
+        << run.stderrText;
+    run = runCli(dir, "animate " + inQuotes(file) + " --body-animation " +
+                          inQuotes(dir / "missing.glb") + out);
+    EXPECT_EQ(run.exitCode, 2);
+    EXPECT_NE(run.stderrText.find("missing.glb: the body animation file is not found"),
+              std::string::npos)
+        << run.stderrText;
+    run = runCli(dir, "animate " + inQuotes(file) + out);
+    EXPECT_EQ(run.exitCode, 2);
+    EXPECT_NE(run.stderrText.find("give the motion as --body-frames or as --body-animation"),
+              std::string::npos)
+        << run.stderrText;
+    EXPECT_FALSE(std::filesystem::exists(dir / "seq.glb"));
+}
+
 } // namespace
 } // namespace atelier

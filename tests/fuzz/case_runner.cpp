@@ -1,5 +1,6 @@
 #include "case_runner.h"
 
+#include "io/body_animation.h"
 #include "io/body_file.h"
 #include "io/dxf_aama.h"
 #include "io/garmentcode.h"
@@ -121,6 +122,13 @@ int drapeProject(patterns::Project project, const fs::path& file, const BodyCach
             if (const patterns::Body* body = bodies.find(base)) {
                 return Result<patterns::Body>(*body);
             }
+        }
+        if (!source.meshPath.empty()) {
+            // The body file's animation, where it has one, sampled as `atelier-cli animate
+            // --body-animation` samples it: a crash or hang there is a finding, an error not.
+            io::BodyAnimationOptions sampling;
+            sampling.fps = 10;
+            (void)io::importBodyAnimation(dir / source.meshPath, sampling);
         }
         return io::loadBody(source, dir, file);
     });
