@@ -15,7 +15,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <tuple>
+#include <utility>
 
 namespace atelier::ui {
 
@@ -29,6 +31,22 @@ constexpr double MIN_DART_DEPTH = 0.005; // a shorter drag is a click, not a dar
 QPointF unit(const QPointF& v) {
     const double n = std::hypot(v.x(), v.y());
     return n > 0 ? v / n : QPointF(0, 0);
+}
+
+/// A notch's tick: from its point on the outline NOTCH_MM into the panel, square to the edge
+/// [m]; nullopt when its edge is gone.
+std::optional<std::pair<patterns::Vec2, patterns::Vec2>>
+notchTick(const patterns::doc::Panel& panel, const patterns::doc::Notch& notch) {
+    const int e = patterns::outlineEdgeIndex(panel, notch.edge);
+    if (e < 0) {
+        return std::nullopt;
+    }
+    const patterns::Segment s = patterns::contourSegment(panel.outline, std::size_t(e));
+    const patterns::Vec2 at = patterns::pointAt(s, notch.t);
+    const patterns::Vec2 along = patterns::tangentAt(s, notch.t).normalized();
+    // The outline runs counter-clockwise: the inside is to the left.
+    return std::make_pair(
+        at, patterns::Vec2(at + NOTCH_MM / MM * patterns::Vec2(-along.y(), along.x())));
 }
 
 } // namespace
@@ -78,17 +96,13 @@ void PatternView::drawMarks(const patterns::doc::Panel& panel, const QTransform&
     }
     // Notches: a short tick from the edge into the panel, square to it.
     for (const patterns::doc::Notch& notch : panel.notches) {
-        const int e = patterns::outlineEdgeIndex(panel, notch.edge);
-        if (e < 0) {
+        const auto ends = notchTick(panel, notch);
+        if (!ends) {
             continue;
         }
-        const patterns::Segment s = patterns::contourSegment(panel.outline, std::size_t(e));
-        const patterns::Vec2 at = patterns::pointAt(s, notch.t);
-        const patterns::Vec2 along = patterns::tangentAt(s, notch.t).normalized();
-        const patterns::Vec2 inward(-along.y(), along.x()); // the outline is counter-clockwise
         QPainterPath tick;
-        tick.moveTo(local(at));
-        tick.lineTo(local(at) + QPointF(inward.x(), inward.y()) * NOTCH_MM);
+        tick.moveTo(local(ends->first));
+        tick.lineTo(local(ends->second));
         const bool selected = current && notch.id == m_selectedNotch;
         auto* item = m_scene.addPath(
             t.map(tick), screenPen(selected ? QColor(220, 40, 40) : ink, selected ? 4 : 2.5));
@@ -223,15 +237,11 @@ PatternView::pickMark(const QPoint& at) const {
             return QPointF(mapFromScene(toScene(panel.id, v)));
         };
         for (const patterns::doc::Notch& notch : panel.notches) {
-            const int e = patterns::outlineEdgeIndex(panel, notch.edge);
-            if (e < 0) {
+            const auto ends = notchTick(panel, notch);
+            if (!ends) {
                 continue;
             }
-            const patterns::Segment s = patterns::contourSegment(panel.outline, std::size_t(e));
-            const patterns::Vec2 a = patterns::pointAt(s, notch.t);
-            const patterns::Vec2 along = patterns::tangentAt(s, notch.t).normalized();
-            const patterns::Vec2 b = a + NOTCH_MM / MM * patterns::Vec2(-along.y(), along.x());
-            if (const double d = segmentDistance(view(a), view(b)); d < best) {
+            if (const double d = segmentDistance(view(ends->first), view(ends->second)); d < best) {
                 best = d;
                 out = std::make_tuple(panel.id, true, notch.id.value);
             }
