@@ -239,7 +239,12 @@ CusickResult runCusick(const CusickOptions& o) {
     }
     sim::MatX3 last = simulation.positions();
     for (double t = 0.25; t <= o.maxTime + 1e-9; t += 0.25) {
-        if (simulation.run(t) != sim::RunStatus::Finished) {
+        const sim::RunStatus status = simulation.run(t, {}, o.cancel);
+        if (status == sim::RunStatus::Cancelled) {
+            r.error = "cancelled";
+            return r;
+        }
+        if (status != sim::RunStatus::Finished) {
             r.error = "simulation: " + simulation.error();
             return r;
         }

@@ -8,6 +8,7 @@
 #include "sim/core/types.h"
 #include "sim/material.h"
 
+#include <atomic>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,8 @@ struct CusickOptions {
     /// can form where they will (a real specimen is never laid perfectly flat) [m]; seeded.
     double perturbation = 0.001;
     unsigned seed = 1;
+    /// Set from another thread, stops the drape between steps (the result's error says so).
+    const std::atomic<bool>* cancel = nullptr;
 };
 
 struct CusickResult {
