@@ -569,6 +569,24 @@ Result<Edit> placePanel(GarmentDocument& d, PanelId panel, const Placement& plac
                   });
 }
 
+Result<Edit> setPanelParticleDistance(GarmentDocument& d, PanelId panel, double distance) {
+    return record(d, "particle distance of panel #" + std::to_string(panel.value), {panel}, {},
+                  [&](GarmentDocument& doc) -> Result<std::uint32_t> {
+                      doc::Panel* p = doc.panel(panel);
+                      if (p == nullptr) {
+                          return editError(panelWhere(panel), "no such panel");
+                      }
+                      if (!(distance == 0 || (distance >= MIN_PANEL_PARTICLE_DISTANCE &&
+                                              distance <= MAX_PANEL_PARTICLE_DISTANCE))) {
+                          return editError(panelWhere(panel),
+                                           "a particle distance must be 0 (the drape's) or "
+                                           "between 1 and 1000 mm");
+                      }
+                      p->particleDistance = distance;
+                      return 0U;
+                  });
+}
+
 Result<Edit> setPanelMaterial(GarmentDocument& d, PanelId panel, std::string material) {
     return record(
         d, "fabric of panel #" + std::to_string(panel.value), {panel}, {},

@@ -103,6 +103,9 @@ Result<Edit> renamePanel(GarmentDocument& document, PanelId panel, std::string n
 /// Places a panel on a body slot.
 Result<Edit> placePanel(GarmentDocument& document, PanelId panel, const Placement& placement);
 
+/// Meshes a panel at its own particle distance [m] (0: the drape's), 1 mm to 1 m.
+Result<Edit> setPanelParticleDistance(GarmentDocument& document, PanelId panel, double distance);
+
 /// Gives a panel the fabric `material`, one of the document's materials.
 Result<Edit> setPanelMaterial(GarmentDocument& document, PanelId panel, std::string material);
 

@@ -479,6 +479,9 @@ struct RandomEditor {
             return setMaterial(d, m);
         }
         case 15:
+            if (chance(0.3)) {
+                return setPanelParticleDistance(d, p, chance(0.2) ? -0.01 : uniform(0, 0.03));
+            }
             return addNotch(d, p, edge(d, p), parameter());
         case 16: {
             const doc::Panel* q = d.panel(p);
