@@ -117,6 +117,7 @@ patterns::Panel readPanelV1(const json& value, const std::string& ptr,
     panel.side = a.side;
     panel.grainAngle = a.grainAngle;
     panel.placement = a.placement;
+    panel.particleDistance = a.particleDistance;
     panel.outline = readLoop(r.require("outline"), r.pointerOf("outline"));
     detail::forEachIn(r, "holes", [&](const json& v, const std::string& p) {
         panel.holes.push_back(readLoop(v, p));

@@ -235,6 +235,7 @@ class DocumentReader {
         panel.side = a.side;
         panel.grainAngle = a.grainAngle;
         panel.placement = std::move(a.placement);
+        panel.particleDistance = a.particleDistance;
         readChain(r.require("outline"), r.pointerOf("outline"), true, panel.outline.points,
                   panel.outline.edges);
         readParts(r, panel);
@@ -318,6 +319,9 @@ ordered_json panelJson(const doc::Panel& panel) {
     out["material"] = panel.material;
     out["side"] = std::string(sideName(panel.side));
     out["grain_deg"] = deg(panel.grainAngle);
+    if (panel.particleDistance > 0) { // written only when set: older files stay byte-identical
+        out["particle_distance_mm"] = mm(panel.particleDistance);
+    }
     out["outline"] = chainJson(panel.outline.points, panel.outline.edges);
     out["holes"] = ordered_json::array();
     for (const doc::Hole& hole : panel.holes) {

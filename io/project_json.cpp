@@ -3,6 +3,8 @@
 #include "io/material_json.h"
 #include "io/materials.h"
 
+#include "patterns/mesh.h"
+
 #include "sim/simulation.h"
 
 #include <algorithm>
@@ -278,6 +280,12 @@ PanelAttributes readPanelAttributes(ObjectReader& r,
         r.fail("side", "unknown side " + inQuotes(side) + " (expected \"front\" or \"back\")");
     }
     a.grainAngle = angleDeg(r, "grain_deg", a.grainAngle);
+    a.particleDistance = lengthMm(r, "particle_distance_mm", 0.0, Range::NonNegative);
+    if (!(a.particleDistance == 0 ||
+          (a.particleDistance >= patterns::MIN_PANEL_PARTICLE_DISTANCE &&
+           a.particleDistance <= patterns::MAX_PANEL_PARTICLE_DISTANCE))) {
+        r.fail("particle_distance_mm", "must be 0 (the drape's) or between 1 and 1000 mm");
+    }
     if (const json* placement = r.find("placement")) {
         ObjectReader p(*placement, r.pointerOf("placement"));
         patterns::Placement& out = a.placement;

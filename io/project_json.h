@@ -68,10 +68,11 @@ struct PanelAttributes {
     patterns::PanelSide side = patterns::PanelSide::Front;
     double grainAngle = patterns::Panel{}.grainAngle;
     patterns::Placement placement;
+    double particleDistance = 0; ///< the panel's own [m]; 0: the drape's
 };
 
 /// Reads `name` (not one of `takenNames`), `material` (one of `materials`), `side`,
-/// `grain_deg` and `placement` from a panel object.
+/// `grain_deg`, `placement` and `particle_distance_mm` from a panel object.
 PanelAttributes readPanelAttributes(ObjectReader& r,
                                     const std::vector<patterns::GarmentMaterial>& materials,
                                     const std::vector<std::string>& takenNames);

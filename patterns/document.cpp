@@ -1,5 +1,7 @@
 #include "patterns/document.h"
 
+#include "patterns/mesh.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -120,6 +122,7 @@ void dumpPanel(std::string& out, const doc::Panel& p) {
     appendText(out, p.material);
     out += p.side == PanelSide::Back ? " back" : " front";
     appendNumber(out, p.grainAngle);
+    appendNumber(out, p.particleDistance);
     out += "\n  placement";
     appendText(out, p.placement.slot);
     appendVec(out, p.placement.offset);
@@ -284,6 +287,7 @@ doc::Panel panelFromDrawing(GarmentDocument& d, const Panel& drawn) {
         p.pins.push_back({id, pin.point, notch, pin.position, pin.releaseTime});
     }
     p.grainAngle = drawn.grainAngle;
+    p.particleDistance = drawn.particleDistance;
     p.material = drawn.material;
     p.side = drawn.side;
     p.placement = drawn.placement;
@@ -360,6 +364,7 @@ Garment toGarment(const GarmentDocument& d) {
             out.pins.push_back(drawn);
         }
         out.grainAngle = p.grainAngle;
+        out.particleDistance = p.particleDistance;
         out.material = p.material;
         out.side = p.side;
         out.placement = p.placement;
@@ -413,6 +418,10 @@ Result<void> checkDocument(const GarmentDocument& d) {
         claim(p.id.value, w);
         if (p.name.empty() || !names.insert(p.name).second) {
             fail(w, "panel name \"" + p.name + "\" is empty or not unique");
+        }
+        if (!(p.particleDistance == 0 || (p.particleDistance >= MIN_PANEL_PARTICLE_DISTANCE &&
+                                          p.particleDistance <= MAX_PANEL_PARTICLE_DISTANCE))) {
+            fail(w, "particle distance must be 0 or between 1 and 1000 mm");
         }
         if (p.outline.points.size() < 3 || p.outline.points.size() != p.outline.edges.size()) {
             fail(w, "outline needs as many edges as points, at least 3");

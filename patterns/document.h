@@ -121,6 +121,7 @@ struct Panel {
     std::string material;                   ///< a fabric of the document's materials
     PanelSide side = PanelSide::Front;
     Placement placement;
+    double particleDistance = 0; ///< as patterns::Panel::particleDistance [m]; 0: the drape's
 };
 
 /// A range of one panel's outline edge from curve parameter `t0` to `t1` (t0 > t1 runs against

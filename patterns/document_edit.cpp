@@ -1,6 +1,7 @@
 #include "patterns/document_edit.h"
 
 #include "patterns/curve.h"
+#include "patterns/document_edit_detail.h"
 #include "patterns/mesh.h"
 
 #include <algorithm>
@@ -11,25 +12,7 @@
 
 namespace atelier::patterns {
 
-namespace {
-
-Error editError(const std::string& where, std::string message) {
-    return Error{"", where, std::move(message)};
-}
-
-std::string panelWhere(PanelId id) {
-    return "panel #" + std::to_string(id.value);
-}
-
-template <class T>
-std::optional<std::size_t> indexOfId(const std::vector<T>& items, decltype(T::id) id) {
-    for (std::size_t i = 0; i < items.size(); ++i) {
-        if (items[i].id == id) {
-            return i;
-        }
-    }
-    return std::nullopt;
-}
+namespace detail {
 
 template <class T> auto changeId(const Change<T>& c) {
     return c.after ? c.after->id : c.before->id;
@@ -68,82 +51,8 @@ template <class T> Change<T> invertChange(const Change<T>& c) {
     return {c.after, c.before, c.afterIndex, c.beforeIndex};
 }
 
-/// The changes of the objects `touched` (ids, before-states taken now) and of every object
-/// added meanwhile, once `mutate` has run.
-template <class T> class Snapshot {
-  public:
-    Snapshot(const std::vector<T>& items, const std::vector<decltype(T::id)>& touched) {
-        for (const T& x : items) {
-            m_existing.insert(x.id);
-        }
-        for (const auto id : touched) {
-            if (m_recorded.count(id) != 0) {
-                continue;
-            }
-            m_recorded.insert(id);
-            Change<T> c;
-            if (const auto i = indexOfId(items, id)) {
-                c.before = items[*i];
-                c.beforeIndex = *i;
-            }
-            m_changes.push_back(std::move(c));
-            m_ids.push_back(id);
-        }
-    }
-
-    std::vector<Change<T>> finish(const std::vector<T>& items) && {
-        for (std::size_t k = 0; k < m_changes.size(); ++k) {
-            if (const auto i = indexOfId(items, m_ids[k])) {
-                m_changes[k].after = items[*i];
-                m_changes[k].afterIndex = *i;
-            }
-        }
-        for (std::size_t i = 0; i < items.size(); ++i) {
-            if (m_existing.count(items[i].id) == 0 && m_recorded.count(items[i].id) == 0) {
-                m_changes.push_back({std::nullopt, items[i], 0, i});
-            }
-        }
-        // Dropping untouched entries keeps the edit small (a declared object left alone).
-        std::vector<Change<T>> out;
-        for (Change<T>& c : m_changes) {
-            if (c.before || c.after) {
-                out.push_back(std::move(c));
-            }
-        }
-        return out;
-    }
-
-  private:
-    std::set<decltype(T::id)> m_existing;
-    std::set<decltype(T::id)> m_recorded;
-    std::vector<decltype(T::id)> m_ids;
-    std::vector<Change<T>> m_changes;
-};
-
-/// Runs `mutate` on the document, recording the panels and seams it declares it touches and
-/// every one it adds. On failure the document is restored and the error returned.
-template <class F>
-Result<Edit> record(GarmentDocument& d, std::string description, const std::vector<PanelId>& panels,
-                    const std::vector<SeamId>& seams, F&& mutate) {
-    Snapshot<doc::Panel> panelSnapshot(d.panels, panels);
-    Snapshot<doc::Seam> seamSnapshot(d.seams, seams);
-    Edit edit;
-    edit.description = std::move(description);
-    edit.nextIdBefore = d.nextId;
-    const Result<std::uint32_t> result = mutate(d);
-    edit.panels = std::move(panelSnapshot).finish(d.panels);
-    edit.seams = std::move(seamSnapshot).finish(d.seams);
-    edit.nextIdAfter = d.nextId;
-    if (!result.ok()) {
-        undo(d, edit);
-        return result.error();
-    }
-    edit.created = result.value();
-    return edit;
-}
-
 /// Seams with a range on `panel` (on `edge` when given).
-std::vector<SeamId> seamsOn(const GarmentDocument& d, PanelId panel, EdgeId edge = {}) {
+std::vector<SeamId> seamsOn(const GarmentDocument& d, PanelId panel, EdgeId edge) {
     std::vector<SeamId> out;
     for (const doc::Seam& s : d.seams) {
         for (const auto* side : {&s.a, &s.b}) {
@@ -353,7 +262,9 @@ std::set<EdgeId> edgeIds(const doc::Contour& c) {
     return out;
 }
 
-} // namespace
+} // namespace detail
+
+using namespace detail;
 
 Edit inverse(const Edit& edit) {
     Edit out;
@@ -658,6 +569,24 @@ Result<Edit> placePanel(GarmentDocument& d, PanelId panel, const Placement& plac
                   });
 }
 
+Result<Edit> setPanelParticleDistance(GarmentDocument& d, PanelId panel, double distance) {
+    return record(d, "particle distance of panel #" + std::to_string(panel.value), {panel}, {},
+                  [&](GarmentDocument& doc) -> Result<std::uint32_t> {
+                      doc::Panel* p = doc.panel(panel);
+                      if (p == nullptr) {
+                          return editError(panelWhere(panel), "no such panel");
+                      }
+                      if (!(distance == 0 || (distance >= MIN_PANEL_PARTICLE_DISTANCE &&
+                                              distance <= MAX_PANEL_PARTICLE_DISTANCE))) {
+                          return editError(panelWhere(panel),
+                                           "a particle distance must be 0 (the drape's) or "
+                                           "between 1 and 1000 mm");
+                      }
+                      p->particleDistance = distance;
+                      return 0U;
+                  });
+}
+
 Result<Edit> setPanelMaterial(GarmentDocument& d, PanelId panel, std::string material) {
     return record(
         d, "fabric of panel #" + std::to_string(panel.value), {panel}, {},
@@ -720,55 +649,6 @@ Result<Edit> setMaterial(GarmentDocument& d, const GarmentMaterial& material) {
     }
     edit.materialsAfter = d.materials;
     return edit;
-}
-
-Result<Edit> addPin(GarmentDocument& d, PanelId panel, const doc::Pin& pin) {
-    return record(
-        d, "pin panel #" + std::to_string(panel.value), {panel}, {},
-        [&](GarmentDocument& doc) -> Result<std::uint32_t> {
-            doc::Panel* p = doc.panel(panel);
-            if (p == nullptr) {
-                return editError(panelWhere(panel), "no such panel");
-            }
-            if (pin.notch) {
-                if (std::none_of(p->notches.begin(), p->notches.end(),
-                                 [&](const doc::Notch& n) { return n.id == pin.notch; })) {
-                    return editError(panelWhere(panel),
-                                     "no notch #" + std::to_string(pin.notch.value));
-                }
-            } else {
-                GarmentDocument one;
-                one.panels.push_back(*p);
-                if (!insidePanel(toGarment(one).panels.front(), pin.point)) {
-                    return editError(panelWhere(panel), "the pin's point is not inside the panel");
-                }
-            }
-            if ((pin.position && !(pin.position->cwiseAbs().maxCoeff() <= MAX_PIN_POSITION)) ||
-                !(pin.releaseTime >= 0)) {
-                return editError(panelWhere(panel),
-                                 "a pin's position must be within 10 m of the "
-                                 "body's origin and its release time at least 0");
-            }
-            doc::Pin added = pin;
-            added.id = doc.newId<PinId>();
-            p->pins.push_back(added);
-            return added.id.value;
-        });
-}
-
-Result<Edit> removePin(GarmentDocument& d, PanelId panel, PinId pin) {
-    return record(
-        d, "unpin #" + std::to_string(pin.value), {panel}, {},
-        [&](GarmentDocument& doc) -> Result<std::uint32_t> {
-            doc::Panel* p = doc.panel(panel);
-            if (p == nullptr) {
-                return editError(panelWhere(panel), "no such panel");
-            }
-            if (std::erase_if(p->pins, [&](const doc::Pin& q) { return q.id == pin; }) == 0) {
-                return editError(panelWhere(panel), "no pin #" + std::to_string(pin.value));
-            }
-            return 0U;
-        });
 }
 
 } // namespace atelier::patterns

@@ -103,6 +103,9 @@ Result<Edit> renamePanel(GarmentDocument& document, PanelId panel, std::string n
 /// Places a panel on a body slot.
 Result<Edit> placePanel(GarmentDocument& document, PanelId panel, const Placement& placement);
 
+/// Meshes a panel at its own particle distance [m] (0: the drape's), 1 mm to 1 m.
+Result<Edit> setPanelParticleDistance(GarmentDocument& document, PanelId panel, double distance);
+
 /// Gives a panel the fabric `material`, one of the document's materials.
 Result<Edit> setPanelMaterial(GarmentDocument& document, PanelId panel, std::string material);
 
@@ -119,5 +122,38 @@ Result<Edit> addPin(GarmentDocument& document, PanelId panel, const doc::Pin& pi
 
 /// Removes a pin of a panel.
 Result<Edit> removePin(GarmentDocument& document, PanelId panel, PinId pin);
+
+/// Adds a notch on an outline edge at curve parameter t ∈ [0, 1]. `created` is its id.
+Result<Edit> addNotch(GarmentDocument& document, PanelId panel, EdgeId edge, double t);
+
+/// Removes a notch of a panel; refused while a pin holds it.
+Result<Edit> removeNotch(GarmentDocument& document, PanelId panel, NotchId notch);
+
+/// Adds an internal line of straight edges through `points` (≥ 2, consecutive ones apart) [m],
+/// the whole line inside the panel and out of its holes; `foldAngle` is the rest angle of the
+/// hinges along it [rad], in (−π, π). `created` is its id.
+Result<Edit> addInternalLine(GarmentDocument& document, PanelId panel,
+                             const std::vector<Vec2>& points, double foldAngle = 0);
+
+/// Removes an internal line of a panel.
+Result<Edit> removeInternalLine(GarmentDocument& document, PanelId panel, LineId line);
+
+/// Sets the rest angle of the hinges along an internal line [rad], in (−π, π).
+Result<Edit> setFoldAngle(GarmentDocument& document, PanelId panel, LineId line, double angle);
+
+/// Cuts a dart into an outline edge: two points `width` apart along the edge [m], centred at
+/// curve parameter `t`, and a tip `depth` inside the panel from the middle of the chord between
+/// them [m]; the two legs to the tip are straight and sewn together when the garment drapes.
+/// The cut part of the edge must carry no seam or notch, and the legs stay inside the panel.
+/// `created` is the dart's id.
+Result<Edit> addDart(GarmentDocument& document, PanelId panel, EdgeId edge, double t, double width,
+                     double depth);
+
+/// Removes a dart and its tip: the outline runs straight from one leg's base to the other's,
+/// through the edge of the first leg. Refused while a seam or notch is on a leg.
+Result<Edit> removeDart(GarmentDocument& document, PanelId panel, DartId dart);
+
+/// Sets a panel's grain line: the warp direction [rad from +x], finite; stored in (−π, π].
+Result<Edit> setGrainAngle(GarmentDocument& document, PanelId panel, double angle);
 
 } // namespace atelier::patterns

@@ -154,7 +154,12 @@ Result<void> DrapeSession::build(const Start& start) {
     AssembledGarment assembled;
     DrapeSettings settings = m_project.drape;
     if (m_interactive) {
-        settings.dt = interactiveStep(settings);
+        DrapeSettings finest = settings; // the step suits the finest panel
+        for (const Panel& p : m_project.garment.panels) {
+            finest.particleDistance = std::min(finest.particleDistance,
+                                               panelParticleDistance(p, settings.particleDistance));
+        }
+        settings.dt = interactiveStep(finest);
     }
     if (auto err = assembleGarment(m_project.garment, m_mesh, m_body, settings, assembled)) {
         return sessionError(*err);

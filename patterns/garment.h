@@ -98,6 +98,9 @@ struct Panel {
     std::string material; ///< name of a fabric in the garment's materials
     PanelSide side = PanelSide::Front;
     Placement placement;
+    /// This panel's particle distance (mesh edge length) [m]; 0: the drape's. A seam between
+    /// panels of different distances is sewn at the finer one on both sides.
+    double particleDistance = 0;
 };
 
 /// A range of one panel's outline: segment `segment` from curve parameter `t0` to `t1`

@@ -346,6 +346,12 @@ std::vector<GarmentIssue> validateGarment(const Garment& garment) {
         if (!std::isfinite(panel.grainAngle)) {
             issues.push_back({pointer(pi, "/grain_deg"), "must be finite"});
         }
+        if (!(panel.particleDistance == 0 ||
+              (panel.particleDistance >= MIN_PANEL_PARTICLE_DISTANCE &&
+               panel.particleDistance <= MAX_PANEL_PARTICLE_DISTANCE))) {
+            issues.push_back({pointer(pi, "/particle_distance_mm"),
+                              "must be 0 (the drape's) or between 1 and 1000 mm"});
+        }
     }
     for (std::size_t s = 0; s < garment.seams.size(); ++s) {
         const Seam& seam = garment.seams[s];
@@ -858,16 +864,26 @@ std::optional<std::string> meshGarment(const Garment& garment, const MeshOptions
     if (!(options.particleDistance > 0)) {
         return std::string("particle distance must be positive");
     }
-    const double h = options.particleDistance;
-    const double sagitta = 0.05 * h; // chord error allowed on curves (area within ~0.2%)
     const std::size_t panelCount = garment.panels.size();
+    std::vector<double> hOf(panelCount);
+    for (std::size_t p = 0; p < panelCount; ++p) {
+        hOf[p] = panelParticleDistance(garment.panels[p], options.particleDistance);
+    }
+    // Chord error allowed on curves (area within ~0.2%).
+    const auto sagittaOf = [](double h) { return 0.05 * h; };
 
     // Seams and darts first: their points, matched by arc-length fraction, are fixed on both
-    // sides before the panels are meshed.
+    // sides before the panels are meshed, at the finest distance of the panels they join.
     std::vector<PanelPoints> points = initialPoints(garment);
     std::vector<PendingPair> pending;
     for (const SeamSides& ss : sewingSides(garment)) {
-        placeSeam(garment, ss, h, sagitta, points, pending, out.warnings);
+        double h = INFINITY;
+        for (const auto* side : {&ss.a, &ss.b}) {
+            for (const SideRange& r : *side) {
+                h = std::min(h, hOf[static_cast<std::size_t>(r.panel)]);
+            }
+        }
+        placeSeam(garment, ss, h, sagittaOf(h), points, pending, out.warnings);
     }
 
     // Boundary polygons, triangulation, panel meshes.
@@ -875,7 +891,8 @@ std::optional<std::string> meshGarment(const Garment& garment, const MeshOptions
     out.panels.resize(panelCount);
     out.minAngleDeg = 180;
     for (std::size_t p = 0; p < panelCount; ++p) {
-        if (auto err = meshPanel(garment, p, points[p], options, h, sagitta, vertexOf[p], out)) {
+        if (auto err = meshPanel(garment, p, points[p], options, hOf[p], sagittaOf(hOf[p]),
+                                 vertexOf[p], out)) {
             return err;
         }
     }
@@ -884,28 +901,36 @@ std::optional<std::string> meshGarment(const Garment& garment, const MeshOptions
     return std::nullopt;
 }
 
+double panelParticleDistance(const Panel& panel, double particleDistance) {
+    return panel.particleDistance > 0 ? panel.particleDistance : particleDistance;
+}
+
 MeshEstimate estimateGarmentMesh(const Garment& garment, double particleDistance) {
-    double area = 0;
-    double length = 0;
-    for (const Panel& panel : garment.panels) {
-        area += std::abs(loopArea(panel.outline));
-        for (const Loop& hole : panel.holes) {
-            area -= std::abs(loopArea(hole));
-        }
-        for (const Segment& s : panel.outline) {
-            length += arcLength(s);
-        }
-    }
-    const double h = particleDistance;
-    const double perVertex = std::sqrt(3.0) / 2 * h * h; // area per interior vertex [m²]
-    const double vertices = area / perVertex + length / h;
-    const double triangles = 2 * area / perVertex;
     const auto count = [](double n) {
         const double most = static_cast<double>(std::numeric_limits<long>::max() / 2);
         return std::isfinite(n) && n >= 0 && n < most ? static_cast<long>(std::llround(n))
                                                       : static_cast<long>(most);
     };
-    if (!(h > 0) || !std::isfinite(h)) {
+    double vertices = 0;
+    double triangles = 0;
+    for (const Panel& panel : garment.panels) {
+        const double h = panelParticleDistance(panel, particleDistance);
+        if (!(h > 0) || !std::isfinite(h)) {
+            return {count(-1), count(-1)};
+        }
+        double area = std::abs(loopArea(panel.outline));
+        for (const Loop& hole : panel.holes) {
+            area -= std::abs(loopArea(hole));
+        }
+        double length = 0;
+        for (const Segment& s : panel.outline) {
+            length += arcLength(s);
+        }
+        const double perVertex = std::sqrt(3.0) / 2 * h * h; // area per interior vertex [m²]
+        vertices += area / perVertex + length / h;
+        triangles += 2 * area / perVertex;
+    }
+    if (!(particleDistance > 0) || !std::isfinite(particleDistance)) {
         return {count(-1), count(-1)};
     }
     return {count(vertices), count(triangles)};

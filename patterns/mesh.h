@@ -95,7 +95,15 @@ struct MeshEstimate {
     long triangles = 0;
 };
 
-/// The size meshGarment gives at `particleDistance` [m], from the panels' areas A and outline
+/// Bounds of a panel's own particle distance [m] (0 = the drape's).
+inline constexpr double MIN_PANEL_PARTICLE_DISTANCE = 0.001;
+inline constexpr double MAX_PANEL_PARTICLE_DISTANCE = 1.0;
+
+/// The particle distance `panel` is meshed at: its own, or `particleDistance` [m].
+double panelParticleDistance(const Panel& panel, double particleDistance);
+
+/// The size meshGarment gives at `particleDistance` [m] (each panel at its own where it has
+/// one), from the panels' areas A and outline
 /// lengths L without triangulating (microseconds): the mesher's triangles are near-equilateral
 /// with a mean edge ≈ h, so a panel holds about 2A/(√3h²) interior vertices, L/h boundary
 /// vertices and 4A/(√3h²) triangles. Within ±20% of the samples' meshes at 10 and 20 mm; a

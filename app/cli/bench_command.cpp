@@ -1,6 +1,7 @@
 /// `atelier-cli bench`: benchmarks of the engine as subcommands. Only the CLI11 parsing lives
 /// here; the work is in bench_work_precision.cpp and bench_material.cpp (plain C++).
 
+#include "app/cli/bench_cusick.h"
 #include "app/cli/bench_drape.h"
 #include "app/cli/bench_material.h"
 #include "app/cli/bench_work_precision.h"
@@ -161,15 +162,42 @@ void addDrape(CLI::App& bench) {
     });
 }
 
+void addCusick(CLI::App& bench) {
+    auto o = std::make_shared<CusickBenchOptions>();
+    CLI::App* cmd = bench.add_subcommand(
+        "cusick", "Cusick drape test of a fabric preset (300 mm specimen on a 180 mm disc): "
+                  "drape coefficient and nodes over a few perturbed starts, a top view (SVG)");
+    auto particleMm = std::make_shared<double>(10.0);
+    cmd->add_option("--fabric", o->fabric, "Fabric preset")->capture_default_str();
+    cmd->add_option("--particle-distance", *particleMm, "Particle distance [mm]")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--starts", o->starts, "Perturbed starts")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 100));
+    cmd->add_option("--max-time", o->test.maxTime, "Give up settling after [s]")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--out,-o", o->out, "Folder for cusick.csv, cusick.json and cusick.svg");
+    cmd->callback([o, particleMm] {
+        o->test.particleDistance = *particleMm / 1000;
+        if (const int code = runCusickBench(*o); code != EXIT_OK) {
+            throw CLI::RuntimeError(code);
+        }
+    });
+}
+
 } // namespace
 
 void addBenchCommand(CLI::App& app) {
-    CLI::App* bench = app.add_subcommand("bench", "Benchmarks: integrator work-precision, "
-                                                  "material tension test, interactive drape");
+    CLI::App* bench =
+        app.add_subcommand("bench", "Benchmarks: integrator work-precision, "
+                                    "material tension test, interactive drape, Cusick drape");
     bench->require_subcommand(1);
     addWorkPrecision(*bench);
     addMaterial(*bench);
     addDrape(*bench);
+    addCusick(*bench);
 }
 
 } // namespace atelier::app

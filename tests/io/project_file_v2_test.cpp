@@ -286,6 +286,29 @@ TEST(ProjectFileV2, GeometryIssuesNameVersion2Pointers) {
         << result.error().toString();
 }
 
+TEST(ProjectFileV2, APanelsOwnParticleDistanceRoundTripsAndBadOnesNameTheirPointer) {
+    json doc = v2Json();
+    doc["panels"][1]["particle_distance_mm"] = 12.5;
+    const auto read = parse(doc.dump());
+    ASSERT_TRUE(read.ok()) << read.error().toString();
+    EXPECT_DOUBLE_EQ(read.value().document.panels[1].particleDistance, 0.0125);
+    EXPECT_DOUBLE_EQ(read.value().garment.panels[1].particleDistance, 0.0125);
+    EXPECT_EQ(read.value().document.panels[0].particleDistance, 0.0);
+    const std::string saved = formatProject(read.value());
+    EXPECT_EQ(formatProject(parse(saved).value()), saved);
+    EXPECT_EQ(json::parse(saved)["panels"][1]["particle_distance_mm"], 12.5);
+    EXPECT_FALSE(json::parse(saved)["panels"][0].contains("particle_distance_mm"))
+        << "a panel at the drape's distance is saved as before";
+    for (const json& value : {json(0.5), json(-3), json(2000)}) {
+        json d = doc;
+        d["panels"][1]["particle_distance_mm"] = value;
+        const auto bad = parse(d.dump());
+        ASSERT_FALSE(bad.ok()) << value.dump();
+        EXPECT_NE(bad.error().toString().find("/panels/1/particle_distance_mm"), std::string::npos)
+            << bad.error().toString();
+    }
+}
+
 TEST(ProjectFileV2, PinsRoundTripAndBadPinsNameTheirPointer) {
     json doc = v2Json();
     const json notch = doc["panels"][0]["notches"][0]["id"];

@@ -198,6 +198,164 @@ TEST(DocumentEdits, FabricsAndTheirPanels) {
     EXPECT_EQ(dumpDocument(d), edited);
 }
 
+// --- Marks: notches, internal lines, darts, grain -----------------------------------------
+
+/// A document with one 0.3 × 0.4 m rectangle "r" (edges: bottom, right, top, left).
+GarmentDocument rectangle() {
+    GarmentDocument d;
+    d.materials.push_back({"cotton", {}});
+    Panel drawn;
+    drawn.name = "r";
+    drawn.material = "cotton";
+    const std::vector<Vec2> c{{0, 0}, {0.3, 0}, {0.3, 0.4}, {0, 0.4}};
+    for (std::size_t i = 0; i < c.size(); ++i) {
+        Segment s;
+        s.start = c[i];
+        s.end = c[(i + 1) % c.size()];
+        drawn.outline.push_back(s);
+    }
+    EXPECT_TRUE(addPanel(d, drawn).ok());
+    return d;
+}
+
+TEST(DocumentMarks, NotchesLinesAndGrainUndoExactly) {
+    GarmentDocument d = rectangle();
+    const PanelId id = d.panels.front().id;
+    const EdgeId bottom = d.panels.front().outline.edges[0].id;
+    const std::string start = dumpDocument(d);
+    std::vector<Edit> edits;
+
+    auto notch = addNotch(d, id, bottom, 0.25);
+    ASSERT_TRUE(notch.ok()) << notch.error().toString();
+    edits.push_back(notch.value());
+    auto line = addInternalLine(d, id, {{0.05, 0.2}, {0.15, 0.25}, {0.25, 0.2}}, 0.5);
+    ASSERT_TRUE(line.ok()) << line.error().toString();
+    edits.push_back(line.value());
+    auto fold = setFoldAngle(d, id, LineId{line.value().created}, -1.0);
+    ASSERT_TRUE(fold.ok());
+    edits.push_back(fold.value());
+
+    const doc::Panel& p = d.panels.front();
+    ASSERT_EQ(p.notches.size(), 1U);
+    EXPECT_EQ(p.notches[0].edge, bottom);
+    EXPECT_DOUBLE_EQ(p.notches[0].t, 0.25);
+    ASSERT_EQ(p.internalLines.size(), 1U);
+    EXPECT_EQ(p.internalLines[0].points.size(), 3U);
+    EXPECT_EQ(p.internalLines[0].edges.size(), 2U);
+    EXPECT_DOUBLE_EQ(p.internalLines[0].foldAngle, -1.0);
+    EXPECT_TRUE(checkDocument(d).ok());
+
+    // The mesher puts a vertex on the notch and mesh edges along the line, folded as set.
+    GarmentMesh mesh;
+    MeshOptions options;
+    options.particleDistance = 0.02;
+    ASSERT_FALSE(meshGarment(toGarment(d), options, mesh).has_value());
+    const PanelMesh& m = mesh.panels.front();
+    ASSERT_EQ(m.notchVertices.size(), 1U);
+    EXPECT_NEAR((m.rest.row(m.notchVertices[0]).transpose() - Vec2(0.075, 0)).norm(), 0, 1e-9);
+    EXPECT_GE(m.lineEdges.size(), 8U); // ≈ 0.22 m of line at 20 mm
+    for (const double a : m.lineFoldAngles) {
+        EXPECT_DOUBLE_EQ(a, -1.0);
+    }
+
+    // The grain turns the mesh's rest frame (warp along y): set after the check above.
+    auto grain = setGrainAngle(d, id, 3 * M_PI); // stored as π
+    ASSERT_TRUE(grain.ok());
+    edits.push_back(grain.value());
+    EXPECT_NEAR(d.panels.front().grainAngle, M_PI, 1e-12);
+
+    const auto removed = removeInternalLine(d, id, LineId{line.value().created});
+    ASSERT_TRUE(removed.ok());
+    edits.push_back(removed.value());
+    const auto unnotched = removeNotch(d, id, NotchId{notch.value().created});
+    ASSERT_TRUE(unnotched.ok());
+    edits.push_back(unnotched.value());
+    EXPECT_TRUE(d.panels.front().notches.empty());
+    EXPECT_TRUE(d.panels.front().internalLines.empty());
+    for (std::size_t k = edits.size(); k-- > 0;) {
+        undo(d, edits[k]);
+    }
+    EXPECT_EQ(dumpDocument(d), start);
+}
+
+TEST(DocumentMarks, ADartCutsTheEdgeAndIsSewnWhenMeshed) {
+    GarmentDocument d = rectangle();
+    const PanelId id = d.panels.front().id;
+    const EdgeId bottom = d.panels.front().outline.edges[0].id;
+    const std::string start = dumpDocument(d);
+
+    auto dart = addDart(d, id, bottom, 0.5, 0.04, 0.12);
+    ASSERT_TRUE(dart.ok()) << dart.error().toString();
+    const doc::Panel& p = d.panels.front();
+    ASSERT_EQ(p.outline.points.size(), 7U);
+    ASSERT_EQ(p.darts.size(), 1U);
+    EXPECT_TRUE(checkDocument(d).ok());
+    // Base points 20 mm either side of the centre, the tip 120 mm above it.
+    EXPECT_NEAR((p.outline.points[1].position - Vec2(0.13, 0)).norm(), 0, 1e-12);
+    EXPECT_NEAR((p.outline.points[2].position - Vec2(0.15, 0.12)).norm(), 0, 1e-12);
+    EXPECT_NEAR((p.outline.points[3].position - Vec2(0.17, 0)).norm(), 0, 1e-12);
+    EXPECT_EQ(p.darts[0].leg1, p.outline.edges[1].id);
+    EXPECT_EQ(p.darts[0].leg2, p.outline.edges[2].id);
+    EXPECT_EQ(p.outline.edges[0].id, bottom);
+
+    // Meshed, the legs are sewn pair by pair (darts' pairs carry −1 − panel index).
+    GarmentMesh mesh;
+    MeshOptions options;
+    options.particleDistance = 0.02;
+    ASSERT_FALSE(meshGarment(toGarment(d), options, mesh).has_value());
+    const long dartPairs = std::count(mesh.seamOfPair.begin(), mesh.seamOfPair.end(), -1);
+    EXPECT_GE(dartPairs, 5);
+
+    // Refused: a cut part that is sewn or notched, a tip outside, too wide; nothing changes.
+    const std::string cut = dumpDocument(d);
+    EXPECT_FALSE(addDart(d, id, bottom, 0.5, 0.3, 0.05).ok());                // wider than the edge
+    EXPECT_FALSE(addDart(d, id, p.outline.edges[4].id, 0.5, 0.04, 0.5).ok()); // tip outside
+    EXPECT_FALSE(addDart(d, id, p.darts[0].leg1, 0.5, 0.01, 0.01).ok());      // on a leg
+    EXPECT_FALSE(addDart(d, id, bottom, 0.5, 0.04, -0.1).ok());
+    EXPECT_EQ(dumpDocument(d), cut);
+
+    auto removed = removeDart(d, id, DartId{dart.value().created});
+    ASSERT_TRUE(removed.ok()) << removed.error().toString();
+    EXPECT_TRUE(d.panels.front().darts.empty());
+    EXPECT_EQ(d.panels.front().outline.points.size(), 6U);
+    EXPECT_TRUE(checkDocument(d).ok());
+    undo(d, removed.value());
+    EXPECT_EQ(dumpDocument(d), cut);
+    undo(d, dart.value());
+    EXPECT_EQ(dumpDocument(d), start);
+}
+
+TEST(DocumentMarks, RefusedMarksLeaveTheDocumentUntouched) {
+    GarmentDocument d = rectangle();
+    const PanelId id = d.panels.front().id;
+    const EdgeId bottom = d.panels.front().outline.edges[0].id;
+    const EdgeId right = d.panels.front().outline.edges[1].id;
+    const auto notch = addNotch(d, id, bottom, 0.5);
+    ASSERT_TRUE(notch.ok());
+    doc::Pin pin;
+    pin.notch = NotchId{notch.value().created};
+    ASSERT_TRUE(addPin(d, id, pin).ok());
+    const auto seam =
+        addSeam(d, "s", {{id, right, 0, 1}}, {{id, d.panels.front().outline.edges[3].id, 1, 0}});
+    ASSERT_TRUE(seam.ok());
+    const std::string before = dumpDocument(d);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_FALSE(addNotch(d, id, bottom, 1.5).ok());
+    EXPECT_FALSE(addNotch(d, id, EdgeId{999}, 0.5).ok());
+    EXPECT_FALSE(removeNotch(d, id, NotchId{notch.value().created}).ok()); // held by the pin
+    EXPECT_FALSE(addInternalLine(d, id, {{0.1, 0.1}}).ok());               // one point
+    EXPECT_FALSE(addInternalLine(d, id, {{0.1, 0.1}, {0.5, 0.1}}).ok());   // leaves the panel
+    EXPECT_FALSE(addInternalLine(d, id, {{0.1, 0.1}, {0.2, nan}}).ok());
+    EXPECT_FALSE(addInternalLine(d, id, {{0.1, 0.1}, {0.2, 0.1}}, 4.0).ok()); // fold ≥ π
+    EXPECT_FALSE(setFoldAngle(d, id, LineId{999}, 0.1).ok());
+    EXPECT_FALSE(addDart(d, id, right, 0.5, 0.04, 0.05).ok());  // the right edge is sewn
+    EXPECT_FALSE(addDart(d, id, bottom, 0.5, 0.04, 0.05).ok()); // would cut the notch
+    EXPECT_FALSE(removeDart(d, id, DartId{999}).ok());
+    EXPECT_FALSE(setGrainAngle(d, id, nan).ok());
+    EXPECT_FALSE(setGrainAngle(d, PanelId{999}, 0).ok());
+    EXPECT_EQ(dumpDocument(d), before);
+}
+
 // --- Random edit sequences --------------------------------------------------------------
 
 struct RandomEditor {
@@ -253,7 +411,7 @@ struct RandomEditor {
 
     Result<Edit> edit(GarmentDocument& d) {
         const PanelId p = panel(d);
-        switch (pick(16)) {
+        switch (pick(22)) {
         case 0:
             return movePoint(d, p, point(d, p), Vec2(uniform(-0.3, 0.3), uniform(0, 0.6)));
         case 1:
@@ -319,6 +477,50 @@ struct RandomEditor {
             m.material.bending = uniform(1e-7, 1e-4);
             m.material.poisson = chance(0.05) ? 1.5 : uniform(0, 0.45);
             return setMaterial(d, m);
+        }
+        case 15:
+            if (chance(0.3)) {
+                return setPanelParticleDistance(d, p, chance(0.2) ? -0.01 : uniform(0, 0.03));
+            }
+            return addNotch(d, p, edge(d, p), parameter());
+        case 16: {
+            const doc::Panel* q = d.panel(p);
+            if (q != nullptr && !q->notches.empty() && chance(0.8)) {
+                return removeNotch(d, p, q->notches[pick(q->notches.size())].id);
+            }
+            if (q != nullptr && !q->internalLines.empty() && chance(0.8)) {
+                return removeInternalLine(d, p, q->internalLines[pick(q->internalLines.size())].id);
+            }
+            return setGrainAngle(d, p, uniform(-7, 7));
+        }
+        case 17: {
+            // A line across the middle of the panel's outline points (often inside it).
+            const doc::Panel* q = d.panel(p);
+            Vec2 mid = Vec2::Zero();
+            if (q != nullptr) {
+                for (const doc::Point& pt : q->outline.points) {
+                    mid += pt.position / static_cast<double>(q->outline.points.size());
+                }
+            }
+            const Vec2 step(uniform(-0.03, 0.03), uniform(-0.03, 0.03));
+            return addInternalLine(d, p, {mid - step, mid, mid + 2 * step}, uniform(-1, 1));
+        }
+        case 18: {
+            const doc::Panel* q = d.panel(p);
+            const LineId line = q != nullptr && !q->internalLines.empty()
+                                    ? q->internalLines[pick(q->internalLines.size())].id
+                                    : LineId{999999};
+            return setFoldAngle(d, p, line, uniform(-4, 4));
+        }
+        case 19:
+            return addDart(d, p, edge(d, p), uniform(0.2, 0.8), uniform(0.005, 0.05),
+                           uniform(0.01, 0.1));
+        case 20: {
+            const doc::Panel* q = d.panel(p);
+            const DartId dart = q != nullptr && !q->darts.empty()
+                                    ? q->darts[pick(q->darts.size())].id
+                                    : DartId{999999};
+            return removeDart(d, p, dart);
         }
         default: {
             Placement placement;

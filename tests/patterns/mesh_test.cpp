@@ -99,6 +99,42 @@ void expectGoodMesh(const GarmentMesh& m, const Garment& g) {
     }
 }
 
+TEST(Mesh, APanelAtItsOwnParticleDistanceIsSewnAtTheFinerOne) {
+    // Two 0.4 × 0.6 m panels sewn along their long sides; the first meshed at 10 mm, the second
+    // at the garment's 20 mm.
+    Garment g;
+    g.materials.push_back({"m", {}});
+    g.panels.push_back(panel("fine", polygon({{0, 0}, {0.4, 0}, {0.4, 0.6}, {0, 0.6}})));
+    g.panels.push_back(panel("coarse", polygon({{0, 0}, {0.4, 0}, {0.4, 0.6}, {0, 0.6}})));
+    g.panels[0].particleDistance = 0.01;
+    Seam seam;
+    seam.name = "side";
+    seam.a = {{"fine", 1, 0, 1}};
+    seam.b = {{"coarse", 3, 1, 0}};
+    g.seams.push_back(seam);
+    GarmentMesh m;
+    MeshOptions options;
+    options.particleDistance = 0.02;
+    ASSERT_FALSE(meshGarment(g, options, m).has_value());
+    expectGoodMesh(m, g);
+    const double ratio = static_cast<double>(m.panels[0].triangles.rows()) /
+                         static_cast<double>(m.panels[1].triangles.rows());
+    EXPECT_GT(ratio, 3.0) << "a quarter of the area per triangle";
+    EXPECT_LT(ratio, 5.0);
+    // The seam takes the finer spacing on both sides: about 0.6 m / 10 mm pairs.
+    EXPECT_GE(m.seamPairs.size(), 59U);
+    EXPECT_LE(m.seamPairs.size(), 62U);
+    // The estimate follows each panel's distance too.
+    const MeshEstimate estimate = estimateGarmentMesh(g, 0.02);
+    EXPECT_NEAR(static_cast<double>(estimate.triangles) / static_cast<double>(m.triangleCount), 1.0,
+                0.2);
+    // Out of bounds: refused with the panel named.
+    g.panels[1].particleDistance = 0.0001;
+    const auto issues = validateGarment(g);
+    ASSERT_FALSE(issues.empty());
+    EXPECT_NE(issues.front().where.find("particle_distance_mm"), std::string::npos);
+}
+
 TEST(Mesh, SameGarmentSameMeshWhateverTheHeap) {
     // Meshing must not follow memory addresses: the same garment meshed again after the heap
     // has changed gives the same triangles (CGAL's Lloyd smoothing did not, so it is off).

@@ -6,6 +6,7 @@
 #include <QDoubleSpinBox>
 #include <QFormLayout>
 #include <QLabel>
+#include <QPushButton>
 #include <QSignalBlocker>
 
 #include <algorithm>
@@ -18,6 +19,12 @@ namespace {
 // The fields show the units fabric data sheets use: g/m², N/m and µN·m.
 constexpr double GRAMS = 1000.0;
 constexpr double MICRO = 1e6;
+
+bool sameValues(const sim::Material& a, const sim::Material& b) {
+    return a.density == b.density && a.stretchWeft == b.stretchWeft &&
+           a.stretchWarp == b.stretchWarp && a.shear == b.shear && a.bending == b.bending &&
+           a.poisson == b.poisson && a.damping == b.damping;
+}
 
 QDoubleSpinBox* valueBox(double min, double max, int decimals, const QString& suffix) {
     auto* box = new QDoubleSpinBox;
@@ -61,7 +68,12 @@ FabricDock::FabricDock(QWidget* parent) : QDockWidget(tr("Fabric"), parent) {
     form->addRow(tr("Shear"), m_shear);
     form->addRow(tr("Bending"), m_bending);
     form->addRow(m_figures);
+    m_measure = new QPushButton(tr("Measure drape"));
+    m_measure->setToolTip(tr("The Cusick drape test of these values: a 300 mm specimen on a "
+                             "180 mm disc, simulated at 20 mm (a few seconds)"));
+    form->addRow(m_measure);
     setWidget(body);
+    connect(m_measure, &QPushButton::clicked, this, [this] { startDrapeTest(); });
 
     connect(m_chooser, &QComboBox::activated, this,
             [this] { showFabric(m_chooser->currentText()); });
@@ -79,6 +91,66 @@ FabricDock::FabricDock(QWidget* parent) : QDockWidget(tr("Fabric"), parent) {
     for (QDoubleSpinBox* box : {m_density, m_weft, m_warp, m_shear, m_bending}) {
         connect(box, &QDoubleSpinBox::valueChanged, this, [this] { emitValues(); });
     }
+    refresh();
+}
+
+FabricDock::~FabricDock() {
+    stopDrapeTest();
+}
+
+patterns::CusickOptions FabricDock::drapeTest() {
+    patterns::CusickOptions o;
+    o.particleDistance = 0.02; // seconds, not minutes: a figure to compare fabrics by
+    o.maxTime = 4;
+    o.seed = 1;
+    return o;
+}
+
+void FabricDock::stopDrapeTest() {
+    if (m_drapeThread.joinable()) {
+        m_drapeCancel = true;
+        m_drapeThread.join();
+    }
+    m_drapeCancel = false;
+}
+
+void FabricDock::startDrapeTest() {
+    const patterns::GarmentMaterial* m = shown();
+    if (m == nullptr) {
+        return;
+    }
+    stopDrapeTest();
+    m_drapeRunning = true;
+    const unsigned generation = ++m_drapeGeneration;
+    patterns::CusickOptions o = drapeTest();
+    o.material = m->material;
+    o.cancel = &m_drapeCancel;
+    m_drapeThread = std::thread([this, o, generation] {
+        const patterns::CusickResult r = patterns::runCusick(o);
+        if (r.error == "cancelled") {
+            return;
+        }
+        // Back on the UI thread; dropped if the dock is gone or other values came meanwhile.
+        QMetaObject::invokeMethod(
+            this,
+            [this, r, material = o.material, generation] {
+                if (generation != m_drapeGeneration) {
+                    return;
+                }
+                m_drapeFor = material;
+                m_drapeKnown = true;
+                m_drapeRunning = false;
+                m_drapeText = r.error.empty()
+                                  ? tr("Drape coefficient (Cusick, 20 mm): %1, %2 nodes")
+                                        .arg(r.drapeCoefficient, 0, 'f', 3)
+                                        .arg(r.nodes)
+                                  : tr("Drape coefficient: not measured (%1)")
+                                        .arg(QString::fromStdString(r.error));
+                refresh();
+                Q_EMIT drapeCoefficientShown();
+            },
+            Qt::QueuedConnection);
+    });
     refresh();
 }
 
@@ -186,7 +258,11 @@ void FabricDock::refresh() {
             .arg(bendingLength(v.bending, v.density) * 1000, 0, 'f', 1)
             .arg(v.stretchWeft / v.stretchWarp, 0, 'f', 2)
             .arg(area, 0, 'f', 3)
-            .arg(area * v.density * GRAMS, 0, 'f', 0));
+            .arg(area * v.density * GRAMS, 0, 'f', 0) +
+        QStringLiteral("\n") +
+        (m_drapeRunning                              ? tr("Drape coefficient: measuring…")
+         : m_drapeKnown && sameValues(m_drapeFor, v) ? m_drapeText
+                                                     : tr("Drape coefficient: not measured")));
 }
 
 } // namespace atelier::ui

@@ -53,6 +53,41 @@ patterns::Panel drawnPanel(const patterns::GarmentDocument& document,
     return panel;
 }
 
+patterns::Panel drawnCurvePanel(const patterns::GarmentDocument& document,
+                                std::vector<PenPoint> points) {
+    double twiceArea = 0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const patterns::Vec2& p = points[i].at;
+        const patterns::Vec2& q = points[(i + 1) % points.size()].at;
+        twiceArea += p.x() * q.y() - q.x() * p.y();
+    }
+    if (twiceArea < 0) {
+        std::reverse(points.begin(), points.end());
+        for (PenPoint& p : points) {
+            if (p.handle) {
+                p.handle = 2 * p.at - *p.handle; // the incoming handle is outgoing now
+            }
+        }
+    }
+    std::vector<patterns::Vec2> corners;
+    for (const PenPoint& p : points) {
+        corners.push_back(p.at);
+    }
+    patterns::Panel panel = drawnPanel(document, corners); // counter-clockwise already: kept
+    for (std::size_t i = 0; i < points.size() && i < panel.outline.size(); ++i) {
+        const PenPoint& a = points[i];
+        const PenPoint& b = points[(i + 1) % points.size()];
+        if (!a.handle && !b.handle) {
+            continue;
+        }
+        patterns::Segment& s = panel.outline[i];
+        s.kind = patterns::SegmentKind::Cubic;
+        s.control1 = a.handle ? *a.handle : a.at;
+        s.control2 = b.handle ? patterns::Vec2(2 * b.at - *b.handle) : b.at;
+    }
+    return panel;
+}
+
 std::vector<patterns::doc::SeamRange>
 outlineRanges(const patterns::doc::Panel& panel, OutlinePlace from, OutlinePlace to, bool forward) {
     std::vector<patterns::doc::SeamRange> out;

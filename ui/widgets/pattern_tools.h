@@ -6,6 +6,7 @@
 #include "patterns/document.h"
 #include "patterns/garment.h"
 
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -19,6 +20,19 @@ namespace atelier::ui {
 /// further out, so that none starts inside another.
 patterns::Panel drawnPanel(const patterns::GarmentDocument& document,
                            const std::vector<patterns::Vec2>& corners);
+
+/// A point of a free curve drawn with the pen tool: where it was put down, and for a smooth
+/// point its outgoing Bézier handle (the incoming one mirrors it through the point) [m].
+struct PenPoint {
+    patterns::Vec2 at = patterns::Vec2::Zero();
+    std::optional<patterns::Vec2> handle;
+};
+
+/// The panel of a closed free curve through `points` (≥ 3), as drawnPanel: a segment is a cubic
+/// Bézier when either end has a handle, a line otherwise; drawn clockwise, the points are taken
+/// in reverse, each handle mirrored, so the outline runs counter-clockwise.
+patterns::Panel drawnCurvePanel(const patterns::GarmentDocument& document,
+                                std::vector<PenPoint> points);
 
 /// A point on a contour: edge `edge` (its index) at curve parameter `t` ∈ [0, 1].
 struct OutlinePlace {

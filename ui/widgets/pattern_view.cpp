@@ -2,6 +2,7 @@
 
 #include "ui/render/scene.h"
 #include "ui/widgets/pattern_tools.h"
+#include "ui/widgets/pattern_view_detail.h"
 
 #include "patterns/curve.h"
 
@@ -21,41 +22,9 @@
 
 namespace atelier::ui {
 
+using namespace detail;
+
 namespace {
-
-constexpr double MM = 1000.0; // the scene is in millimetres, y down
-constexpr double GAP_MM = 60.0;
-constexpr double HANDLE_PX = 9.0;         // handle diameter on screen
-constexpr double PICK_EDGE_PX = 8.0;      // a click this close to an edge picks it
-constexpr double SNAP_PX = 8.0;           // a point this close to another snaps onto it
-constexpr double ROTATE_HANDLE_PX = 24.0; // the rotate handle's distance above the panel
-constexpr double ROTATE_STEP_DEG = 15.0;  // Shift while rotating
-constexpr double SCENE_HALF_MM = 50000.0; // the scene spans ±50 m: room to draw and pan
-constexpr int DATA_NAME = 0;
-constexpr int DATA_PANEL = 1;
-constexpr int DATA_POINT = 2;
-constexpr int DATA_ROLE = 3;
-constexpr int DATA_EDGE = 4;
-constexpr int DATA_CONTROL = 5;
-constexpr int ROLE_POINT = 1;
-constexpr int ROLE_CONTROL = 2;
-constexpr int ROLE_ROTATE = 3;
-
-QColor qColour(const render::Colour& c) {
-    return QColor::fromRgbF(c.r, c.g, c.b, c.a);
-}
-
-/// A pen `px` pixels wide whatever the zoom.
-QPen screenPen(const QColor& colour, double px, Qt::PenStyle style = Qt::SolidLine) {
-    QPen pen(colour, px, style, Qt::RoundCap, Qt::RoundJoin);
-    pen.setCosmetic(true);
-    return pen;
-}
-
-/// Pattern millimetres (y up) of a point [m].
-QPointF local(const patterns::Vec2& v) {
-    return {v.x() * MM, v.y() * MM};
-}
 
 QPainterPath loopPath(const patterns::Loop& loop) {
     QPainterPath path;
@@ -81,21 +50,6 @@ QPainterPath panelPath(const patterns::doc::Panel& panel, const QTransform& layo
     return layout.map(path);
 }
 
-/// A segment from t0 to t1 in pattern millimetres (y up).
-QPainterPath segmentPath(const patterns::Segment& s, double t0, double t1) {
-    QPainterPath path;
-    const int n = s.kind == patterns::SegmentKind::Line ? 1 : 24;
-    for (int i = 0; i <= n; ++i) {
-        const QPointF q = local(patterns::pointAt(s, t0 + (t1 - t0) * i / n));
-        if (i == 0) {
-            path.moveTo(q);
-        } else {
-            path.lineTo(q);
-        }
-    }
-    return path;
-}
-
 /// The horizontal extent of a panel's outline [pattern mm].
 std::pair<double, double> extentMm(const patterns::doc::Panel& panel) {
     double minX = INFINITY;
@@ -110,10 +64,6 @@ std::pair<double, double> extentMm(const patterns::doc::Panel& panel) {
 /// A panel laid `dx` mm right of the scene's origin: pattern mm (y up) to scene (y down).
 QTransform shiftedLayout(double dx, double dy = 0) {
     return {1, 0, 0, -1, dx, dy};
-}
-
-double distance(const QPointF& a, const QPointF& b) {
-    return std::hypot(a.x() - b.x(), a.y() - b.y());
 }
 
 } // namespace
@@ -157,6 +107,8 @@ PatternView::PatternView(QWidget* parent) : QGraphicsView(parent) {
             m_selectedPanel = id;
             m_selectedPoint = {};
             m_selectedEdge = {};
+            m_selectedNotch = {};
+            m_selectedLine = {};
             drawHandles();
         }
         Q_EMIT panelSelected(selected.isEmpty() ? QString()
@@ -185,6 +137,14 @@ PatternView::PatternView(QWidget* parent) : QGraphicsView(parent) {
     addTool(Tool::Seam, tr("S&eam"), Qt::Key_N,
             tr("click an edge (Shift+click extends, Ctrl from the point), then the other side; "
                "R reverses it, Enter sews"));
+    addTool(Tool::Curve, tr("&Curve"), Qt::Key_P,
+            tr("click for corners, press and drag for smooth points; close on the first point, "
+               "double-click or Enter"));
+    addTool(Tool::InternalLine, tr("&Internal line"), Qt::Key_L,
+            tr("click points inside a panel; double-click or Enter ends the line"));
+    addTool(Tool::Notch, tr("&Notch"), Qt::Key_K, tr("click an outline edge to put a notch"));
+    addTool(Tool::Dart, tr("&Dart"), Qt::Key_D,
+            tr("press on an outline edge and drag into the panel to the dart's tip"));
     m_toolActions[Tool::Select]->setChecked(true);
 
     auto* curve = new QAction(tr("&Curve or straighten edge"), this);
@@ -211,8 +171,10 @@ PatternView::~PatternView() {
 }
 
 QList<QAction*> PatternView::toolActions() const {
-    return {m_toolActions.at(Tool::Select), m_toolActions.at(Tool::Rectangle),
-            m_toolActions.at(Tool::Polygon), m_toolActions.at(Tool::Seam)};
+    return {m_toolActions.at(Tool::Select),  m_toolActions.at(Tool::Rectangle),
+            m_toolActions.at(Tool::Polygon), m_toolActions.at(Tool::Curve),
+            m_toolActions.at(Tool::Seam),    m_toolActions.at(Tool::InternalLine),
+            m_toolActions.at(Tool::Notch),   m_toolActions.at(Tool::Dart)};
 }
 
 QList<QAction*> PatternView::editActions() const {
@@ -235,6 +197,10 @@ void PatternView::setTool(Tool tool) {
 
 void PatternView::cancelTool() {
     m_drawing.reset();
+    m_pen.reset();
+    m_line.reset();
+    m_dart.reset();
+    m_grainDrag.reset();
     m_sides[0].reset();
     m_sides[1].reset();
     m_seamRanges[0].clear();
@@ -329,6 +295,17 @@ void PatternView::setDocument(const patterns::GarmentDocument& document, bool ke
                            patterns::contourOfEdge(*selected, m_selectedEdge, index) == nullptr)) {
         m_selectedEdge = {};
     }
+    if (selected == nullptr ||
+        std::none_of(selected->notches.begin(), selected->notches.end(),
+                     [&](const patterns::doc::Notch& n) { return n.id == m_selectedNotch; })) {
+        m_selectedNotch = {};
+    }
+    if (selected == nullptr ||
+        std::none_of(
+            selected->internalLines.begin(), selected->internalLines.end(),
+            [&](const patterns::doc::InternalLine& l) { return l.id == m_selectedLine; })) {
+        m_selectedLine = {};
+    }
     if (m_selectedSeam && m_document.seam(m_selectedSeam) == nullptr) {
         m_selectedSeam = {};
     }
@@ -420,15 +397,7 @@ void PatternView::redraw() {
         item->setData(DATA_PANEL, quint32(panel.id.value));
         item->setToolTip(QString::fromStdString(panel.name));
         m_items[panel.id.value] = item;
-        for (const patterns::doc::InternalLine& line : panel.internalLines) {
-            QPainterPath l;
-            for (std::size_t e = 0; e < line.edges.size(); ++e) {
-                const patterns::Segment s = patterns::segmentOf(
-                    line.edges[e].curve, line.points[e].position, line.points[e + 1].position);
-                l.addPath(segmentPath(s, 0, 1));
-            }
-            m_scene.addPath(t.map(l), QPen(QColor(60, 60, 70), 0, Qt::DashLine));
-        }
+        drawMarks(panel, t);
         auto* label = m_scene.addSimpleText(QString::fromStdString(panel.name));
         label->setBrush(QColor(40, 40, 50));
         const QRectF box = path.boundingRect();
@@ -558,6 +527,7 @@ void PatternView::drawHandles() {
         h->setToolTip(tr("drag to rotate the panel in the 2D layout (Shift: 15° steps)"));
         m_handles.push_back(h);
     }
+    drawGrainHandle(*selected);
 }
 
 void PatternView::clearOverlay() {
@@ -670,6 +640,7 @@ void PatternView::drawOverlay() {
                               .arg(std::abs(a - b) * MM, 0, 'f', 1),
                     last);
     }
+    drawMarkOverlay();
 }
 
 void PatternView::showDrag() {
@@ -832,7 +803,8 @@ bool PatternView::applyEdit(const EditMaker& make) {
     return m_editor(make);
 }
 
-bool PatternView::addDrawnPanel(const std::vector<QPointF>& corners) {
+bool PatternView::addDrawnPanel(const std::vector<QPointF>& corners,
+                                const std::vector<std::optional<QPointF>>& handles) {
     double left = INFINITY;
     double right = -INFINITY;
     double top = INFINITY;
@@ -845,11 +817,18 @@ bool PatternView::addDrawnPanel(const std::vector<QPointF>& corners) {
     }
     const QRectF box(QPointF(left, top), QPointF(right, bottom));
     const QPointF centre = box.center();
-    std::vector<patterns::Vec2> points;
-    for (const QPointF& c : corners) {
-        points.emplace_back((c.x() - centre.x()) / MM, -(c.y() - centre.y()) / MM);
+    const auto pattern = [&](const QPointF& c) {
+        return patterns::Vec2((c.x() - centre.x()) / MM, -(c.y() - centre.y()) / MM);
+    };
+    std::vector<PenPoint> points;
+    for (std::size_t i = 0; i < corners.size(); ++i) {
+        PenPoint p{pattern(corners[i]), std::nullopt};
+        if (i < handles.size() && handles[i]) {
+            p.handle = pattern(*handles[i]);
+        }
+        points.push_back(p);
     }
-    const patterns::Panel drawn = drawnPanel(m_document, points);
+    const patterns::Panel drawn = drawnCurvePanel(m_document, points);
     m_pendingLayout = std::make_pair(drawn.name, shiftedLayout(centre.x(), centre.y()));
     std::uint32_t created = 0;
     const bool ok = applyEdit([&](patterns::GarmentDocument& d) {
@@ -1037,6 +1016,9 @@ void PatternView::mousePressEvent(QMouseEvent* event) {
         QGraphicsView::mousePressEvent(event);
         return;
     }
+    if (pressMarkTool(event)) {
+        return;
+    }
     switch (m_tool) {
     case Tool::Rectangle: {
         const QPointF p = snap(scene, event->modifiers(), {}, {});
@@ -1068,7 +1050,7 @@ void PatternView::mousePressEvent(QMouseEvent* event) {
         }
         event->accept();
         return;
-    case Tool::Select:
+    default: // Select; the mark and curve tools took their presses
         break;
     }
     for (QGraphicsItem* item : items(at)) {
@@ -1158,6 +1140,9 @@ void PatternView::mouseMoveEvent(QMouseEvent* event) {
         event->accept();
         return;
     }
+    if (moveMarkTool(event)) {
+        return;
+    }
     if (m_layoutDrag) {
         LayoutDrag& d = *m_layoutDrag;
         if (!d.moved && (at - d.pressView).manhattanLength() < QApplication::startDragDistance()) {
@@ -1220,6 +1205,9 @@ void PatternView::mouseReleaseEvent(QMouseEvent* event) {
     }
     if (event->button() != Qt::LeftButton) {
         QGraphicsView::mouseReleaseEvent(event);
+        return;
+    }
+    if (releaseMarkTool(event)) {
         return;
     }
     if (m_tool == Tool::Rectangle && m_drawing) {
@@ -1303,6 +1291,23 @@ void PatternView::mouseDoubleClickEvent(QMouseEvent* event) {
         finishPolygon();
         return;
     }
+    if (event->button() == Qt::LeftButton &&
+        (m_tool == Tool::Curve || m_tool == Tool::InternalLine)) {
+        // As the polygon: the double-click's own press put its point down, unless it came
+        // alone.
+        event->accept();
+        const QPoint at = event->position().toPoint();
+        const bool alone =
+            m_pen ? distance(mapFromScene(m_pen->points.back()), at) > 2
+                  : m_line && distance(mapFromScene(toScene(m_line->panel, m_line->points.back())),
+                                       at) > 2;
+        if (alone) {
+            pressMarkTool(event);
+            releaseMarkTool(event);
+        }
+        finishMarkDrawing();
+        return;
+    }
     if (m_tool != Tool::Select) {
         mousePressEvent(event); // a quick second click: another corner, edge or rectangle
         return;
@@ -1320,7 +1325,7 @@ void PatternView::mouseDoubleClickEvent(QMouseEvent* event) {
 
 void PatternView::keyPressEvent(QKeyEvent* event) {
     const int key = event->key();
-    if (key == Qt::Key_Escape && (m_drawing || m_sides[0])) {
+    if (key == Qt::Key_Escape && (m_drawing || m_sides[0] || m_pen || m_line || m_dart)) {
         event->accept();
         cancelTool();
         Q_EMIT message(tr("Cancelled"));
@@ -1332,11 +1337,21 @@ void PatternView::keyPressEvent(QKeyEvent* event) {
             finishPolygon();
             return;
         }
+        if (m_pen || m_line) {
+            event->accept();
+            finishMarkDrawing();
+            return;
+        }
         if (m_tool == Tool::Seam && m_sides[1]) {
             event->accept();
             sew();
             return;
         }
+    }
+    if (key == Qt::Key_Backspace && (m_pen || m_line)) {
+        event->accept();
+        dropLastMarkPoint();
+        return;
     }
     if (key == Qt::Key_Backspace && m_tool == Tool::Polygon && m_drawing) {
         event->accept();
@@ -1348,6 +1363,11 @@ void PatternView::keyPressEvent(QKeyEvent* event) {
         return;
     }
     if (key == Qt::Key_Delete || key == Qt::Key_Backspace) {
+        if (m_selectedNotch || m_selectedLine) {
+            event->accept();
+            deleteSelectedMark();
+            return;
+        }
         if (m_selectedPanel && m_selectedPoint) {
             event->accept();
             Q_EMIT pointDeleteRequested(m_selectedPanel.value, m_selectedPoint.value);
@@ -1358,6 +1378,10 @@ void PatternView::keyPressEvent(QKeyEvent* event) {
             const patterns::SeamId seam = m_selectedSeam;
             applyEdit(
                 [seam](patterns::GarmentDocument& d) { return patterns::removeSeam(d, seam); });
+            return;
+        }
+        if (m_selectedEdge && deleteSelectedMark()) { // a dart's leg
+            event->accept();
             return;
         }
     }

@@ -16,6 +16,15 @@
 /// - Seam (N): click an outline edge, Shift+click to extend the range to another edge (Ctrl:
 ///   from or to the clicked point), then the same on the second side; R reverses the second
 ///   side, Enter sews, Esc cancels.
+/// - Curve (P): a free-form panel, pen-style: click for a corner, press and drag for a smooth
+///   point (the drag pulls its Bézier handles); close as a polygon.
+/// - Internal line (L): click points inside a panel; double-click or Enter ends the line.
+/// - Notch (K): click an outline edge.
+/// - Dart (D): press on an outline edge and drag into the panel to the dart's tip (its width
+///   is a quarter of its depth; shown while dragging).
+/// In Select, the selected panel shows its grain line with a handle at its tip: drag it to
+/// turn the grain (Shift: 15° steps). Clicking a notch or an internal line selects it; Delete
+/// removes it, or the dart whose leg is the selected edge.
 /// The view edits nothing itself: it asks, by signal or through the editor the window gives it
 /// (setEditor), and draws the document the window hands back.
 
@@ -32,6 +41,8 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 class QAction;
@@ -44,7 +55,7 @@ namespace atelier::ui {
 class PatternView : public QGraphicsView {
     Q_OBJECT
   public:
-    enum class Tool { Select, Rectangle, Polygon, Seam };
+    enum class Tool { Select, Rectangle, Polygon, Seam, Curve, InternalLine, Notch, Dart };
     Q_ENUM(Tool)
     /// Makes one edit of the document (as MainWindow::edit takes it).
     using EditMaker = std::function<Result<patterns::Edit>(patterns::GarmentDocument&)>;
@@ -90,6 +101,12 @@ class PatternView : public QGraphicsView {
     patterns::EdgeId selectedEdge() const { return m_selectedEdge; }
     /// The selected seam, or none.
     patterns::SeamId selectedSeam() const { return m_selectedSeam; }
+    /// The selected notch / internal line of the selected panel, or none.
+    patterns::NotchId selectedNotch() const { return m_selectedNotch; }
+    patterns::LineId selectedLine() const { return m_selectedLine; }
+    /// Where the selected panel's grain handle is drawn (viewport coordinates); (-1, -1) when
+    /// no panel is selected.
+    QPoint grainHandle() const;
     void selectSeam(patterns::SeamId seam);
     /// Where pattern point `at` [m] of `panel` is drawn, in the view's viewport coordinates.
     QPoint viewPoint(patterns::PanelId panel, const patterns::Vec2& at) const;
@@ -109,6 +126,9 @@ class PatternView : public QGraphicsView {
     /// Sews the two sides picked with the Seam tool (addSeam). False when a side is missing or
     /// the edit is refused.
     bool sew();
+    /// Removes the selected notch or internal line, or the dart whose leg is the selected
+    /// edge. False when none is selected or the edit is refused.
+    bool deleteSelectedMark();
     /// The ranges picked with the Seam tool: side 0 (a) or 1 (b).
     const std::vector<patterns::doc::SeamRange>& seamPick(int side) const;
 
@@ -220,9 +240,57 @@ class PatternView : public QGraphicsView {
     /// Closes the polygon being drawn (≥ 3 corners) into a new panel.
     bool finishPolygon();
     /// Adds the panel of `corners` [scene], placed in the view where they were drawn.
-    bool addDrawnPanel(const std::vector<QPointF>& corners);
+    /// `handles`: a smooth point's outgoing handle [scene] by corner (empty: all corners).
+    bool addDrawnPanel(const std::vector<QPointF>& corners,
+                       const std::vector<std::optional<QPointF>>& handles = {});
     bool applyEdit(const EditMaker& make);
     std::vector<patterns::doc::SeamRange> rangesOf(const SidePick& side) const;
+    // ---- The mark and curve tools (pattern_marks.cpp) ----
+    /// A free curve being drawn with the pen [scene]; `out` is a smooth point's handle.
+    struct PenDrawing {
+        std::vector<QPointF> points;
+        std::vector<std::optional<QPointF>> handles;
+        QPointF cursor;
+        bool dragging = false; ///< the button is down on the last point
+    };
+    /// An internal line being drawn on one panel [m].
+    struct LineDrawing {
+        patterns::PanelId panel;
+        std::vector<patterns::Vec2> points;
+        patterns::Vec2 cursor = patterns::Vec2::Zero();
+    };
+    /// A dart being dragged out of an outline edge.
+    struct DartDrag {
+        EdgePick base;
+        patterns::Vec2 tip = patterns::Vec2::Zero(); ///< [m]
+    };
+    /// The grain handle being dragged.
+    struct GrainDrag {
+        patterns::PanelId panel;
+        double angle = 0; ///< [rad]
+        bool moved = false;
+    };
+    /// The notch or internal line within a few pixels of `at` (viewport): its panel, whether it
+    /// is a notch, and its id's value.
+    std::optional<std::tuple<patterns::PanelId, bool, std::uint32_t>>
+    pickMark(const QPoint& at) const;
+    /// The tools' press, move and release; true when the event was theirs.
+    bool pressMarkTool(QMouseEvent* event);
+    bool moveMarkTool(QMouseEvent* event);
+    bool releaseMarkTool(QMouseEvent* event);
+    /// Enter, Backspace and double-click for the pen and the internal line.
+    bool finishMarkDrawing();
+    bool dropLastMarkPoint();
+    /// Notches, internal lines and the grain line of a panel, drawn through `layout`.
+    void drawMarks(const patterns::doc::Panel& panel, const QTransform& layout);
+    /// The selected panel's grain handle (part of the handles).
+    void drawGrainHandle(const patterns::doc::Panel& panel);
+    /// The pen drawing, the line drawing or the dart being dragged.
+    void drawMarkOverlay();
+    /// The grain line's ends [scene]: through the middle of the panel's outline, along `angle`.
+    std::pair<QPointF, QPointF> grainLine(const patterns::doc::Panel& panel, double angle) const;
+    bool finishPen();
+    bool finishLine();
     void pickSeamEdge(const EdgePick& pick, Qt::KeyboardModifiers modifiers);
     /// The picked sides' ranges again; the second one runs so that the seam sews start to
     /// start as the panels lie in the view, unless the user reversed it.
@@ -250,6 +318,12 @@ class PatternView : public QGraphicsView {
     std::optional<HandleDrag> m_handleDrag;
     std::optional<LayoutDrag> m_layoutDrag;
     std::optional<Drawing> m_drawing;
+    std::optional<PenDrawing> m_pen;
+    std::optional<LineDrawing> m_line;
+    std::optional<DartDrag> m_dart;
+    std::optional<GrainDrag> m_grainDrag;
+    patterns::NotchId m_selectedNotch;
+    patterns::LineId m_selectedLine;
     /// The middle button is down: the view pans with the mouse (from here, viewport).
     std::optional<QPoint> m_pan;
     std::optional<SidePick> m_sides[2];

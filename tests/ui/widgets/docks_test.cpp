@@ -15,6 +15,7 @@
 
 #include "io/pattern_svg.h"
 
+#include "patterns/cusick.h"
 #include "patterns/document_edit.h"
 
 #include <QApplication>
@@ -27,6 +28,7 @@
 #include <QMouseEvent>
 #include <QPushButton>
 #include <QSettings>
+#include <QSignalSpy>
 #include <QTemporaryDir>
 #include <gtest/gtest.h>
 
@@ -263,6 +265,29 @@ TEST(FabricDock, EditsTheFabricAndShowsItsBendingLength) {
     s.window.undoStack().undo();
     EXPECT_EQ(s.window.project().document.materials.front().material.density, was.density);
     EXPECT_TRUE(s.drapeFollows());
+    EXPECT_TRUE(s.prompts.errors.isEmpty()) << s.prompts.errors.join("; ").toStdString();
+}
+
+TEST(FabricDock, MeasuresTheDrapeCoefficientOfTheValuesShown) {
+    SkirtWindow s;
+    ASSERT_TRUE(s.open());
+    FabricDock& dock = s.window.fabricDock();
+    EXPECT_TRUE(dock.figuresText().contains("not measured")) << dock.figuresText().toStdString();
+    QSignalSpy shown(&dock, &FabricDock::drapeCoefficientShown);
+    dock.measureDrapeButton()->click();
+    EXPECT_TRUE(dock.figuresText().contains("measuring"));
+    ASSERT_TRUE(waitFor([&] { return shown.count() >= 1; }, 120));
+    // The figure is the Cusick test's, run here the same way.
+    patterns::CusickOptions test = FabricDock::drapeTest();
+    test.material = s.window.project().document.materials.front().material;
+    const patterns::CusickResult r = patterns::runCusick(test);
+    ASSERT_TRUE(r.error.empty()) << r.error;
+    EXPECT_TRUE(dock.figuresText().contains(QString::number(r.drapeCoefficient, 'f', 3) + ", " +
+                                            QString::number(r.nodes) + " nodes"))
+        << dock.figuresText().toStdString();
+    // Other values: the figure no longer applies until measured again.
+    dock.bendingField()->setValue(dock.bendingField()->value() * 3);
+    EXPECT_TRUE(dock.figuresText().contains("not measured")) << dock.figuresText().toStdString();
     EXPECT_TRUE(s.prompts.errors.isEmpty()) << s.prompts.errors.join("; ").toStdString();
 }
 

@@ -27,6 +27,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 
 namespace atelier::ui {
 namespace {
@@ -562,6 +563,135 @@ TEST(PatternView, MovingAndRotatingAPanelChangesTheLayoutNotTheDocument) {
               Qt::NoButton);
     EXPECT_EQ(view.viewPoint(panel.id, {0, 0}) - was, QPoint(40, 30));
     EXPECT_EQ(f.document().panels.size(), 2U) << "nothing drawn";
+    EXPECT_TRUE(f.errors.isEmpty()) << f.errors.join("; ").toStdString();
+}
+
+TEST(PatternView, AFreeCurveIsDrawnWithThePenSmoothWhereDragged) {
+    Fixture f(true);
+    PatternView& view = f.view();
+    view.setTool(PatternView::Tool::Curve);
+    // A corner, a smooth point pulled 100 mm to the right, a corner, then the first point.
+    click(f.surface(), f.at({-200, 100}));
+    drag(f.surface(), f.at({0, -150}), f.at({100, -150}));
+    click(f.surface(), f.at({200, 100}));
+    EXPECT_TRUE(f.document().panels.empty()) << "not closed yet";
+    click(f.surface(), f.at({-200, 100}));
+    ASSERT_EQ(f.document().panels.size(), 1U) << f.errors.join("; ").toStdString();
+    const patterns::doc::Panel& p = f.document().panels.front();
+    ASSERT_EQ(p.outline.points.size(), 3U);
+    EXPECT_GT(signedArea(p), 0);
+    int cubic = 0;
+    for (std::size_t e = 0; e < p.outline.edges.size(); ++e) {
+        const patterns::Segment s = patterns::contourSegment(p.outline, e);
+        if (s.kind != patterns::SegmentKind::Cubic) {
+            EXPECT_EQ(s.kind, patterns::SegmentKind::Line);
+            continue;
+        }
+        ++cubic;
+        // The smooth point's handles lie 100 mm either side of it, level with it.
+        const bool fromSmooth = std::abs(view.scenePoint(p.id, s.start).y() + 150) < 2;
+        const QPointF handle = view.scenePoint(p.id, fromSmooth ? s.control1 : s.control2);
+        EXPECT_NEAR(std::abs(handle.x()), 100, 2.0);
+        EXPECT_NEAR(handle.y(), -150, 2.0);
+    }
+    EXPECT_EQ(cubic, 2);
+    // The curve bulges above the chord through the smooth point: its area exceeds the triangle's.
+    EXPECT_GT(signedArea(p), 400.0 * 250 / 2 / 1e6);
+    EXPECT_EQ(f.window.undoStack().count(), 1);
+
+    // Backspace drops the last point; Enter closes with at least 3.
+    for (const QPointF& c : {QPointF(-200, 400), QPointF(0, 400), QPointF(0, 500)}) {
+        click(f.surface(), f.at(c));
+    }
+    QTest::keyClick(&view, Qt::Key_Backspace);
+    QTest::keyClick(&view, Qt::Key_Return);
+    EXPECT_EQ(f.document().panels.size(), 1U) << "two points are not a panel";
+    click(f.surface(), f.at({-100, 550}));
+    QTest::keyClick(&view, Qt::Key_Return);
+    ASSERT_EQ(f.document().panels.size(), 2U);
+    EXPECT_EQ(f.document().panels.back().outline.points.size(), 3U);
+    EXPECT_TRUE(f.errors.isEmpty()) << f.errors.join("; ").toStdString();
+}
+
+TEST(PatternView, NotchesInternalLinesDartsAndTheGrainWithTheMouseUndoToTheEmptyProject) {
+    Fixture f(true);
+    PatternView& view = f.view();
+    const std::string empty = patterns::dumpDocument(f.document());
+    view.setTool(PatternView::Tool::Rectangle);
+    drag(f.surface(), f.at({-150, -200}), f.at({150, 200})); // 300 × 400 mm
+    ASSERT_EQ(f.document().panels.size(), 1U) << f.errors.join("; ").toStdString();
+    const patterns::PanelId id = f.document().panels.front().id;
+    const auto panel = [&] { return *f.document().panel(id); };
+
+    // A notch on the bottom edge (scene y = 200), a quarter of the way from the left.
+    view.setTool(PatternView::Tool::Notch);
+    click(f.surface(), f.at({-75, 200}));
+    ASSERT_EQ(panel().notches.size(), 1U) << f.errors.join("; ").toStdString();
+    const patterns::doc::Notch notch = panel().notches.front();
+    const int bottom = patterns::outlineEdgeIndex(panel(), notch.edge);
+    const patterns::Vec2 notchAt = patterns::pointAt(
+        patterns::contourSegment(panel().outline, static_cast<std::size_t>(bottom)), notch.t);
+    const QPointF notchScene = view.scenePoint(id, notchAt);
+    EXPECT_NEAR(notchScene.x(), -75, 2.0);
+    EXPECT_NEAR(notchScene.y(), 200, 0.5);
+
+    // An internal line of three points; the double-click's press puts the last one down.
+    view.setTool(PatternView::Tool::InternalLine);
+    click(f.surface(), f.at({-100, 0}));
+    click(f.surface(), f.at({0, -50}));
+    QTest::mouseDClick(f.surface(), Qt::LeftButton, {}, f.at({100, 0}));
+    ASSERT_EQ(panel().internalLines.size(), 1U) << f.errors.join("; ").toStdString();
+    ASSERT_EQ(panel().internalLines.front().points.size(), 3U);
+    EXPECT_NEAR(view.scenePoint(id, panel().internalLines.front().points[1].position).y(), -50,
+                2.0);
+
+    // A dart from the top edge, dragged 120 mm down into the panel: 30 mm wide.
+    view.setTool(PatternView::Tool::Dart);
+    drag(f.surface(), f.at({0, -200}), f.at({0, -80}));
+    ASSERT_EQ(panel().darts.size(), 1U) << f.errors.join("; ").toStdString();
+    ASSERT_EQ(panel().outline.points.size(), 7U);
+    const patterns::doc::Dart dart = panel().darts.front();
+    int leg = patterns::outlineEdgeIndex(panel(), dart.leg1);
+    const patterns::Vec2 tip = panel().outline.points[static_cast<std::size_t>(leg) + 1].position;
+    EXPECT_NEAR(view.scenePoint(id, tip).y(), -80, 2.0);
+    const patterns::Vec2 base0 = panel().outline.points[static_cast<std::size_t>(leg)].position;
+    const patterns::Vec2 base1 = panel().outline.points[static_cast<std::size_t>(leg) + 2].position;
+    EXPECT_NEAR((base1 - base0).norm(), 0.030, 0.002);
+
+    // The grain: the selected panel's handle dragged to 45° up and right, Shift for 15° steps.
+    view.setTool(PatternView::Tool::Select);
+    view.selectPanel(id);
+    const QPoint grain = view.grainHandle();
+    ASSERT_GE(grain.x(), 0);
+    drag(f.surface(), grain, f.at({120, -120}), Qt::ShiftModifier);
+    EXPECT_NEAR(panel().grainAngle, std::numbers::pi / 4, 1e-9);
+
+    // Select the notch by its tick and delete it; the same for the internal line.
+    click(f.surface(), f.at(notchScene + QPointF(0, -3)));
+    EXPECT_EQ(view.selectedNotch(), notch.id);
+    QTest::keyClick(&view, Qt::Key_Delete);
+    EXPECT_TRUE(panel().notches.empty());
+    click(f.surface(), f.at({-50, -25}));
+    EXPECT_TRUE(view.selectedLine()) << "the line's first half passes through (-50, -25)";
+    QTest::keyClick(&view, Qt::Key_Delete);
+    EXPECT_TRUE(panel().internalLines.empty());
+    // Click a leg of the dart (the selected edge), Delete removes the dart.
+    leg = patterns::outlineEdgeIndex(panel(), dart.leg1);
+    const QPointF legMiddle = view.scenePoint(
+        id, patterns::pointAt(
+                patterns::contourSegment(panel().outline, static_cast<std::size_t>(leg)), 0.5));
+    click(f.surface(), f.at(legMiddle));
+    EXPECT_EQ(view.selectedEdge(), dart.leg1);
+    QTest::keyClick(&view, Qt::Key_Delete);
+    EXPECT_TRUE(panel().darts.empty());
+    EXPECT_EQ(panel().outline.points.size(), 6U);
+
+    // Rectangle, notch, line, dart, grain, three removals: undone to the empty project.
+    EXPECT_EQ(f.window.undoStack().count(), 8);
+    while (f.window.undoStack().canUndo()) {
+        f.window.undoStack().undo();
+    }
+    EXPECT_EQ(patterns::dumpDocument(f.document()), empty);
     EXPECT_TRUE(f.errors.isEmpty()) << f.errors.join("; ").toStdString();
 }
 
