@@ -10,6 +10,7 @@
 /// drawn as pinheads (render/pin_markers.h), always visible.
 
 #include "ui/render/camera.h"
+#include "ui/render/scene.h"
 #include "ui/widgets/drape_controller.h"
 
 #include <QElapsedTimer>
@@ -21,6 +22,7 @@ class QPainter;
 
 #include <memory>
 #include <optional>
+#include <vector>
 
 namespace atelier::render {
 class HeadlessContext;
@@ -69,6 +71,30 @@ class Viewport : public QWidget {
     /// Draws slot `name` (the selected panel's) in the highlight colour; empty: none.
     void setHighlightedSlot(const QString& name);
     QString highlightedSlot() const { return m_highlightedSlot; }
+
+    /// Draws `body` (|B|×3 positions, |T|×3 triangles) instead of the drape's body until the
+    /// next scene: the Body dock's preview of a body being edited.
+    void setPreviewBody(const sim::MatX3& positions, const sim::MatX3i& triangles);
+    /// The preview body's vertex count (0: the drape's body is drawn).
+    Eigen::Index previewBodyVertices() const { return m_previewBody.rows(); }
+
+    /// Colours the cloth by its strain against the pattern (View > Strain map; off by default):
+    /// render::triangleStrain of the drawn positions against the pattern coordinates, in
+    /// render::strainColours saturating at ±STRAIN_RANGE, and the legend on the picture.
+    void setStrainShown(bool shown);
+    bool strainShown() const { return m_strainShown; }
+    /// Draws every seam's sewn edges, both sides, in the seam's colour (render::seamColour, the
+    /// pattern view's), following the cloth as it drapes (View > Seam lines; on by default).
+    void setSeamLinesShown(bool shown);
+    bool seamLinesShown() const { return m_seamLinesShown; }
+    /// The garment's triangle colours as last drawn (|F|): the panels' or the strain map's.
+    const std::vector<render::Colour>& garmentColours() const { return m_garmentColours; }
+    /// The seam lines as last drawn (one per seam, in StaticScene::seamLines' order); empty when
+    /// hidden.
+    const std::vector<render::DrawLines>& seamLines() const { return m_seamLines; }
+
+    /// Where the strain colours saturate: ±10% (as `atelier-cli render --overlay strain`).
+    static constexpr double STRAIN_RANGE = 0.10;
 
   Q_SIGNALS:
     /// A slot's marker was clicked (placing the selected panel there is the window's part).
@@ -126,6 +152,17 @@ class Viewport : public QWidget {
     /// Draws the slots' lines, markers and names over the picture.
     void paintSlots(QPainter& painter) const;
 
+    /// The garment's triangle colours for the positions drawn: the strain map's or the panels'.
+    std::vector<render::Colour> garmentColoursNow() const;
+    /// m_seamLines' positions from m_drawnPositions.
+    void followSeamLines();
+
+    sim::MatX3 m_previewBody;
+    sim::MatX3i m_previewTriangles;
+    bool m_strainShown = false;
+    bool m_seamLinesShown = true;
+    std::vector<render::Colour> m_garmentColours;
+    std::vector<render::DrawLines> m_seamLines;
     bool m_slotsShown = false;
     QString m_highlightedSlot;
     QElapsedTimer m_fpsClock;
