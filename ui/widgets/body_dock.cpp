@@ -10,6 +10,7 @@
 #include <QFileInfo>
 #include <QFormLayout>
 #include <QLabel>
+#include <QScrollArea>
 #include <QSignalBlocker>
 #include <QToolButton>
 
@@ -64,7 +65,12 @@ BodyDock::BodyDock(QAction* importBody, QWidget* parent) : QDockWidget(tr("Body"
     m_import->setDefaultAction(importBody);
     m_import->setToolButtonStyle(Qt::ToolButtonTextOnly);
     form->addRow(m_import);
-    setWidget(widget);
+    // Eleven fields are taller than a window's dock area may be: they scroll.
+    auto* scroll = new QScrollArea;
+    scroll->setWidget(widget);
+    scroll->setWidgetResizable(true);
+    scroll->setFrameShape(QFrame::NoFrame);
+    setWidget(scroll);
 
     m_delay.setSingleShot(true);
     m_delay.setInterval(PREVIEW_DELAY_MS);

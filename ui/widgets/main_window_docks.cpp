@@ -113,6 +113,9 @@ void MainWindow::buildDocks() {
     // Selection: the dock shows the panel picked in the pattern and its fabric.
     connect(m_pattern, &PatternView::panelSelected, this, [this](const QString& /*name*/) {
         const patterns::PanelId panel = m_pattern->selectedPanel();
+        const patterns::doc::Panel* selected = m_project.document.panel(panel);
+        m_viewport->setSelectedPanel(selected != nullptr ? QString::fromStdString(selected->name)
+                                                         : QString());
         if (!panel) {
             return; // the docks keep the last panel, as the 3D view's slot clicks need one
         }
@@ -120,6 +123,15 @@ void MainWindow::buildDocks() {
         if (const patterns::doc::Panel* p = m_project.document.panel(panel)) {
             m_fabricDock->showFabric(QString::fromStdString(p->material));
             m_viewport->setHighlightedSlot(QString::fromStdString(p->placement.slot));
+        }
+    });
+    // A press on the cloth in 3D selects its panel in the pattern (and so in the docks).
+    connect(m_viewport, &Viewport::panelPicked, this, [this](const QString& name) {
+        for (const patterns::doc::Panel& p : m_project.document.panels) {
+            if (QString::fromStdString(p.name) == name) {
+                m_pattern->selectPanel(p.id);
+                return;
+            }
         }
     });
     // The body's slots, once a scene is there.
@@ -253,6 +265,9 @@ void MainWindow::docksFollowDocument(bool newProject) {
     m_fabricDock->setDocument(m_project.document);
     m_simulationDock->setSettings(m_project.drape);
     m_bodyDock->setBody(m_project.body);
+    const patterns::doc::Panel* selected = m_project.document.panel(m_pattern->selectedPanel());
+    m_viewport->setSelectedPanel(selected != nullptr ? QString::fromStdString(selected->name)
+                                                     : QString()); // a rename follows
     const patterns::doc::Panel* shown = m_project.document.panel(m_panelDock->panel());
     m_viewport->setHighlightedSlot(
         shown == nullptr ? QString() : QString::fromStdString(shown->placement.slot));

@@ -434,8 +434,11 @@ std::vector<render::Colour> Viewport::garmentColoursNow() const {
         static_cast<std::size_t>(m_static->garmentTriangles.rows()));
     for (std::size_t p = 0; p < m_static->panelTriangles.size(); ++p) {
         const auto [first, count] = m_static->panelTriangles[p];
+        const bool selected = p < m_static->panelNames.size() && !m_selectedPanel.isEmpty() &&
+                              QString::fromStdString(m_static->panelNames[p]) == m_selectedPanel;
+        const render::Colour colour = render::panelColour(static_cast<int>(p));
         for (int t = first; t < first + count; ++t) {
-            colours[static_cast<std::size_t>(t)] = render::panelColour(static_cast<int>(p));
+            colours[static_cast<std::size_t>(t)] = selected ? selectedColour(colour) : colour;
         }
     }
     return colours;
@@ -457,6 +460,20 @@ void Viewport::setPreviewBody(const sim::MatX3& positions, const sim::MatX3i& tr
     m_previewTriangles = triangles;
     m_uploaded = false;
     update();
+}
+
+render::Colour Viewport::selectedColour(const render::Colour& colour) {
+    constexpr float LIGHTER = 0.45f;
+    return {colour.r + LIGHTER * (1 - colour.r), colour.g + LIGHTER * (1 - colour.g),
+            colour.b + LIGHTER * (1 - colour.b), colour.a};
+}
+
+void Viewport::setSelectedPanel(const QString& name) {
+    if (name != m_selectedPanel) {
+        m_selectedPanel = name;
+        m_uploaded = false; // the garment's colours change
+        update();
+    }
 }
 
 void Viewport::setStrainShown(bool shown) {
@@ -567,6 +584,13 @@ void Viewport::mousePressEvent(QMouseEvent* event) {
     sim::ClothPoint point;
     Eigen::Vector3f hit;
     if (event->button() == Qt::LeftButton && pick(event->position(), point, hit)) {
+        for (std::size_t p = 0; p < m_static->panelTriangles.size(); ++p) {
+            const auto [first, count] = m_static->panelTriangles[p];
+            if (point.triangle >= first && point.triangle < first + count &&
+                p < m_static->panelNames.size()) {
+                Q_EMIT panelPicked(QString::fromStdString(m_static->panelNames[p]));
+            }
+        }
         m_grabbing = true;
         m_grabPoint = hit;
         m_grabNormal = ray(event->position()).second;

@@ -78,6 +78,12 @@ class Viewport : public QWidget {
     /// The preview body's vertex count (0: the drape's body is drawn).
     Eigen::Index previewBodyVertices() const { return m_previewBody.rows(); }
 
+    /// Draws panel `name`'s cloth lighter (the panel selected in the pattern); empty: none.
+    void setSelectedPanel(const QString& name);
+    QString selectedPanel() const { return m_selectedPanel; }
+    /// The colour of a selected panel's cloth: its colour, 45% of the way to white.
+    static render::Colour selectedColour(const render::Colour& colour);
+
     /// Colours the cloth by its strain against the pattern (View > Strain map; off by default):
     /// render::triangleStrain of the drawn positions against the pattern coordinates, in
     /// render::strainColours saturating at ±STRAIN_RANGE, and the legend on the picture.
@@ -99,6 +105,9 @@ class Viewport : public QWidget {
   Q_SIGNALS:
     /// A slot's marker was clicked (placing the selected panel there is the window's part).
     void slotClicked(const QString& slot);
+    /// A left press on panel `name`'s cloth (it is grabbed too): selecting it in the pattern is
+    /// the window's part.
+    void panelPicked(const QString& name);
 
   public Q_SLOTS:
     /// A new static scene (a new project, framed from three-quarter; or an edited garment,
@@ -159,6 +168,7 @@ class Viewport : public QWidget {
 
     sim::MatX3 m_previewBody;
     sim::MatX3i m_previewTriangles;
+    QString m_selectedPanel;
     bool m_strainShown = false;
     bool m_seamLinesShown = true;
     std::vector<render::Colour> m_garmentColours;

@@ -4,12 +4,15 @@
 #include "ui/render/overlays.h"
 #include "ui/render/scene.h"
 #include "ui/widgets/main_window.h"
+#include "ui/widgets/panel_dock.h"
+#include "ui/widgets/pattern_view.h"
 #include "ui/widgets/viewport.h"
 #include "ui/widgets/widget_test_support.h"
 
 #include <QAction>
 #include <QImage>
 #include <QTemporaryDir>
+#include <QTest>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -216,6 +219,61 @@ TEST(Viewport, SeamLinesFollowTheClothInTheirSeamsColours) {
     ASSERT_TRUE(s.draw());
     EXPECT_TRUE(view.seamLines().empty());
     EXPECT_LT(pixelsNear(view.picture(), first, 40), shown / 4);
+}
+
+TEST(Viewport, TheSelectionIsMirroredBetweenThePatternAndTheCloth) {
+    if (!haveEgl()) {
+        GTEST_SKIP() << "no EGL context here";
+    }
+    DrapedSkirt s;
+    ASSERT_TRUE(s.open()) << s.window.viewport().rendererError().toStdString();
+    Viewport& view = s.window.viewport();
+    const auto scene = s.window.drape().staticScene();
+    const patterns::PanelId front = s.window.project().document.panels.at(0).id;
+    const patterns::PanelId back = s.window.project().document.panels.at(1).id;
+    const auto colourOf = [&](int panel) {
+        return view.garmentColours().at(static_cast<std::size_t>(
+            scene->panelTriangles.at(static_cast<std::size_t>(panel)).first));
+    };
+    // Selected in the pattern: lighter on the cloth, the other panel as it was.
+    s.window.patternView().selectPanel(front);
+    QCoreApplication::processEvents();
+    EXPECT_EQ(view.selectedPanel(), "front");
+    ASSERT_TRUE(s.draw());
+    const render::Colour lighter = Viewport::selectedColour(render::panelColour(0));
+    EXPECT_EQ(colourOf(0).r, lighter.r);
+    EXPECT_EQ(colourOf(0).b, lighter.b);
+    EXPECT_GT(lighter.g, render::panelColour(0).g);
+    EXPECT_EQ(colourOf(1).g, render::panelColour(1).g);
+
+    // A press on the back panel's cloth in 3D selects it in the pattern and the Panel dock.
+    view.setView(render::View::Back);
+    ASSERT_TRUE(s.draw());
+    const QImage picture = view.picture().convertToFormat(QImage::Format_RGB32);
+    const render::Colour denim = render::panelColour(1);
+    QPoint onBack(-1, -1);
+    for (int y = picture.height() / 3; y < picture.height() && onBack.x() < 0; ++y) {
+        for (int x = picture.width() / 3; x < 2 * picture.width() / 3; ++x) {
+            const QColor c = picture.pixelColor(x, y);
+            if (std::abs(c.redF() - denim.r) + std::abs(c.greenF() - denim.g) +
+                    std::abs(c.blueF() - denim.b) <
+                0.2) {
+                onBack = QPoint(x + 2, y + 2) / view.devicePixelRatioF();
+                break;
+            }
+        }
+    }
+    ASSERT_GE(onBack.x(), 0) << "the back panel is in the back view";
+    QTest::mousePress(&view, Qt::LeftButton, {}, onBack);
+    QTest::mouseRelease(&view, Qt::LeftButton, {}, onBack);
+    EXPECT_EQ(s.window.patternView().selectedPanel(), back);
+    EXPECT_EQ(s.window.panelDock().panel(), back);
+    EXPECT_EQ(view.selectedPanel(), "back");
+    s.window.drape().pause(); // the press grabbed the cloth too
+    ASSERT_TRUE(waitFor([&] { return !s.window.drape().running(); }, 30));
+    ASSERT_TRUE(s.draw());
+    EXPECT_EQ(colourOf(0).g, render::panelColour(0).g) << "the front is no longer selected";
+    EXPECT_EQ(colourOf(1).g, Viewport::selectedColour(denim).g);
 }
 
 } // namespace
