@@ -1,7 +1,8 @@
 #pragma once
-/// Builds bodies off the UI thread for the Body dock's live preview: a mannequin takes 1–3 s
-/// to generate, so one worker thread builds the latest body asked for; a body asked for while
-/// another builds replaces the request, and a result that is no longer the latest is dropped.
+/// Builds bodies off the UI thread for the Body dock's live preview: a mannequin takes 1.2–4 s
+/// (docs/benchmarks.md, "The mannequin") to generate, so one worker thread builds the latest body
+/// asked for; a body asked for while another builds replaces the request, and a result that is no
+/// longer the latest is dropped.
 
 #include "patterns/body.h"
 #include "patterns/project.h"
