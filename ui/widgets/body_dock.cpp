@@ -89,6 +89,9 @@ BodyDock::BodyDock(QAction* importBody, QWidget* parent) : QDockWidget(tr("Body"
 }
 
 void BodyDock::setBody(const patterns::BodySource& body) {
+    if (body == m_body) {
+        return; // a document edit: a change being typed stays
+    }
     m_body = body;
     m_shown = body;
     m_delay.stop();

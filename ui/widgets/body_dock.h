@@ -27,7 +27,8 @@ class BodyDock : public QDockWidget {
     /// `importBody`: the window's File > Import body… action, shown as a button.
     explicit BodyDock(QAction* importBody, QWidget* parent = nullptr);
 
-    /// The project's body to show (after every change of it).
+    /// The project's body to show (after every change of it); the same body again keeps the
+    /// changes not yet announced.
     void setBody(const patterns::BodySource& body);
     /// The body the fields show now (the project's, with the changes not yet announced).
     const patterns::BodySource& body() const { return m_shown; }

@@ -31,6 +31,12 @@ void BodyPreview::request(const patterns::BodySource& source) {
     m_wake.notify_all();
 }
 
+void BodyPreview::cancel() {
+    const std::lock_guard lock(m_mutex);
+    m_pending.reset();
+    m_answered = ++m_requested; // a body under way is no longer the latest request
+}
+
 void BodyPreview::loop() {
     for (;;) {
         std::pair<std::uint64_t, patterns::BodySource> job;

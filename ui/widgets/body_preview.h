@@ -29,6 +29,9 @@ class BodyPreview : public QObject {
     /// Builds `source`'s body (a mannequin; a mesh is read as a project reads it) on the
     /// worker; built() or failed() follow unless another request comes first.
     void request(const patterns::BodySource& source);
+    /// Drops the request under way or waiting: no built() or failed() for it (another
+    /// project was opened).
+    void cancel();
     /// Requests made so far; each built() or failed() names the one it answers.
     std::uint64_t requests() const { return m_requested; }
     /// Whether the latest request has been answered.

@@ -259,6 +259,7 @@ void MainWindow::docksFollowDocument(bool newProject) {
     if (newProject) { // ids of the project left behind may name other objects in this one
         m_panelDock->showPanel(0);
         m_seamDock->showSeam({});
+        m_bodyPreview->cancel(); // a body edited in the project left behind is not this one's
     }
     m_panelDock->setDocument(m_project.document);
     m_seamDock->setDocument(m_project.document);
