@@ -7,7 +7,9 @@
 /// frame the content. Left-dragging the cloth grabs it (the drape runs and follows the mouse
 /// in the plane facing the camera); left-dragging elsewhere orbits. Alt+click on the cloth pins
 /// the vertex nearest the click where it is now; Alt+click on a pinhead unpins it. Pins are
-/// drawn as pinheads (render/pin_markers.h), always visible.
+/// drawn as pinheads (render/pin_markers.h), always visible. Over the cloth: each seam's lines
+/// in its pattern colour and, when asked, the strain map with its legend; the panel selected
+/// in the pattern is drawn lighter, and pressing the cloth names its panel (panelPicked).
 
 #include "ui/render/camera.h"
 #include "ui/render/scene.h"
