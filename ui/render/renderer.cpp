@@ -227,6 +227,7 @@ struct GpuLines {
     GLuint vao = 0;
     std::array<GLuint, 2> buffers{}; ///< positions, indices
     GLsizei indexCount = 0;
+    Eigen::Index vertexCount = 0;
     Colour colour;
     float widthPx = 1;
 
@@ -243,6 +244,7 @@ GpuLines upload(const DrawLines& lines) {
     const std::vector<GLuint> indices(lines.segments.data(),
                                       lines.segments.data() + lines.segments.size());
     gpu.indexCount = static_cast<GLsizei>(indices.size());
+    gpu.vertexCount = lines.positions.rows();
     glGenVertexArrays(1, &gpu.vao);
     glBindVertexArray(gpu.vao);
     glGenBuffers(static_cast<GLsizei>(gpu.buffers.size()), gpu.buffers.data());
@@ -435,6 +437,55 @@ Result<void> Renderer::updatePositions(int meshIndex, const sim::MatX3& position
     glBufferSubData(GL_ARRAY_BUFFER, 0, bytes, normalData.data());
     glBindBuffer(GL_ARRAY_BUFFER, 0);
     m_impl->refreshBounds();
+    return {};
+}
+
+Result<void> Renderer::updateTriangleColours(int meshIndex, const std::vector<Colour>& colours) {
+    const std::string where = "mesh " + std::to_string(meshIndex);
+    if (meshIndex < 0 || meshIndex >= std::ssize(m_impl->meshes)) {
+        return Error{"", where,
+                     "no such mesh (" + std::to_string(m_impl->meshes.size()) + " uploaded)"};
+    }
+    const GpuMesh& mesh = m_impl->meshes[static_cast<std::size_t>(meshIndex)];
+    if (mesh.triangleColourBuffer == 0) {
+        return Error{"", where, "uploaded without triangle colours"};
+    }
+    if (std::ssize(colours) != mesh.triangles.rows()) {
+        return Error{"", where,
+                     "triangle colours: " + std::to_string(colours.size()) + " for " +
+                         std::to_string(mesh.triangles.rows()) + " triangles"};
+    }
+    std::vector<std::uint8_t> bytes;
+    bytes.reserve(colours.size() * 4);
+    for (const Colour& c : colours) {
+        appendColour(bytes, c);
+    }
+    glBindBuffer(GL_TEXTURE_BUFFER, mesh.triangleColourBuffer);
+    glBufferSubData(GL_TEXTURE_BUFFER, 0, static_cast<GLsizeiptr>(bytes.size()), bytes.data());
+    glBindBuffer(GL_TEXTURE_BUFFER, 0);
+    return {};
+}
+
+Result<void> Renderer::updateLinePositions(int linesIndex, const sim::MatX3& positions) {
+    const std::string where = "lines " + std::to_string(linesIndex);
+    if (linesIndex < 0 || linesIndex >= std::ssize(m_impl->lines)) {
+        return Error{"", where,
+                     "no such lines (" + std::to_string(m_impl->lines.size()) + " uploaded)"};
+    }
+    const GpuLines& lines = m_impl->lines[static_cast<std::size_t>(linesIndex)];
+    if (positions.rows() != lines.vertexCount) {
+        return Error{"", where,
+                     "positions: " + std::to_string(positions.rows()) + " for " +
+                         std::to_string(lines.vertexCount) + " vertices"};
+    }
+    if (!positions.allFinite()) {
+        return Error{"", where, "a line vertex position is not finite"};
+    }
+    const std::vector<float> data = toFloats(positions);
+    glBindBuffer(GL_ARRAY_BUFFER, lines.buffers[0]);
+    glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(data.size() * sizeof(float)),
+                    data.data());
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
     return {};
 }
 

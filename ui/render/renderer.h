@@ -51,6 +51,13 @@ class Renderer {
     /// smooth normals computed from the triangles. The framing bounds follow the new positions.
     Result<void> updatePositions(int meshIndex, const sim::MatX3& positions,
                                  const sim::MatX3& normals = {});
+    /// Replaces the triangle colours of uploaded mesh `meshIndex` (DrawMesh::triangleColours,
+    /// (|F|), e.g. a strain map following a drape); the mesh must have been uploaded with
+    /// triangle colours. Only that colour buffer is re-uploaded.
+    Result<void> updateTriangleColours(int meshIndex, const std::vector<Colour>& colours);
+    /// Replaces the vertex positions of uploaded lines `linesIndex` (Scene::lines' order; (|V|×3),
+    /// its vertex count): lines that follow a drape (seams) re-upload positions only.
+    Result<void> updateLinePositions(int linesIndex, const sim::MatX3& positions);
     /// Replaces the pinned points marked over the pictures (Scene::pins, (|P|×3) [m]).
     void setPins(const sim::MatX3& pins);
     /// The box framing the views: every uploaded mesh vertex (empty when there is none).

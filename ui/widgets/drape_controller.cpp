@@ -7,11 +7,81 @@
 
 #include <QMetaObject>
 
+#include <algorithm>
+#include <map>
+#include <set>
+
 namespace atelier::ui {
+
+namespace {
+
+/// Each seam's sewn edges: the seam's pairs run along it in order, so consecutive pairs' vertices
+/// on one side are neighbours along the outline; a step to another panel (a side of several
+/// ranges) or between vertices that share no triangle edge (a pair merged away) is no segment.
+std::vector<SeamLine> seamLines(const patterns::GarmentMesh& mesh, const std::vector<int>& offsets,
+                                const sim::MatX3i& triangles) {
+    std::set<std::pair<int, int>> edges;
+    for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
+        for (int k = 0; k < 3; ++k) {
+            const int a = triangles(t, k);
+            const int b = triangles(t, (k + 1) % 3);
+            edges.emplace(std::min(a, b), std::max(a, b));
+        }
+    }
+    std::map<int, std::vector<std::array<int, 2>>> pairsOf; // seam -> global vertex pairs
+    for (std::size_t k = 0; k < mesh.seamPairs.size() && k < mesh.seamOfPair.size(); ++k) {
+        if (mesh.seamOfPair[k] < 0) {
+            continue; // a dart's
+        }
+        const auto global = [&](const patterns::VertexRef& v) {
+            return offsets[static_cast<std::size_t>(v.panel)] + v.vertex;
+        };
+        pairsOf[mesh.seamOfPair[k]].push_back(
+            {global(mesh.seamPairs[k][0]), global(mesh.seamPairs[k][1])});
+    }
+    std::vector<SeamLine> lines;
+    for (const auto& [seam, pairs] : pairsOf) {
+        SeamLine line;
+        line.seam = seam;
+        std::map<int, int> index; // global vertex -> its place in line.vertices
+        const auto local = [&](int v) {
+            const auto [at, added] = index.emplace(v, static_cast<int>(line.vertices.size()));
+            if (added) {
+                line.vertices.push_back(v);
+            }
+            return at->second;
+        };
+        std::vector<std::array<int, 2>> segments;
+        for (std::size_t k = 0; k + 1 < pairs.size(); ++k) {
+            for (int side = 0; side < 2; ++side) {
+                const int a = pairs[k][static_cast<std::size_t>(side)];
+                const int b = pairs[k + 1][static_cast<std::size_t>(side)];
+                if (edges.contains({std::min(a, b), std::max(a, b)})) {
+                    segments.push_back({local(a), local(b)});
+                }
+            }
+        }
+        line.segments.resize(static_cast<Eigen::Index>(segments.size()), 2);
+        for (std::size_t s = 0; s < segments.size(); ++s) {
+            line.segments(static_cast<Eigen::Index>(s), 0) = segments[s][0];
+            line.segments(static_cast<Eigen::Index>(s), 1) = segments[s][1];
+        }
+        lines.push_back(std::move(line));
+    }
+    return lines;
+}
+
+} // namespace
 
 DrapeController::DrapeController(QObject* parent) : QObject(parent) {
     m_session = std::make_unique<patterns::DrapeSession>(
         [this](const patterns::BodySource& source) -> Result<patterns::Body> {
+            {
+                const std::lock_guard lock(m_mutex);
+                if (m_offeredBody && m_offeredBody->first == source) {
+                    return m_offeredBody->second;
+                }
+            }
             return io::loadBody(source, m_projectFile.parent_path(), m_projectFile);
         });
     m_session->setPublishing(true);
@@ -35,6 +105,11 @@ void DrapeController::post(std::function<void()> command) {
         m_commands.push_back(std::move(command));
     }
     m_wake.notify_all();
+}
+
+void DrapeController::offerBody(const patterns::BodySource& source, patterns::Body body) {
+    const std::lock_guard lock(m_mutex);
+    m_offeredBody.emplace(source, std::move(body));
 }
 
 void DrapeController::open(const QString& path) {
@@ -467,6 +542,7 @@ void DrapeController::publishScene() {
     scene->bodyTriangles = m_session->body().triangles;
     scene->garment = garment;
     scene->bodySlots = m_session->body().slots;
+    scene->seamLines = seamLines(mesh, assembled.panelOffsets, scene->garmentTriangles);
     m_phase.store(static_cast<int>(m_session->phase()));
     publishPins();
     const std::lock_guard lock(m_mutex);

@@ -18,11 +18,20 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <utility>
 #include <vector>
 
 namespace atelier::ui {
+
+/// One document seam's sewn edges in the cloth: both sides, as cloth edges between consecutive
+/// sewn vertices of a side.
+struct SeamLine {
+    int seam = 0;              ///< the seam's index in the document (render::seamColour's)
+    std::vector<int> vertices; ///< global garment vertices on the seam's two sides
+    sim::MatX2i segments;      ///< (|S|×2) indices into `vertices`; each a cloth mesh edge
+};
 
 /// What does not change while a drape runs: the triangles, the panels' ranges and colours'
 /// order, the body, the start positions. Made once per prepare, shared read-only.
@@ -37,6 +46,8 @@ struct StaticScene {
     patterns::Garment garment; ///< the garment as meshed (the pattern view draws it)
     /// The body's arrangement slots (the 3D view marks them; panels are placed on them).
     std::vector<patterns::ArrangementSlot> bodySlots;
+    /// Each seam's lines (the 3D view draws them in the seam's colour, following the cloth).
+    std::vector<SeamLine> seamLines;
 };
 
 /// The figures the status bar shows, from the latest snapshot and the session's phase.
@@ -57,6 +68,10 @@ class DrapeController : public QObject {
     ~DrapeController() override;
     DrapeController(const DrapeController&) = delete;
     DrapeController& operator=(const DrapeController&) = delete;
+
+    /// A body already built for `source` (the Body dock's preview): the next prepare whose
+    /// project has that body source takes it instead of building it again.
+    void offerBody(const patterns::BodySource& source, patterns::Body body);
 
     /// Loads a project file and prepares its drape on the worker (opened() or failed() follow).
     void open(const QString& path);
@@ -162,6 +177,8 @@ class DrapeController : public QObject {
     /// Pinned vertices and their release times [s] (simulated); guarded by m_mutex.
     std::vector<std::pair<int, double>> m_pinned;
     patterns::GarmentDocument m_document; ///< guarded by m_mutex
+    /// A body built elsewhere, and its source (offerBody); guarded by m_mutex.
+    std::optional<std::pair<patterns::BodySource, patterns::Body>> m_offeredBody;
 
     mutable std::mutex m_mutex;
     std::condition_variable m_wake;

@@ -1,5 +1,6 @@
 #include "ui/widgets/main_window.h"
 
+#include "ui/widgets/body_dock.h"
 #include "ui/widgets/pattern_view.h"
 #include "ui/widgets/viewport.h"
 
@@ -58,6 +59,11 @@ bool openable(const QString& path) {
 
 /// A project without panels, with one fabric ("fabric", the cotton preset, as a DXF import's)
 /// for the panels drawn in it.
+/// QUndoCommand::id() of edits that merge with the one below of the same merge key.
+constexpr int MERGEABLE_EDIT = 1;
+/// QUndoCommand::id() of Body dock changes that merge with the one below of the same field.
+constexpr int MERGEABLE_BODY = 2;
+
 patterns::Project untitledProject() {
     patterns::Project project;
     project.name = "untitled";
@@ -77,9 +83,32 @@ class EditCommand : public QUndoCommand {
   public:
     /// `applied`: the document (and the drape) already hold the edit (a pin made in the 3D
     /// view); the first redo then does nothing.
-    EditCommand(MainWindow* window, patterns::Edit edit, bool applied)
+    EditCommand(MainWindow* window, patterns::Edit edit, bool applied, QString mergeKey = {})
         : QUndoCommand(QString::fromStdString(edit.description)), m_window(window),
-          m_edit(std::move(edit)), m_skipRedo(applied) {}
+          m_edit(std::move(edit)), m_skipRedo(applied), m_mergeKey(std::move(mergeKey)) {}
+
+    /// Edits with a merge key (a dock's field) merge with the one below of the same key.
+    int id() const override { return m_mergeKey.isEmpty() ? -1 : MERGEABLE_EDIT; }
+    /// The consecutive changes of one field of one panel are one entry: this edit's before,
+    /// the newer one's after. Only edits of that one panel and nothing else merge.
+    bool mergeWith(const QUndoCommand* other) override {
+        const auto* newer = dynamic_cast<const EditCommand*>(other);
+        const auto single = [](const patterns::Edit& e) {
+            return e.panels.size() == 1 && e.seams.empty() && !e.materialsBefore &&
+                   e.panels.front().before && e.panels.front().after;
+        };
+        if (newer == nullptr || newer->m_mergeKey != m_mergeKey || !single(m_edit) ||
+            !single(newer->m_edit) ||
+            newer->m_edit.panels.front().before->id != m_edit.panels.front().after->id) {
+            return false;
+        }
+        m_edit.panels.front().after = newer->m_edit.panels.front().after;
+        m_edit.panels.front().afterIndex = newer->m_edit.panels.front().afterIndex;
+        m_edit.nextIdAfter = newer->m_edit.nextIdAfter;
+        m_edit.description = newer->m_edit.description;
+        setText(newer->text());
+        return true;
+    }
 
     void redo() override {
         if (m_skipRedo) {
@@ -98,6 +127,7 @@ class EditCommand : public QUndoCommand {
     MainWindow* m_window;
     patterns::Edit m_edit;
     bool m_skipRedo;
+    QString m_mergeKey;
 };
 
 MainWindow::MainWindow(QString samplesDir, QWidget* parent)
@@ -494,17 +524,28 @@ void MainWindow::showError(const QString& message) {
 /// place the garment again on it.
 class BodyCommand : public QUndoCommand {
   public:
+    /// `mergeKey` (a Body dock field's): consecutive changes of one field are one entry.
     BodyCommand(MainWindow* window, patterns::BodySource before, patterns::BodySource after,
-                const QString& text)
+                const QString& text, QString mergeKey = {})
         : QUndoCommand(text), m_window(window), m_before(std::move(before)),
-          m_after(std::move(after)) {}
+          m_after(std::move(after)), m_mergeKey(std::move(mergeKey)) {}
     void redo() override { m_window->setBody(m_after); }
     void undo() override { m_window->setBody(m_before); }
+    int id() const override { return m_mergeKey.isEmpty() ? -1 : MERGEABLE_BODY; }
+    bool mergeWith(const QUndoCommand* other) override {
+        const auto* newer = dynamic_cast<const BodyCommand*>(other);
+        if (newer == nullptr || newer->m_mergeKey != m_mergeKey) {
+            return false;
+        }
+        m_after = newer->m_after;
+        return true;
+    }
 
   private:
     MainWindow* m_window;
     patterns::BodySource m_before;
     patterns::BodySource m_after;
+    QString m_mergeKey;
 };
 
 bool MainWindow::setBodyMesh(const QString& path) {
@@ -516,13 +557,18 @@ bool MainWindow::setBodyMesh(const QString& path) {
     }
     patterns::BodySource source;
     source.meshPath = QFileInfo(path).absoluteFilePath().toStdString(); // kept absolute
-    m_undo.push(new BodyCommand(this, m_project.body, source,
-                                tr("body %1").arg(QFileInfo(path).fileName())));
+    pushBody(source, tr("body %1").arg(QFileInfo(path).fileName()));
     return true;
+}
+
+void MainWindow::pushBody(const patterns::BodySource& body, const QString& text,
+                          const QString& mergeKey) {
+    m_undo.push(new BodyCommand(this, m_project.body, body, text, mergeKey));
 }
 
 void MainWindow::setBody(const patterns::BodySource& body) {
     m_project.body = body;
+    m_bodyDock->setBody(body);
     statusBar()->showMessage(tr("Placing the garment on the new body…"));
     m_drape->setProject(m_project, m_path);
     updateTitle();
@@ -530,8 +576,8 @@ void MainWindow::setBody(const patterns::BodySource& body) {
 
 // ---- Edits ----
 
-bool MainWindow::edit(
-    const std::function<Result<patterns::Edit>(patterns::GarmentDocument&)>& make) {
+bool MainWindow::edit(const std::function<Result<patterns::Edit>(patterns::GarmentDocument&)>& make,
+                      const QString& mergeKey) {
     auto made = make(m_project.document);
     if (!made.ok()) {
         showError(QString::fromStdString(made.error().toString()));
@@ -539,7 +585,7 @@ bool MainWindow::edit(
     }
     // Back to the state before, so that the stack's first redo applies it like any other.
     patterns::undo(m_project.document, made.value());
-    m_undo.push(new EditCommand(this, std::move(made.value()), false));
+    m_undo.push(new EditCommand(this, std::move(made.value()), false, mergeKey));
     return true;
 }
 
@@ -777,14 +823,21 @@ void MainWindow::updateStatus() {
 }
 
 void MainWindow::exportMesh() {
-    const auto scene = m_drape->staticScene();
-    if (!scene) {
+    if (!m_drape->staticScene()) {
         return;
     }
     const QString path = QFileDialog::getSaveFileName(this, tr("Export the draped garment"),
                                                       QString(), tr("OBJ meshes (*.obj)"));
-    if (path.isEmpty()) {
-        return;
+    if (!path.isEmpty()) {
+        exportDrapedMesh(path);
+    }
+}
+
+bool MainWindow::exportDrapedMesh(const QString& path) {
+    const auto scene = m_drape->staticScene();
+    if (!scene) {
+        showError(tr("Nothing to export: open a project"));
+        return false;
     }
     sim::Snapshot s;
     const sim::MatX3& x =
@@ -799,11 +852,11 @@ void MainWindow::exportMesh() {
     }
     if (auto written = io::writeObj(path.toStdString(), x, scene->garmentTriangles, options);
         !written.ok()) {
-        QMessageBox::warning(this, tr("Atelier"),
-                             QString::fromStdString(written.error().toString()));
-    } else {
-        statusBar()->showMessage(tr("Wrote %1").arg(path), 4000);
+        showError(QString::fromStdString(written.error().toString()));
+        return false;
     }
+    statusBar()->showMessage(tr("Wrote %1").arg(path), 4000);
+    return true;
 }
 
 void MainWindow::savePicture() {

@@ -25,6 +25,8 @@ class QSplitter;
 
 namespace atelier::ui {
 
+class BodyDock;
+class BodyPreview;
 class FabricDock;
 class PanelDock;
 class PatternView;
@@ -102,8 +104,11 @@ class MainWindow : public QMainWindow {
     // ---- Edits ----
 
     /// Applies an edit of the document (`make` edits it and returns the Edit) through the
-    /// undo stack. An edit refused is an error message; false then.
-    bool edit(const std::function<Result<patterns::Edit>(patterns::GarmentDocument&)>& make);
+    /// undo stack. An edit refused is an error message; false then. Consecutive edits with the
+    /// same non-empty `mergeKey` (a dock field's, naming the panel) of one panel are one undo
+    /// entry (QUndoCommand::mergeWith).
+    bool edit(const std::function<Result<patterns::Edit>(patterns::GarmentDocument&)>& make,
+              const QString& mergeKey = {});
     bool mirrorSelectedPanel();
     bool duplicateSelectedPanel();
     QUndoStack& undoStack() { return m_undo; }
@@ -118,6 +123,12 @@ class MainWindow : public QMainWindow {
     SeamDock& seamDock() { return *m_seamDock; }
     FabricDock& fabricDock() { return *m_fabricDock; }
     SimulationDock& simulationDock() { return *m_simulationDock; }
+    BodyDock& bodyDock() { return *m_bodyDock; }
+    /// Builds the bodies the Body dock edits, off the UI thread.
+    BodyPreview& bodyPreview() { return *m_bodyPreview; }
+    /// View > Strain map and View > Seam lines (checkable).
+    QAction* strainMapAction() { return m_strainMap; }
+    QAction* seamLinesAction() { return m_seamLines; }
     /// Places `panel` on the body's slot `slot` (placePanel, its offset, rotation and clearance
     /// kept): one undoable edit; the panel is placed again there.
     bool placePanelOnSlot(patterns::PanelId panel, const QString& slot);
@@ -127,6 +138,10 @@ class MainWindow : public QMainWindow {
     /// Writes the pattern as SVG (io::writePatternSvg, as `atelier-cli export-pattern`), with a
     /// 10 mm seam allowance, atomically. An error is a message; false then.
     bool exportPatternSvg(const QString& path);
+    /// Writes the garment as draped now (the latest snapshot) to an OBJ file, one group per
+    /// panel, pattern UVs (File > Export draped mesh), atomically. An error is a message; false
+    /// then.
+    bool exportDrapedMesh(const QString& path);
     /// Renders the 3D view as it is (camera, drape) at `width`×`height` pixels to a PNG,
     /// atomically. An error is a message; false then.
     bool renderImage(const QString& path, int width, int height);
@@ -151,6 +166,10 @@ class MainWindow : public QMainWindow {
     friend class BodyCommand;
     friend class DrapeSettingsCommand;
     void setBody(const patterns::BodySource& body);
+    /// Makes `body` the project's body through the undo stack (a BodyCommand named `text`,
+    /// merging with the one below of the same non-empty `mergeKey`).
+    void pushBody(const patterns::BodySource& body, const QString& text,
+                  const QString& mergeKey = {});
     void buildMenus();
     /// The docks, their View menu entries and their connections (after buildMenus).
     void buildDocks();
@@ -195,7 +214,13 @@ class MainWindow : public QMainWindow {
     SeamDock* m_seamDock = nullptr;
     FabricDock* m_fabricDock = nullptr;
     SimulationDock* m_simulationDock = nullptr;
+    BodyDock* m_bodyDock = nullptr;
+    BodyPreview* m_bodyPreview = nullptr;
+    QString m_bodyField; ///< the Body dock's field edited last
+    QAction* m_importBody = nullptr;
     QAction* m_showSlots = nullptr;
+    QAction* m_strainMap = nullptr;
+    QAction* m_seamLines = nullptr;
     bool m_stateRestored = false; ///< the docks' state, restored when first shown
     QMenu* m_recent = nullptr;
     QLabel m_phase;

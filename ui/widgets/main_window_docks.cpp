@@ -1,6 +1,8 @@
 // The window's docks (panel, seam, fabric, simulation with its live plot), the arrangement on
 // the body's slots, and the File menu's pattern export, picture render and body import: the
 // MainWindow members declared under "Docks, arrangement and file additions".
+#include "ui/widgets/body_dock.h"
+#include "ui/widgets/body_preview.h"
 #include "ui/widgets/drape_plot.h"
 #include "ui/widgets/fabric_dock.h"
 #include "ui/widgets/main_window.h"
@@ -61,12 +63,16 @@ void MainWindow::buildDocks() {
     m_seamDock = new SeamDock(this);
     m_fabricDock = new FabricDock(this);
     m_simulationDock = new SimulationDock(m_run, m_reset, this);
+    m_bodyDock = new BodyDock(m_importBody, this);
+    m_bodyPreview = new BodyPreview(this);
     addDockWidget(Qt::RightDockWidgetArea, m_panelDock);
     addDockWidget(Qt::RightDockWidgetArea, m_fabricDock);
     addDockWidget(Qt::RightDockWidgetArea, m_seamDock);
+    addDockWidget(Qt::RightDockWidgetArea, m_bodyDock);
     addDockWidget(Qt::RightDockWidgetArea, m_simulationDock);
     tabifyDockWidget(m_panelDock, m_fabricDock);
     tabifyDockWidget(m_fabricDock, m_seamDock);
+    tabifyDockWidget(m_seamDock, m_bodyDock);
     m_panelDock->raise();
 
     QStringList presetNames;
@@ -88,15 +94,28 @@ void MainWindow::buildDocks() {
         m_viewport->setSlotsShown(on);
         QSettings().setValue("view/slots", on);
     });
+    m_strainMap = m_viewMenu->addAction(tr("S&train map"));
+    m_strainMap->setCheckable(true);
+    m_strainMap->setStatusTip(tr("Colour the cloth by its strain against the pattern (±%1%)")
+                                  .arg(Viewport::STRAIN_RANGE * 100));
+    connect(m_strainMap, &QAction::toggled, m_viewport, &Viewport::setStrainShown);
+    m_seamLines = m_viewMenu->addAction(tr("Seam &lines"));
+    m_seamLines->setCheckable(true);
+    m_seamLines->setChecked(m_viewport->seamLinesShown());
+    m_seamLines->setStatusTip(tr("Draw the seams on the cloth in their pattern colours"));
+    connect(m_seamLines, &QAction::toggled, m_viewport, &Viewport::setSeamLinesShown);
     QMenu* docks = m_viewMenu->addMenu(tr("&Docks"));
-    for (QDockWidget* dock : std::initializer_list<QDockWidget*>{m_panelDock, m_fabricDock,
-                                                                 m_seamDock, m_simulationDock}) {
+    for (QDockWidget* dock : std::initializer_list<QDockWidget*>{
+             m_panelDock, m_fabricDock, m_seamDock, m_bodyDock, m_simulationDock}) {
         docks->addAction(dock->toggleViewAction());
     }
 
     // Selection: the dock shows the panel picked in the pattern and its fabric.
     connect(m_pattern, &PatternView::panelSelected, this, [this](const QString& /*name*/) {
         const patterns::PanelId panel = m_pattern->selectedPanel();
+        const patterns::doc::Panel* selected = m_project.document.panel(panel);
+        m_viewport->setSelectedPanel(selected != nullptr ? QString::fromStdString(selected->name)
+                                                         : QString());
         if (!panel) {
             return; // the docks keep the last panel, as the 3D view's slot clicks need one
         }
@@ -104,6 +123,15 @@ void MainWindow::buildDocks() {
         if (const patterns::doc::Panel* p = m_project.document.panel(panel)) {
             m_fabricDock->showFabric(QString::fromStdString(p->material));
             m_viewport->setHighlightedSlot(QString::fromStdString(p->placement.slot));
+        }
+    });
+    // A press on the cloth in 3D selects its panel in the pattern (and so in the docks).
+    connect(m_viewport, &Viewport::panelPicked, this, [this](const QString& name) {
+        for (const patterns::doc::Panel& p : m_project.document.panels) {
+            if (QString::fromStdString(p.name) == name) {
+                m_pattern->selectPanel(p.id);
+                return;
+            }
         }
     });
     // The body's slots, once a scene is there.
@@ -126,6 +154,32 @@ void MainWindow::buildDocks() {
         placePanelOnSlot(m_panelDock->panel(), slot);
     });
 
+    // The Body dock: the edited body is built off the UI thread and shown at once; built, it
+    // becomes the project's body (one undo entry per field edited in a row) and the drape
+    // takes the body built instead of building it again.
+    connect(m_bodyDock, &BodyDock::bodyEdited, this,
+            [this](const patterns::BodySource& body, const QString& field) {
+                m_bodyField = field;
+                statusBar()->showMessage(tr("Building the body…"));
+                m_bodyPreview->request(body);
+            });
+    connect(m_bodyPreview, &BodyPreview::built, this,
+            [this](const patterns::BodySource& source, const patterns::Body& body) {
+                m_bodyDock->setProblem({});
+                m_viewport->setPreviewBody(body.vertices, body.triangles);
+                if (source == m_project.body) {
+                    return;
+                }
+                m_drape->offerBody(source, body);
+                pushBody(source, tr("body: %1").arg(m_bodyField),
+                         QStringLiteral("body ") + m_bodyField);
+            });
+    connect(m_bodyPreview, &BodyPreview::failed, this,
+            [this](const patterns::BodySource& /*source*/, const QString& message) {
+                m_bodyDock->setProblem(message);
+                statusBar()->showMessage(tr("The body cannot be built: %1").arg(message), 8000);
+            });
+
     // Each dock's request is one undoable edit.
     connect(
         m_panelDock, &PanelDock::renameRequested, this, [this](quint32 panel, const QString& name) {
@@ -136,10 +190,15 @@ void MainWindow::buildDocks() {
             }
         });
     connect(m_panelDock, &PanelDock::placeRequested, this,
-            [this](quint32 panel, const patterns::Placement& placement) {
-                if (!edit([&](patterns::GarmentDocument& d) {
-                        return patterns::placePanel(d, patterns::PanelId{panel}, placement);
-                    })) {
+            [this](quint32 panel, const patterns::Placement& placement, const QString& field) {
+                const QString merge = field.isEmpty()
+                                          ? QString()
+                                          : QStringLiteral("place %1 %2").arg(panel).arg(field);
+                if (!edit(
+                        [&](patterns::GarmentDocument& d) {
+                            return patterns::placePanel(d, patterns::PanelId{panel}, placement);
+                        },
+                        merge)) {
                     docksFollowDocument();
                 }
             });
@@ -200,11 +259,16 @@ void MainWindow::docksFollowDocument(bool newProject) {
     if (newProject) { // ids of the project left behind may name other objects in this one
         m_panelDock->showPanel(0);
         m_seamDock->showSeam({});
+        m_bodyPreview->cancel(); // a body edited in the project left behind is not this one's
     }
     m_panelDock->setDocument(m_project.document);
     m_seamDock->setDocument(m_project.document);
     m_fabricDock->setDocument(m_project.document);
     m_simulationDock->setSettings(m_project.drape);
+    m_bodyDock->setBody(m_project.body);
+    const patterns::doc::Panel* selected = m_project.document.panel(m_pattern->selectedPanel());
+    m_viewport->setSelectedPanel(selected != nullptr ? QString::fromStdString(selected->name)
+                                                     : QString()); // a rename follows
     const patterns::doc::Panel* shown = m_project.document.panel(m_panelDock->panel());
     m_viewport->setHighlightedSlot(
         shown == nullptr ? QString() : QString::fromStdString(shown->placement.slot));
@@ -268,7 +332,7 @@ void MainWindow::addFileActions(QMenu* file) {
             renderImage(path, RENDER_WIDTH, RENDER_HEIGHT);
         }
     });
-    file->addAction(tr("Import &body…"), this, [this] {
+    m_importBody = file->addAction(tr("Import &body…"), this, [this] {
         QStringList patterns;
         for (const std::string& suffix : io::bodyMeshExtensions()) {
             patterns << QString::fromStdString("*" + suffix);

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 namespace atelier::ui {
 
@@ -57,9 +58,15 @@ PanelDock::PanelDock(QWidget* parent) : QDockWidget(tr("Panel"), parent) {
             Q_EMIT renameRequested(m_panel.value, m_name->text());
         }
     });
-    connect(m_slot, &QComboBox::activated, this, [this] { emitPlacement(); });
-    for (QDoubleSpinBox* box : {m_around, m_along, m_rotation, m_clearance}) {
-        connect(box, &QDoubleSpinBox::valueChanged, this, [this] { emitPlacement(); });
+    connect(m_slot, &QComboBox::activated, this, [this] { emitPlacement({}); });
+    const std::pair<QDoubleSpinBox*, QString> fields[] = {
+        {m_around, QStringLiteral("around")},
+        {m_along, QStringLiteral("along")},
+        {m_rotation, QStringLiteral("rotation")},
+        {m_clearance, QStringLiteral("clearance")}};
+    for (const auto& [box, field] : fields) {
+        connect(box, &QDoubleSpinBox::valueChanged, this,
+                [this, field = field] { emitPlacement(field); });
     }
     connect(m_fabric, &QComboBox::activated, this, [this](int index) {
         const patterns::doc::Panel* p = shown();
@@ -105,7 +112,7 @@ const patterns::doc::Panel* PanelDock::shown() const {
     return m_document.panel(m_panel);
 }
 
-void PanelDock::emitPlacement() {
+void PanelDock::emitPlacement(const QString& field) {
     const patterns::doc::Panel* p = shown();
     if (p == nullptr) {
         return;
@@ -131,7 +138,7 @@ void PanelDock::emitPlacement() {
     }
     if (placement.slot != now.slot || placement.offset != now.offset ||
         placement.rotation != now.rotation || placement.clearance != now.clearance) {
-        Q_EMIT placeRequested(m_panel.value, placement);
+        Q_EMIT placeRequested(m_panel.value, placement, field);
     }
 }
 

@@ -45,14 +45,16 @@ class PanelDock : public QDockWidget {
 
   Q_SIGNALS:
     void renameRequested(quint32 panel, const QString& name);
-    /// The placement the fields show now (slot, offset, rotation, clearance) [m, rad].
-    void placeRequested(quint32 panel, const patterns::Placement& placement);
+    /// The placement the fields show now (slot, offset, rotation, clearance) [m, rad]; `field`
+    /// names the spin box that changed ("around", "along", "rotation", "clearance"), empty for
+    /// the slot: consecutive changes of one field are one undo entry.
+    void placeRequested(quint32 panel, const patterns::Placement& placement, const QString& field);
     /// A fabric of the document, or a preset's name (`preset` true) to add and give the panel.
     void fabricRequested(quint32 panel, const QString& fabric, bool preset);
 
   private:
     void refresh();
-    void emitPlacement();
+    void emitPlacement(const QString& field);
     const patterns::doc::Panel* shown() const;
 
     patterns::GarmentDocument m_document;

@@ -1,6 +1,7 @@
 #include "ui/widgets/viewport.h"
 
 #include "ui/render/headless_context.h"
+#include "ui/render/overlays.h"
 #include "ui/render/pin_markers.h"
 #include "ui/render/renderer.h"
 #include "ui/render/scene.h"
@@ -118,6 +119,8 @@ bool Viewport::ensureRenderer() {
 void Viewport::sceneChanged(bool keepView) {
     m_static = m_drape->staticScene();
     m_snapshot = sim::Snapshot{}; // one of the garment as it was is not drawn over the new one
+    m_previewBody.resize(0, 3);   // the new scene has its body
+    m_previewTriangles.resize(0, 3);
     m_drawnVersion = 0;
     m_uploaded = false;
     if (keepView) {
@@ -188,27 +191,43 @@ void Viewport::draw() {
             garment.normals = m_snapshot.clothNormals;
         }
         garment.triangles = m_static->garmentTriangles;
-        garment.triangleColours.resize(static_cast<std::size_t>(garment.triangles.rows()));
-        for (std::size_t p = 0; p < m_static->panelTriangles.size(); ++p) {
-            const auto [first, count] = m_static->panelTriangles[p];
-            for (int t = first; t < first + count; ++t) {
-                garment.triangleColours[static_cast<std::size_t>(t)] =
-                    render::panelColour(static_cast<int>(p));
-            }
-        }
+        m_garmentColours = garmentColoursNow();
+        garment.triangleColours = m_garmentColours;
         scene.meshes.push_back(std::move(garment));
         render::DrawMesh body;
         body.kind = render::MeshKind::Body;
-        body.positions = m_static->bodyPositions;
-        body.triangles = m_static->bodyTriangles;
+        const bool preview = m_previewBody.rows() > 0;
+        body.positions = preview ? m_previewBody : m_static->bodyPositions;
+        body.triangles = preview ? m_previewTriangles : m_static->bodyTriangles;
         body.colour = render::bodyColour();
         scene.meshes.push_back(std::move(body));
+        m_seamLines.clear();
+        if (m_seamLinesShown) {
+            for (const SeamLine& seam : m_static->seamLines) {
+                render::DrawLines lines;
+                lines.segments = seam.segments;
+                lines.colour = render::seamColour(seam.seam);
+                lines.widthPx = 3.0f;
+                m_seamLines.push_back(std::move(lines));
+            }
+            followSeamLines();
+        }
+        scene.lines = m_seamLines;
         set = m_renderer->setScene(scene);
         m_uploaded = set.ok();
     } else {
-        // While the drape runs only the garment's vertices change.
+        // While the drape runs only the garment's vertices change (and the colours of a strain
+        // map, and the seam lines' vertices).
         set = m_renderer->updatePositions(0, m_drawnPositions,
                                           live ? m_snapshot.clothNormals : sim::MatX3());
+        if (set.ok() && m_strainShown) {
+            m_garmentColours = garmentColoursNow();
+            set = m_renderer->updateTriangleColours(0, m_garmentColours);
+        }
+        followSeamLines();
+        for (std::size_t k = 0; set.ok() && k < m_seamLines.size(); ++k) {
+            set = m_renderer->updateLinePositions(static_cast<int>(k), m_seamLines[k].positions);
+        }
     }
     m_drawnVersion = live ? m_snapshot.version : 0;
     // Pins still holding at the drawn snapshot's time (a released pin's head goes).
@@ -234,7 +253,10 @@ void Viewport::draw() {
         m_picture = QImage();
         return;
     }
-    const io::RgbaImage& img = image.value();
+    io::RgbaImage& img = image.value();
+    if (m_strainShown) {
+        render::drawStrainLegend(img, STRAIN_RANGE);
+    }
     m_picture =
         QImage(img.pixels.data(), img.width, img.height, img.width * 4, QImage::Format_RGBA8888)
             .copy();
@@ -271,7 +293,10 @@ QImage Viewport::renderImage(int width, int height, QString* error) {
     if (!image.ok()) {
         return fail(QString::fromStdString(image.error().toString()));
     }
-    const io::RgbaImage& img = image.value();
+    io::RgbaImage& img = image.value();
+    if (m_strainShown) {
+        render::drawStrainLegend(img, STRAIN_RANGE);
+    }
     return QImage(img.pixels.data(), img.width, img.height, img.width * 4, QImage::Format_RGBA8888)
         .copy();
 }
@@ -398,6 +423,75 @@ bool Viewport::togglePinAt(const QPointF& at) {
     return true;
 }
 
+std::vector<render::Colour> Viewport::garmentColoursNow() const {
+    if (m_strainShown) {
+        return render::strainColours(render::triangleStrain(m_drawnPositions,
+                                                            m_static->garmentTriangles,
+                                                            m_static->patternUvs),
+                                     STRAIN_RANGE);
+    }
+    std::vector<render::Colour> colours(
+        static_cast<std::size_t>(m_static->garmentTriangles.rows()));
+    for (std::size_t p = 0; p < m_static->panelTriangles.size(); ++p) {
+        const auto [first, count] = m_static->panelTriangles[p];
+        const bool selected = p < m_static->panelNames.size() && !m_selectedPanel.isEmpty() &&
+                              QString::fromStdString(m_static->panelNames[p]) == m_selectedPanel;
+        const render::Colour colour = render::panelColour(static_cast<int>(p));
+        for (int t = first; t < first + count; ++t) {
+            colours[static_cast<std::size_t>(t)] = selected ? selectedColour(colour) : colour;
+        }
+    }
+    return colours;
+}
+
+void Viewport::followSeamLines() {
+    for (std::size_t k = 0; k < m_seamLines.size() && k < m_static->seamLines.size(); ++k) {
+        const std::vector<int>& vertices = m_static->seamLines[k].vertices;
+        sim::MatX3& positions = m_seamLines[k].positions;
+        positions.resize(static_cast<Eigen::Index>(vertices.size()), 3);
+        for (std::size_t i = 0; i < vertices.size(); ++i) {
+            positions.row(static_cast<Eigen::Index>(i)) = m_drawnPositions.row(vertices[i]);
+        }
+    }
+}
+
+void Viewport::setPreviewBody(const sim::MatX3& positions, const sim::MatX3i& triangles) {
+    m_previewBody = positions;
+    m_previewTriangles = triangles;
+    m_uploaded = false;
+    update();
+}
+
+render::Colour Viewport::selectedColour(const render::Colour& colour) {
+    constexpr float LIGHTER = 0.45f;
+    return {colour.r + LIGHTER * (1 - colour.r), colour.g + LIGHTER * (1 - colour.g),
+            colour.b + LIGHTER * (1 - colour.b), colour.a};
+}
+
+void Viewport::setSelectedPanel(const QString& name) {
+    if (name != m_selectedPanel) {
+        m_selectedPanel = name;
+        m_uploaded = false; // the garment's colours change
+        update();
+    }
+}
+
+void Viewport::setStrainShown(bool shown) {
+    if (shown != m_strainShown) {
+        m_strainShown = shown;
+        m_uploaded = false; // the garment's colours change
+        update();
+    }
+}
+
+void Viewport::setSeamLinesShown(bool shown) {
+    if (shown != m_seamLinesShown) {
+        m_seamLinesShown = shown;
+        m_uploaded = false; // lines come and go with the scene
+        update();
+    }
+}
+
 void Viewport::setSlotsShown(bool shown) {
     m_slotsShown = shown;
     update();
@@ -490,6 +584,13 @@ void Viewport::mousePressEvent(QMouseEvent* event) {
     sim::ClothPoint point;
     Eigen::Vector3f hit;
     if (event->button() == Qt::LeftButton && pick(event->position(), point, hit)) {
+        for (std::size_t p = 0; p < m_static->panelTriangles.size(); ++p) {
+            const auto [first, count] = m_static->panelTriangles[p];
+            if (point.triangle >= first && point.triangle < first + count &&
+                p < m_static->panelNames.size()) {
+                Q_EMIT panelPicked(QString::fromStdString(m_static->panelNames[p]));
+            }
+        }
         m_grabbing = true;
         m_grabPoint = hit;
         m_grabNormal = ray(event->position()).second;

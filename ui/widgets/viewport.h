@@ -7,9 +7,12 @@
 /// frame the content. Left-dragging the cloth grabs it (the drape runs and follows the mouse
 /// in the plane facing the camera); left-dragging elsewhere orbits. Alt+click on the cloth pins
 /// the vertex nearest the click where it is now; Alt+click on a pinhead unpins it. Pins are
-/// drawn as pinheads (render/pin_markers.h), always visible.
+/// drawn as pinheads (render/pin_markers.h), always visible. Over the cloth: each seam's lines
+/// in its pattern colour and, when asked, the strain map with its legend; the panel selected
+/// in the pattern is drawn lighter, and pressing the cloth names its panel (panelPicked).
 
 #include "ui/render/camera.h"
+#include "ui/render/scene.h"
 #include "ui/widgets/drape_controller.h"
 
 #include <QElapsedTimer>
@@ -21,6 +24,7 @@ class QPainter;
 
 #include <memory>
 #include <optional>
+#include <vector>
 
 namespace atelier::render {
 class HeadlessContext;
@@ -70,9 +74,42 @@ class Viewport : public QWidget {
     void setHighlightedSlot(const QString& name);
     QString highlightedSlot() const { return m_highlightedSlot; }
 
+    /// Draws `body` (|B|×3 positions, |T|×3 triangles) instead of the drape's body until the
+    /// next scene: the Body dock's preview of a body being edited.
+    void setPreviewBody(const sim::MatX3& positions, const sim::MatX3i& triangles);
+    /// The preview body's vertex count (0: the drape's body is drawn).
+    Eigen::Index previewBodyVertices() const { return m_previewBody.rows(); }
+
+    /// Draws panel `name`'s cloth lighter (the panel selected in the pattern); empty: none.
+    void setSelectedPanel(const QString& name);
+    QString selectedPanel() const { return m_selectedPanel; }
+    /// The colour of a selected panel's cloth: its colour, 45% of the way to white.
+    static render::Colour selectedColour(const render::Colour& colour);
+
+    /// Colours the cloth by its strain against the pattern (View > Strain map; off by default):
+    /// render::triangleStrain of the drawn positions against the pattern coordinates, in
+    /// render::strainColours saturating at ±STRAIN_RANGE, and the legend on the picture.
+    void setStrainShown(bool shown);
+    bool strainShown() const { return m_strainShown; }
+    /// Draws every seam's sewn edges, both sides, in the seam's colour (render::seamColour, the
+    /// pattern view's), following the cloth as it drapes (View > Seam lines; on by default).
+    void setSeamLinesShown(bool shown);
+    bool seamLinesShown() const { return m_seamLinesShown; }
+    /// The garment's triangle colours as last drawn (|F|): the panels' or the strain map's.
+    const std::vector<render::Colour>& garmentColours() const { return m_garmentColours; }
+    /// The seam lines as last drawn (one per seam, in StaticScene::seamLines' order); empty when
+    /// hidden.
+    const std::vector<render::DrawLines>& seamLines() const { return m_seamLines; }
+
+    /// Where the strain colours saturate: ±10% (as `atelier-cli render --overlay strain`).
+    static constexpr double STRAIN_RANGE = 0.10;
+
   Q_SIGNALS:
     /// A slot's marker was clicked (placing the selected panel there is the window's part).
     void slotClicked(const QString& slot);
+    /// A left press on panel `name`'s cloth (it is grabbed too): selecting it in the pattern is
+    /// the window's part.
+    void panelPicked(const QString& name);
 
   public Q_SLOTS:
     /// A new static scene (a new project, framed from three-quarter; or an edited garment,
@@ -126,6 +163,18 @@ class Viewport : public QWidget {
     /// Draws the slots' lines, markers and names over the picture.
     void paintSlots(QPainter& painter) const;
 
+    /// The garment's triangle colours for the positions drawn: the strain map's or the panels'.
+    std::vector<render::Colour> garmentColoursNow() const;
+    /// m_seamLines' positions from m_drawnPositions.
+    void followSeamLines();
+
+    sim::MatX3 m_previewBody;
+    sim::MatX3i m_previewTriangles;
+    QString m_selectedPanel;
+    bool m_strainShown = false;
+    bool m_seamLinesShown = true;
+    std::vector<render::Colour> m_garmentColours;
+    std::vector<render::DrawLines> m_seamLines;
     bool m_slotsShown = false;
     QString m_highlightedSlot;
     QElapsedTimer m_fpsClock;

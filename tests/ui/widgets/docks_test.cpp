@@ -3,6 +3,8 @@
 // the drape, slots are placed on from the dock and from the 3D view, the live plot follows a
 // drape, the pattern exports as the CLI's SVG, and the very first start opens the tshirt.
 #include "ui/render/headless_context.h"
+#include "ui/widgets/body_dock.h"
+#include "ui/widgets/body_preview.h"
 #include "ui/widgets/drape_plot.h"
 #include "ui/widgets/fabric_dock.h"
 #include "ui/widgets/main_window.h"
@@ -17,6 +19,7 @@
 
 #include "patterns/cusick.h"
 #include "patterns/document_edit.h"
+#include "patterns/mannequin.h"
 
 #include <QApplication>
 #include <QComboBox>
@@ -34,6 +37,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <numbers>
 #include <sstream>
 
 namespace atelier::ui {
@@ -155,6 +159,105 @@ TEST(PanelDock, PlacesThePanelOnAnotherSlotUndoably) {
     EXPECT_EQ(s.frontPanel().placement.offset, was.offset);
     EXPECT_EQ(slot->currentText().toStdString(), was.slot);
     EXPECT_TRUE(s.drapeFollows());
+    EXPECT_TRUE(s.prompts.errors.isEmpty()) << s.prompts.errors.join("; ").toStdString();
+}
+
+TEST(PanelDock, ConsecutiveChangesOfOneFieldAreOneUndoEntry) {
+    SkirtWindow s;
+    ASSERT_TRUE(s.open());
+    const std::string before = patterns::dumpDocument(s.window.project().document);
+    const patterns::Placement was = s.frontPanel().placement;
+    PanelDock& dock = s.window.panelDock();
+    const double turned = (dock.rotationField()->value() + 3) * std::numbers::pi / 180; // [rad]
+    const double clear = (dock.clearanceField()->value() + 2) / 1000;                   // [m]
+    // Three arrow clicks on the rotation: one entry, three degrees.
+    for (int k = 0; k < 3; ++k) {
+        dock.rotationField()->stepUp();
+    }
+    EXPECT_EQ(s.window.undoStack().count(), 1);
+    EXPECT_NEAR(s.frontPanel().placement.rotation, turned, 1e-9);
+    // Another field is another entry, and the rotation after it another again.
+    dock.clearanceField()->stepUp();
+    dock.clearanceField()->stepUp();
+    EXPECT_EQ(s.window.undoStack().count(), 2);
+    EXPECT_NEAR(s.frontPanel().placement.clearance, clear, 1e-9);
+    dock.rotationField()->stepUp();
+    EXPECT_EQ(s.window.undoStack().count(), 3);
+
+    s.window.undoStack().undo();
+    EXPECT_NEAR(s.frontPanel().placement.rotation, turned, 1e-9);
+    EXPECT_NEAR(s.frontPanel().placement.clearance, clear, 1e-9);
+    s.window.undoStack().undo();
+    EXPECT_EQ(s.frontPanel().placement.clearance, was.clearance);
+    s.window.undoStack().undo();
+    EXPECT_EQ(patterns::dumpDocument(s.window.project().document), before)
+        << "the three rotation steps undone at once";
+    s.window.undoStack().redo();
+    EXPECT_NEAR(s.frontPanel().placement.rotation, turned, 1e-9) << "redone at once too";
+    EXPECT_TRUE(s.drapeFollows());
+}
+
+TEST(BodyDock, AMeasurementIsPreviewedAndLandsAsOneUndoableBodyChange) {
+    SkirtWindow s;
+    ASSERT_TRUE(s.open());
+    const patterns::BodySource was = s.window.project().body;
+    const auto placed = s.window.drape().staticScene();
+    BodyDock& dock = s.window.bodyDock();
+    QDoubleSpinBox* waist = dock.field("waist");
+    ASSERT_NE(waist, nullptr);
+    EXPECT_DOUBLE_EQ(waist->value(), patterns::BodyMeasurements{}.waist * 100) << "[cm]";
+    EXPECT_TRUE(dock.meshText().isEmpty()) << "the mannequin";
+    // Each body built is drawn at once (before the drape has placed the garment on it).
+    std::vector<Eigen::Index> previewed;
+    QObject::connect(&s.window.bodyPreview(), &BodyPreview::built, &s.window,
+                     [&](const patterns::BodySource&, const patterns::Body& body) {
+                         EXPECT_EQ(s.window.viewport().previewBodyVertices(), body.vertices.rows());
+                         previewed.push_back(body.vertices.rows());
+                     });
+    QSignalSpy edited(&dock, &BodyDock::bodyEdited);
+    // Three arrow clicks in a row: announced once, built once, one undo entry.
+    for (int k = 0; k < 3; ++k) {
+        waist->stepUp();
+    }
+    ASSERT_TRUE(waitFor([&] { return s.window.undoStack().count() == 1; }, 60))
+        << dock.problem().toStdString();
+    EXPECT_EQ(edited.count(), 1);
+    EXPECT_EQ(previewed.size(), 1u);
+    const auto waistOf = [](const patterns::BodySource& body) {
+        for (const auto& [name, value] : body.measurements) {
+            if (name == "waist") {
+                return value;
+            }
+        }
+        return -1.0;
+    };
+    EXPECT_NEAR(waistOf(s.window.project().body), patterns::BodyMeasurements{}.waist + 0.03, 1e-12);
+    // The garment is placed again on the new body.
+    ASSERT_TRUE(waitFor(
+        [&] {
+            const auto now = s.window.drape().staticScene();
+            return now && now != placed && now->bodyPositions.rows() > 0 &&
+                   !now->bodyPositions.isApprox(placed->bodyPositions);
+        },
+        60));
+    // The same field again: the same entry.
+    waist->stepUp();
+    ASSERT_TRUE(
+        waitFor([&] { return s.window.bodyPreview().idle() && previewed.size() == 2; }, 60));
+    EXPECT_EQ(s.window.undoStack().count(), 1);
+    EXPECT_NEAR(waistOf(s.window.project().body), patterns::BodyMeasurements{}.waist + 0.04, 1e-12);
+
+    s.window.undoStack().undo();
+    EXPECT_EQ(s.window.project().body, was);
+    EXPECT_DOUBLE_EQ(waist->value(), patterns::BodyMeasurements{}.waist * 100);
+    ASSERT_TRUE(waitFor(
+        [&] {
+            const auto now = s.window.drape().staticScene();
+            return now && now->bodyPositions.rows() == placed->bodyPositions.rows() &&
+                   now->bodyPositions == placed->bodyPositions;
+        },
+        60))
+        << "the first body again, to the bit";
     EXPECT_TRUE(s.prompts.errors.isEmpty()) << s.prompts.errors.join("; ").toStdString();
 }
 

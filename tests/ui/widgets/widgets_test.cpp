@@ -1,6 +1,7 @@
 // The desktop application's widgets without a display (QT_QPA_PLATFORM=offscreen): the drape
 // controller on its worker thread, the pattern view, the viewport's picture.
 #include "ui/render/headless_context.h"
+#include "ui/widgets/body_dock.h"
 #include "ui/widgets/drape_controller.h"
 #include "ui/widgets/main_window.h"
 #include "ui/widgets/pattern_view.h"
@@ -16,8 +17,11 @@
 #include "patterns/curve.h"
 #include "patterns/document_edit.h"
 
+#include <QAction>
 #include <QApplication>
+#include <QComboBox>
 #include <QDir>
+#include <QDoubleSpinBox>
 #include <QElapsedTimer>
 #include <QMimeData>
 #include <QProcess>
@@ -27,6 +31,7 @@
 #include <QStandardPaths>
 #include <QTemporaryDir>
 #include <QTest>
+#include <QToolButton>
 #include <QUndoStack>
 #include <gtest/gtest.h>
 
@@ -665,7 +670,17 @@ TEST(MainWindow, ADroppedBodyMeshBecomesTheBodyUndoably) {
     ASSERT_TRUE(window.drape().staticScene()) << prompts.errors.join("; ").toStdString();
     EXPECT_EQ(window.drape().staticScene()->bodyTriangles.rows(),
               mannequin.value().triangles.rows());
+    // The Body dock shows the imported mesh (its unit and up axis detected), not measurements.
+    BodyDock& dock = window.bodyDock();
+    EXPECT_TRUE(dock.meshText().contains("body.obj")) << dock.meshText().toStdString();
+    EXPECT_TRUE(dock.meshText().contains("unit: detected, up axis: detected"));
+    EXPECT_FALSE(dock.field("waist")->isEnabled());
+    EXPECT_FALSE(dock.baseChooser()->isEnabled());
+    ASSERT_NE(dock.importButton()->defaultAction(), nullptr);
+    EXPECT_TRUE(dock.importButton()->defaultAction()->text().contains("Import"));
     window.undoStack().undo();
+    EXPECT_TRUE(dock.meshText().isEmpty()) << "the mannequin again";
+    EXPECT_TRUE(dock.field("waist")->isEnabled());
     EXPECT_TRUE(window.project().body.meshPath.empty());
     EXPECT_FALSE(window.isModified());
 
