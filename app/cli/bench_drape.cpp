@@ -119,6 +119,9 @@ int runDrapeBench(const DrapeBenchOptions& o) {
         return io::loadBody(source, dir, o.project, *limits);
     });
     session.setInteractive(!(o.dt > 0)); // the window's step, unless --dt sets one
+    if (!o.linearSolver.empty()) {
+        session.setSettlingSolver(std::nullopt); // the one given, throughout
+    }
     session.setProject(std::move(project));
     if (auto prepared = session.prepare(); !prepared.ok()) {
         std::cerr << "error: " << o.project << ": " << prepared.error().toString() << "\n";
@@ -193,6 +196,8 @@ int runDrapeBench(const DrapeBenchOptions& o) {
     j["interactive_step"] = session.interactive();
     const sim::RunStats& stats = session.simulation()->stats();
     j["linear_solver"] = std::string(sim::linearSolverName(session.project().drape.linearSolver));
+    j["settling_linear_solver"] =
+        std::string(sim::linearSolverName(session.simulation()->linearSolver()));
     j["cg_iterations"] = stats.cgIterations;
     j["linear_solves_capped"] = stats.cappedSolves;
     j["linear_solves_unconverged"] = stats.unconvergedSolves;
