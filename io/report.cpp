@@ -32,6 +32,10 @@ std::string formatReport(const sim::Simulation& simulation, const ReportFields& 
     j["force_evaluations"] = stats.forceEvaluations;
     j["cg_iterations"] = stats.cgIterations;
     j["linear_solver"] = std::string(sim::linearSolverName(scene.integrator.linearSolver));
+    if (simulation.linearSolver() != scene.integrator.linearSolver) {
+        // An interactive drape settles with another (patterns::DrapeSession::setSettlingSolver).
+        j["settling_linear_solver"] = std::string(sim::linearSolverName(simulation.linearSolver()));
+    }
     j["linear_solves"] = stats.linearSolves;
     j["linear_solves_unconverged"] = stats.unconvergedSolves;
     j["linear_solves_capped"] = stats.cappedSolves;

@@ -185,6 +185,9 @@ Result<void> DrapeSession::build(const Start& start) {
     m_assembled = std::move(assembled);
     m_simulation = std::move(simulation);
     m_sewing.begin(*m_simulation, m_project.drape, start.sewingElapsed, start.sewn);
+    if (!m_sewing.active()) {
+        settle();
+    }
     if (m_publishing) {
         m_simulation->publishTo(&m_snapshots);
     }
@@ -260,11 +263,18 @@ DrapeStatus DrapeSession::finalStatus() const {
     }
 }
 
+void DrapeSession::settle() {
+    if (m_interactive && m_settlingSolver) {
+        m_simulation->setLinearSolver(*m_settlingSolver);
+    }
+}
+
 void DrapeSession::afterStep() {
     sim::Simulation& s = *m_simulation;
     const sim::SceneSpec& scene = s.scene();
     if (const Sewing::End end = m_sewing.afterStep(s); end != Sewing::End::None) {
         m_sewnAt = time();
+        settle();
         const sim::RunStats& stats = s.stats();
         if (stats.largestForcedWeld > 0) {
             std::string seams;

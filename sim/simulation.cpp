@@ -770,6 +770,14 @@ void Simulation::setSewingDeadline(double time) {
     m_impl->sewingDeadline = time;
 }
 
+void Simulation::setLinearSolver(LinearSolver solver) {
+    m_impl->cg.setPreconditioner(solver);
+}
+
+LinearSolver Simulation::linearSolver() const {
+    return m_impl->cg.preconditioner();
+}
+
 bool Simulation::seamsWelded() const {
     const Impl& s = *m_impl;
     return !s.scene.seams.empty() &&

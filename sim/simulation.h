@@ -166,6 +166,11 @@ class Simulation {
     void setSewingDeadline(double time);
     /// Every seam pair is welded (false without seams).
     bool seamsWelded() const;
+    /// The implicit solve's preconditioner from the next step on (at first the scene's
+    /// IntegratorOptions::linearSolver); no effect with other integrators. A drape may sew with
+    /// one and settle with another (patterns::DrapeSession::setSettlingSolver).
+    void setLinearSolver(LinearSolver solver);
+    LinearSolver linearSolver() const;
 
     double time() const;
     const MatX3& positions() const;  ///< (|V|×3) over all cloths [m]

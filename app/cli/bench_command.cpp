@@ -138,7 +138,8 @@ void addDrape(CLI::App& bench) {
                     "Step [s] (default: the window's, the project's enlarged on coarse meshes)")
         ->check(CLI::PositiveNumber);
     cmd->add_option("--linear-solver", o->linearSolver,
-                    "Implicit solve's preconditioner (default: the project's)")
+                    "Implicit solve's preconditioner, throughout (default: the project's while "
+                    "sewing, then block-ic0 as the window; with --dt the project's throughout)")
         ->check(CLI::IsMember({"block-jacobi", "block-ic0"}));
     cmd->add_option("--threads,-j", o->threads, "Engine threads (default: all cores)")
         ->check(CLI::PositiveNumber);

@@ -119,6 +119,9 @@ int runDrapeBench(const DrapeBenchOptions& o) {
         return io::loadBody(source, dir, o.project, *limits);
     });
     session.setInteractive(!(o.dt > 0)); // the window's step, unless --dt sets one
+    if (!o.linearSolver.empty()) {
+        session.setSettlingSolver(std::nullopt); // the one given, throughout
+    }
     session.setProject(std::move(project));
     if (auto prepared = session.prepare(); !prepared.ok()) {
         std::cerr << "error: " << o.project << ": " << prepared.error().toString() << "\n";
@@ -147,12 +150,28 @@ int runDrapeBench(const DrapeBenchOptions& o) {
         });
     }
     std::vector<double> stepSeconds;
+    // CG iterations a step: the most, and those of the longest step (counts repeat exactly,
+    // so they say on a loaded machine what the longest step will cost on an idle one).
+    long mostIterations = 0;
+    long longestStepIterations = 0;
+    double longestStep = -1;
+    const auto iterations = [&] {
+        return session.simulation() != nullptr ? session.simulation()->stats().cgIterations : 0L;
+    };
     const auto start = Clock::now();
     patterns::DrapeStatus status = patterns::DrapeStatus::Running;
     while (!InterruptGuard::interrupted()) {
+        const long before = iterations();
         const auto stepStart = Clock::now();
         status = session.step();
-        stepSeconds.push_back(since(stepStart));
+        const double seconds = since(stepStart);
+        const long stepIterations = iterations() - before;
+        mostIterations = std::max(mostIterations, stepIterations);
+        if (seconds > longestStep) {
+            longestStep = seconds;
+            longestStepIterations = stepIterations;
+        }
+        stepSeconds.push_back(seconds);
         if (status != patterns::DrapeStatus::Running) {
             break;
         }
@@ -193,7 +212,11 @@ int runDrapeBench(const DrapeBenchOptions& o) {
     j["interactive_step"] = session.interactive();
     const sim::RunStats& stats = session.simulation()->stats();
     j["linear_solver"] = std::string(sim::linearSolverName(session.project().drape.linearSolver));
+    j["settling_linear_solver"] =
+        std::string(sim::linearSolverName(session.simulation()->linearSolver()));
     j["cg_iterations"] = stats.cgIterations;
+    j["cg_iterations_step_max"] = mostIterations;
+    j["cg_iterations_longest_step"] = longestStepIterations;
     j["linear_solves_capped"] = stats.cappedSolves;
     j["linear_solves_unconverged"] = stats.unconvergedSolves;
     j["linear_solve_worst_residual"] = stats.worstRelativeResidual;

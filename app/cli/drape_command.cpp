@@ -348,6 +348,9 @@ int runDrape(const DrapeOptions& options, const DrapeFinished& finished) {
 
     patterns::DrapeSession session(projectBodies(options, *limits));
     session.setInteractive(options.interactive);
+    if (!options.linearSolver.empty()) {
+        session.setSettlingSolver(std::nullopt); // the one given, throughout
+    }
     session.setProject(std::move(*project));
     if (auto prepared = session.prepare(); !prepared.ok()) {
         const Error& e = prepared.error();
@@ -477,10 +480,12 @@ void addDrapeCommand(CLI::App& app) {
                     "Mesh particle distance [mm] (default: the project's)")
         ->check(CLI::PositiveNumber);
     cmd->add_option("--linear-solver", options->linearSolver,
-                    "Implicit solve's preconditioner (default: the project's)")
+                    "Implicit solve's preconditioner, throughout (default: the project's; "
+                    "--interactive settles with block-ic0 once sewn)")
         ->check(CLI::IsMember({"block-jacobi", "block-ic0"}));
     cmd->add_flag("--interactive", options->interactive,
-                  "Step as the window does (the project's step, enlarged on coarse meshes)");
+                  "Step as the window does (the project's step, enlarged on coarse meshes; "
+                  "block-ic0 once sewn)");
     cmd->add_option("--frames-dir", options->framesDir,
                     "Write the garment at every output frame to DIR/frame_NNNNN.obj");
     cmd->add_option("--max-vertices", options->maxVertices,

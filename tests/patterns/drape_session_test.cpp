@@ -117,6 +117,37 @@ TEST(DrapeSession, InteractiveStepsTheSceneAndLeavesTheProject) {
     EXPECT_NEAR(f.session.time(), step, 1e-12) << "one step of the interactive size";
 }
 
+TEST(DrapeSession, InteractiveSewsWithTheProjectsSolverAndSettlesWithItsOwn) {
+    Fixture f;
+    f.session.setInteractive(true);
+    ASSERT_TRUE(f.session.prepare().ok());
+    ASSERT_EQ(f.session.project().drape.linearSolver, sim::LinearSolver::BlockJacobi);
+    while (f.session.step() == DrapeStatus::Running && f.session.phase() != DrapePhase::Settling) {
+        ASSERT_EQ(f.session.simulation()->linearSolver(), sim::LinearSolver::BlockJacobi)
+            << "sewing at t = " << f.session.time();
+    }
+    ASSERT_EQ(f.session.phase(), DrapePhase::Settling);
+    EXPECT_EQ(f.session.simulation()->linearSolver(), INTERACTIVE_SETTLING_SOLVER);
+    // A rebuild after sewing (an edit) settles with it from its first step.
+    sim::Material stiffer = f.session.project().garment.materials[0].material;
+    stiffer.density *= 1.1;
+    ASSERT_TRUE(f.session.setMaterial("cotton", stiffer).ok());
+    EXPECT_EQ(f.session.simulation()->linearSolver(), INTERACTIVE_SETTLING_SOLVER);
+
+    // Not interactive, or without a settling solver: the project's throughout.
+    for (const bool interactive : {false, true}) {
+        Fixture g;
+        g.session.setInteractive(interactive);
+        g.session.setSettlingSolver(std::nullopt);
+        ASSERT_TRUE(g.session.prepare().ok());
+        while (g.session.step() == DrapeStatus::Running &&
+               g.session.phase() != DrapePhase::Settling) {
+        }
+        EXPECT_EQ(g.session.phase(), DrapePhase::Settling);
+        EXPECT_EQ(g.session.simulation()->linearSolver(), sim::LinearSolver::BlockJacobi);
+    }
+}
+
 TEST(DrapeSession, PhasesAndEventsOfASewnBand) {
     Fixture f;
     EXPECT_EQ(f.session.phase(), DrapePhase::Empty);

@@ -1,6 +1,7 @@
 // The implicit step's linear solver inside a simulation: the block incomplete Cholesky
 // preconditioner gives the block-Jacobi trajectory with far fewer iterations, runs repeat bit
-// for bit, and solves that stop at the iteration cap are counted with their residual.
+// for bit, a run may switch between them, and solves that stop at the iteration cap are
+// counted with their residual.
 
 #include "sim/simulation.h"
 #include "sim/test_scenes.h"
@@ -45,6 +46,26 @@ TEST(LinearSolver, IncompleteCholeskyRunsRepeatBitForBit) {
     ASSERT_EQ(b.run(0.25), RunStatus::Finished) << b.error();
     EXPECT_TRUE(a.positions() == b.positions());
     EXPECT_EQ(a.stats().cgIterations, b.stats().cgIterations);
+}
+
+TEST(LinearSolver, SwitchedMidRunTheLaterSolvesTakeFewerIterations) {
+    Simulation jacobi(hangingSheet(LinearSolver::BlockJacobi, 1e-10, 5000));
+    Simulation switched(hangingSheet(LinearSolver::BlockJacobi, 1e-10, 5000));
+    ASSERT_EQ(jacobi.run(0.125), RunStatus::Finished) << jacobi.error();
+    ASSERT_EQ(switched.run(0.125), RunStatus::Finished) << switched.error();
+    EXPECT_TRUE(jacobi.positions() == switched.positions());
+    const long before = jacobi.stats().cgIterations;
+    EXPECT_EQ(switched.stats().cgIterations, before);
+    switched.setLinearSolver(LinearSolver::BlockIncompleteCholesky);
+    EXPECT_EQ(switched.linearSolver(), LinearSolver::BlockIncompleteCholesky);
+    EXPECT_EQ(jacobi.linearSolver(), LinearSolver::BlockJacobi);
+    EXPECT_EQ(switched.scene().integrator.linearSolver, LinearSolver::BlockJacobi);
+    ASSERT_EQ(jacobi.run(0.25), RunStatus::Finished) << jacobi.error();
+    ASSERT_EQ(switched.run(0.25), RunStatus::Finished) << switched.error();
+    EXPECT_EQ(jacobi.stats().steps, switched.stats().steps);
+    EXPECT_EQ(switched.stats().unconvergedSolves, 0);
+    EXPECT_LT(2 * (switched.stats().cgIterations - before), jacobi.stats().cgIterations - before);
+    EXPECT_LT((jacobi.positions() - switched.positions()).cwiseAbs().maxCoeff(), 1e-6);
 }
 
 TEST(LinearSolver, SolvesStoppedAtTheCapAreCountedWithTheirResidual) {
