@@ -117,7 +117,7 @@ inline constexpr double MAX_INTERACTIVE_STEP = 0.02;
 /// where the 20 mm skirt spent 14,485 of its 17,242 block-Jacobi iterations and its four capped
 /// solves, takes 2.4× fewer iterations in all with it (7,323, none capped), the tshirt 1.3×
 /// fewer (4,343 against 5,548), both draping exactly as far as sewn
-/// (docs/decisions/027-interactive-settling-solver.md).
+/// (docs/decisions/028-interactive-settling-solver.md).
 inline constexpr sim::LinearSolver INTERACTIVE_SETTLING_SOLVER =
     sim::LinearSolver::BlockIncompleteCholesky;
 
