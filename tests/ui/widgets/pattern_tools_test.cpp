@@ -713,9 +713,9 @@ TEST(EndToEnd, ASkirtFromScratch) {
     f.window.resize(1400, 800);
     PatternView& view = f.view();
     const std::string empty = io::formatProject(f.window.project());
-    // A coarse, quick drape: 20 mm, sewn over 1 s as the samples are (with the new project's
-    // 0.3 s this tube's seams close too hard: `atelier-cli drape` of it stretches the cloth
-    // to 3.6 times its area by 5 s; with 1 s it rests at 1.27 s).
+    // A coarse, quick drape: 20 mm, sewn over 1 s as a new project is (over 0.3 s, the
+    // settings' default, `atelier-cli drape` of this tube stretches the cloth to 3.6 times its
+    // area by 5 s; with 1 s it rests at 1.27 s).
     patterns::DrapeSettings coarse = f.window.project().drape;
     coarse.particleDistance = 0.02;
     coarse.sewingTime = 1.0;
