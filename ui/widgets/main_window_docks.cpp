@@ -202,6 +202,17 @@ void MainWindow::buildDocks() {
                     docksFollowDocument();
                 }
             });
+    connect(m_panelDock, &PanelDock::particleDistanceRequested, this,
+            [this](quint32 panel, double distance) {
+                if (!edit(
+                        [&](patterns::GarmentDocument& d) {
+                            return patterns::setPanelParticleDistance(d, patterns::PanelId{panel},
+                                                                      distance);
+                        },
+                        QStringLiteral("particle distance %1").arg(panel))) {
+                    docksFollowDocument();
+                }
+            });
     connect(m_panelDock, &PanelDock::fabricRequested, this,
             [this](quint32 panel, const QString& fabric, bool preset) {
                 const patterns::PanelId id{panel};

@@ -42,6 +42,12 @@ PanelDock::PanelDock(QWidget* parent) : QDockWidget(tr("Panel"), parent) {
     m_rotation = spinBox(-360, 360, 1, tr("°"));
     m_clearance = spinBox(0, 500, 1, tr(" mm"));
     m_fabric = new QComboBox;
+    // 0 is the drape's distance; otherwise 1–1000 mm (patterns::MAX_PANEL_PARTICLE_DISTANCE).
+    m_particleDistance = spinBox(0, 1000, 1, tr(" mm"));
+    m_particleDistance->setSpecialValueText(tr("drape's"));
+    m_particleDistance->setToolTip(
+        tr("Mesh this panel finer or coarser than the rest (0: the drape's particle distance); "
+           "a seam to another panel is sewn at the finer of the two"));
     form->addRow(m_title);
     form->addRow(tr("Name"), m_name);
     form->addRow(tr("Slot"), m_slot);
@@ -50,6 +56,7 @@ PanelDock::PanelDock(QWidget* parent) : QDockWidget(tr("Panel"), parent) {
     form->addRow(tr("Rotation"), m_rotation);
     form->addRow(tr("Clearance"), m_clearance);
     form->addRow(tr("Fabric"), m_fabric);
+    form->addRow(tr("Particle distance"), m_particleDistance);
     setWidget(body);
 
     connect(m_name, &QLineEdit::editingFinished, this, [this] {
@@ -68,6 +75,14 @@ PanelDock::PanelDock(QWidget* parent) : QDockWidget(tr("Panel"), parent) {
         connect(box, &QDoubleSpinBox::valueChanged, this,
                 [this, field = field] { emitPlacement(field); });
     }
+    connect(m_particleDistance, &QDoubleSpinBox::valueChanged, this, [this](double mm) {
+        const patterns::doc::Panel* p = shown();
+        // Between 0 and 1 mm the value snaps to the drape's (0): below 1 mm is refused.
+        const double metres = mm < 1 ? 0.0 : mm / MM;
+        if (p != nullptr && metres != p->particleDistance) {
+            Q_EMIT particleDistanceRequested(m_panel.value, metres);
+        }
+    });
     connect(m_fabric, &QComboBox::activated, this, [this](int index) {
         const patterns::doc::Panel* p = shown();
         if (p == nullptr || index < 0) {
@@ -143,10 +158,11 @@ void PanelDock::emitPlacement(const QString& field) {
 }
 
 void PanelDock::refresh() {
-    const QSignalBlocker blockers[] = {QSignalBlocker(m_name),     QSignalBlocker(m_slot),
-                                       QSignalBlocker(m_around),   QSignalBlocker(m_along),
-                                       QSignalBlocker(m_rotation), QSignalBlocker(m_clearance),
-                                       QSignalBlocker(m_fabric)};
+    const QSignalBlocker blockers[] = {
+        QSignalBlocker(m_name),     QSignalBlocker(m_slot),
+        QSignalBlocker(m_around),   QSignalBlocker(m_along),
+        QSignalBlocker(m_rotation), QSignalBlocker(m_clearance),
+        QSignalBlocker(m_fabric),   QSignalBlocker(m_particleDistance)};
     const patterns::doc::Panel* p = shown();
     widget()->setEnabled(p != nullptr);
     m_title->setText(p == nullptr ? tr("Select a panel") : tr("Panel #%1").arg(m_panel.value));
@@ -168,6 +184,7 @@ void PanelDock::refresh() {
     m_along->setValue(p->placement.offset.y() * MM);
     m_rotation->setValue(p->placement.rotation * DEG);
     m_clearance->setValue(p->placement.clearance * MM);
+    m_particleDistance->setValue(p->particleDistance * MM);
     for (const patterns::GarmentMaterial& m : m_document.materials) {
         const QString name = QString::fromStdString(m.name);
         m_fabric->addItem(name, name);

@@ -1,7 +1,8 @@
 #pragma once
 /// The Panel dock: the selected panel's name, its placement on the body (slot, offset around
-/// and along the slot, rotation, clearance) and its fabric. Each change is a request the window
-/// turns into one undoable document edit (renamePanel, placePanel, setPanelMaterial); the dock
+/// and along the slot, rotation, clearance), its fabric and its particle distance. Each change is
+/// a request the window turns into one undoable document edit (renamePanel, placePanel,
+/// setPanelMaterial, setPanelParticleDistance); the dock
 /// shows the document as it is after it.
 
 #include "patterns/document.h"
@@ -38,6 +39,8 @@ class PanelDock : public QDockWidget {
     QDoubleSpinBox* rotationField() const { return m_rotation; }
     QDoubleSpinBox* clearanceField() const { return m_clearance; }
     QComboBox* fabricChooser() const { return m_fabric; }
+    /// The panel's own particle distance [mm]; 0 (shown as "drape's") for the drape's.
+    QDoubleSpinBox* particleDistanceField() const { return m_particleDistance; }
 
   public Q_SLOTS:
     /// Shows panel `panel` (0: none; the fields are disabled).
@@ -51,6 +54,8 @@ class PanelDock : public QDockWidget {
     void placeRequested(quint32 panel, const patterns::Placement& placement, const QString& field);
     /// A fabric of the document, or a preset's name (`preset` true) to add and give the panel.
     void fabricRequested(quint32 panel, const QString& fabric, bool preset);
+    /// The panel's own particle distance [m] (0: the drape's).
+    void particleDistanceRequested(quint32 panel, double distance);
 
   private:
     void refresh();
@@ -69,6 +74,7 @@ class PanelDock : public QDockWidget {
     QDoubleSpinBox* m_rotation;
     QDoubleSpinBox* m_clearance;
     QComboBox* m_fabric;
+    QDoubleSpinBox* m_particleDistance;
 };
 
 } // namespace atelier::ui

@@ -261,6 +261,34 @@ TEST(BodyDock, AMeasurementIsPreviewedAndLandsAsOneUndoableBodyChange) {
     EXPECT_TRUE(s.prompts.errors.isEmpty()) << s.prompts.errors.join("; ").toStdString();
 }
 
+TEST(PanelDock, APanelsOwnParticleDistanceRemeshesItUndoably) {
+    SkirtWindow s;
+    ASSERT_TRUE(s.open());
+    PanelDock& dock = s.window.panelDock();
+    EXPECT_EQ(dock.particleDistanceField()->value(), 0.0) << "the drape's distance";
+    ASSERT_TRUE(s.drapeFollows());
+    const auto frontTriangles = [&] {
+        const auto scene = s.window.drape().staticScene();
+        return scene == nullptr ? -1 : scene->panelTriangles.front().second;
+    };
+    const int atDrapes = frontTriangles();
+    const int undoBefore = s.window.undoStack().count();
+    dock.particleDistanceField()->setValue(25);
+    dock.particleDistanceField()->setValue(20);
+    EXPECT_DOUBLE_EQ(s.frontPanel().particleDistance, 0.02);
+    EXPECT_EQ(s.window.undoStack().count(), undoBefore + 1) << "one field's changes in a row";
+    ASSERT_TRUE(s.drapeFollows());
+    // The front re-meshed at 20 mm: about a quarter of its triangles at the skirt's 10 mm.
+    ASSERT_TRUE(
+        waitFor([&] { return frontTriangles() > 0 && frontTriangles() < atDrapes / 2; }, 120))
+        << frontTriangles() << " against " << atDrapes;
+    s.window.undoStack().undo();
+    EXPECT_EQ(s.frontPanel().particleDistance, 0.0);
+    EXPECT_EQ(dock.particleDistanceField()->value(), 0.0);
+    EXPECT_TRUE(s.drapeFollows());
+    EXPECT_TRUE(s.prompts.errors.isEmpty()) << s.prompts.errors.join("; ").toStdString();
+}
+
 TEST(Viewport, AClickOnASlotMarkerPlacesTheSelectedPanelThere) {
     SkirtWindow s;
     ASSERT_TRUE(s.open());
