@@ -60,19 +60,6 @@ double signedArea(const std::vector<Vec2>& p) {
     return 0.5 * a;
 }
 
-bool inside(const Vec2& q, const std::vector<Vec2>& polygon) {
-    bool in = false;
-    for (std::size_t i = 0, j = polygon.size() - 1; i < polygon.size(); j = i++) {
-        const Vec2& a = polygon[i];
-        const Vec2& b = polygon[j];
-        if ((a.y() > q.y()) != (b.y() > q.y()) &&
-            q.x() < (b.x() - a.x()) * (q.y() - a.y()) / (b.y() - a.y()) + a.x()) {
-            in = !in;
-        }
-    }
-    return in;
-}
-
 /// A piece's digitised polyline in metres, repeated points removed, closed or open.
 struct Chain {
     std::vector<Vec2> points;
@@ -490,7 +477,7 @@ class PieceBuilder {
 
     bool insideCut(const Chain& c) const {
         return std::all_of(c.points.begin(), c.points.end(),
-                           [&](const Vec2& p) { return inside(p, m_cut.points); });
+                           [&](const Vec2& p) { return patterns::insidePolygon(m_cut.points, p); });
     }
 
     /// Turn points, notches, the grain line, internal lines and cut-outs; other layers counted.

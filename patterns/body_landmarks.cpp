@@ -1,6 +1,7 @@
 #include "patterns/body_landmarks.h"
 
 #include "patterns/body_measure.h"
+#include "patterns/curve.h"
 
 #include <Eigen/Eigenvalues>
 
@@ -18,24 +19,13 @@ using sim::Vec3;
 namespace {
 
 /// One loop of a horizontal section in the body's frame: (x, z) points, its area and centroid.
-struct Loop {
+struct SectionLoop {
     std::vector<Vec2> points;
     double area = 0;
     Vec2 centroid = Vec2::Zero();
     double minX = 0, maxX = 0;
 
-    bool contains(const Vec2& q) const {
-        bool inside = false;
-        for (std::size_t i = 0, j = points.size() - 1; i < points.size(); j = i++) {
-            const Vec2& a = points[i];
-            const Vec2& b = points[j];
-            if ((a.y() > q.y()) != (b.y() > q.y()) &&
-                q.x() < (b.x() - a.x()) * (q.y() - a.y()) / (b.y() - a.y()) + a.x()) {
-                inside = !inside;
-            }
-        }
-        return inside;
-    }
+    bool contains(const Vec2& q) const { return insidePolygon(points, q); }
 };
 
 /// Horizontal sections of the body in its own frame (x left, z facing, torso axis at 0).
@@ -43,13 +33,13 @@ class Sections {
   public:
     Sections(const sim::MatX3& local, const sim::MatX3i& triangles) : m_x(local), m_f(triangles) {}
 
-    std::vector<Loop> at(double y) const {
-        std::vector<Loop> loops;
+    std::vector<SectionLoop> at(double y) const {
+        std::vector<SectionLoop> loops;
         for (const auto& raw : planeSection(m_x, m_f, Vec3(0, y, 0), Vec3::UnitY())) {
             if (raw.size() < 3) {
                 continue;
             }
-            Loop loop;
+            SectionLoop loop;
             loop.minX = std::numeric_limits<double>::infinity();
             loop.maxX = -loop.minX;
             for (const Vec3& p : raw) {
@@ -73,9 +63,9 @@ class Sections {
     }
 
     /// The smallest loop at y enclosing the torso's axis (x = z = 0), if any.
-    std::optional<Loop> torso(double y) const {
-        std::optional<Loop> best;
-        for (Loop& loop : at(y)) {
+    std::optional<SectionLoop> torso(double y) const {
+        std::optional<SectionLoop> best;
+        for (SectionLoop& loop : at(y)) {
             if (loop.contains(Vec2::Zero()) && (!best || loop.area < best->area)) {
                 best = std::move(loop);
             }
@@ -185,9 +175,9 @@ std::variant<FoundLandmarks, std::string> findLandmarks(const sim::MatX3& vertic
     toLocal();
     {
         const Sections sections(local, triangles);
-        const std::vector<Loop> loops = sections.at(y0 + 0.6 * H);
-        const Loop* pelvis = nullptr;
-        for (const Loop& loop : loops) {
+        const std::vector<SectionLoop> loops = sections.at(y0 + 0.6 * H);
+        const SectionLoop* pelvis = nullptr;
+        for (const SectionLoop& loop : loops) {
             if (pelvis == nullptr || loop.area > pelvis->area) {
                 pelvis = &loop;
             }
@@ -231,7 +221,7 @@ std::variant<FoundLandmarks, std::string> findLandmarks(const sim::MatX3& vertic
     std::array<bool, 2> joined{false, false};
     for (double y = L.crotchY + 0.03 * H; y < y0 + 0.95 * H && !(joined[0] && joined[1]);
          y += step) {
-        const std::optional<Loop> loop = sections.torso(y);
+        const std::optional<SectionLoop> loop = sections.torso(y);
         if (!loop) {
             return "the torso's section is lost at " + std::to_string(y - y0) + " m";
         }
@@ -442,9 +432,9 @@ std::variant<FoundLandmarks, std::string> findLandmarks(const sim::MatX3& vertic
     for (std::size_t s = 0; s < 2; ++s) {
         const double sx = s == 0 ? 1.0 : -1.0;
         auto legCentre = [&](double y) -> std::optional<Vec3> {
-            const Loop* best = nullptr;
-            const std::vector<Loop> loops = sections.at(y);
-            for (const Loop& loop : loops) {
+            const SectionLoop* best = nullptr;
+            const std::vector<SectionLoop> loops = sections.at(y);
+            for (const SectionLoop& loop : loops) {
                 if (sx * loop.centroid.x() > 0 && (best == nullptr || loop.area > best->area)) {
                     best = &loop;
                 }

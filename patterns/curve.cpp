@@ -194,4 +194,17 @@ std::vector<double> equalLengthParameters(const Segment& s, double t0, double t1
     return ts;
 }
 
+bool insidePolygon(const std::vector<Vec2>& poly, const Vec2& p) {
+    bool inside = false;
+    for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+        const Vec2& a = poly[i];
+        const Vec2& b = poly[j];
+        if ((a.y() > p.y()) != (b.y() > p.y()) &&
+            p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) {
+            inside = !inside;
+        }
+    }
+    return inside;
+}
+
 } // namespace atelier::patterns

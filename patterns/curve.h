@@ -25,6 +25,9 @@ double loopArea(const Loop& loop);
 /// Largest distance between the curve on [t0, t1] and the chord joining its ends [m]
 /// (sampled at 9 interior points).
 double chordDeviation(const Segment& s, double t0, double t1);
+/// Whether `p` lies inside the closed polygon `poly` (even-odd rule, crossings of a horizontal
+/// ray; a point on an edge may count either way).
+bool insidePolygon(const std::vector<Vec2>& poly, const Vec2& p);
 /// Points along a segment at n + 1 parameters of equal arc length from t0 to t1.
 std::vector<double> equalLengthParameters(const Segment& s, double t0, double t1, int n);
 

@@ -62,19 +62,6 @@ bool segmentsCross(const Vec2& p, const Vec2& q, const Vec2& r, const Vec2& s) {
     return ((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0));
 }
 
-bool insidePolygon(const std::vector<Vec2>& poly, const Vec2& p) {
-    bool inside = false;
-    for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
-        const Vec2& a = poly[i];
-        const Vec2& b = poly[j];
-        if ((a.y() > p.y()) != (b.y() > p.y()) &&
-            p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) {
-            inside = !inside;
-        }
-    }
-    return inside;
-}
-
 /// First pair of crossing edges of a flattened loop, as segment indices, or {-1, -1}.
 std::pair<int, int> selfCrossing(const Flat& f) {
     const std::size_t n = f.points.size();
