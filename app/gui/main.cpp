@@ -3,6 +3,7 @@
 ///   atelier [PROJECT.atelier | SPEC.json | PATTERN.dxf] [--recovery-dir DIR]
 ///           [--autosave-seconds N]
 ///   atelier PROJECT.atelier --screenshot OUT.png [--drape-seconds S]   (tests, documentation)
+///   atelier PROJECT.atelier --measure-ui OUT.json [--drape-seconds S]  (responsiveness)
 
 #include "ui/widgets/main_window.h"
 #include "ui/widgets/viewport.h"
@@ -12,11 +13,16 @@
 #include <QDir>
 #include <QElapsedTimer>
 #include <QFileInfo>
+#include <QJsonDocument>
+#include <QJsonObject>
 #include <QMessageBox>
 #include <QSaveFile>
 #include <QTimer>
 
+#include <algorithm>
 #include <cstdio>
+#include <memory>
+#include <vector>
 
 namespace {
 
@@ -32,100 +38,15 @@ QString samplesDir() {
     return {};
 }
 
-} // namespace
+using atelier::ui::MainWindow;
 
-int main(int argc, char** argv) {
-    QApplication app(argc, argv);
-    QApplication::setApplicationName("atelier");
-    QApplication::setOrganizationName("Atelier");
-    QApplication::setApplicationVersion("0.1.0");
-
-    QCommandLineParser parser;
-    parser.setApplicationDescription("Atelier: design, sew and drape garments");
-    parser.addHelpOption();
-    parser.addVersionOption();
-    parser.addPositionalArgument(
-        "file", "A garment project (.atelier), a GarmentCode specification (.json) or a DXF-AAMA "
-                "pattern (.dxf) to open");
-    const QCommandLineOption screenshot(
-        "screenshot",
-        "Open the project, drape it for --drape-seconds, save the window as PNG "
-        "and quit",
-        "png");
-    const QCommandLineOption seconds("drape-seconds", "Simulated seconds before --screenshot", "s",
-                                     "0");
-    const QCommandLineOption recoveryDir(
-        "recovery-dir",
-        "Where autosaved recovery files go (default: the application's data folder)", "dir");
-    const QCommandLineOption autosaveSeconds(
-        "autosave-seconds", "Autosave period while modified (default: the setting, 60)", "s");
-    parser.addOption(screenshot);
-    parser.addOption(seconds);
-    parser.addOption(recoveryDir);
-    parser.addOption(autosaveSeconds);
-    parser.process(app);
-
-    atelier::ui::MainWindow window(samplesDir());
-    if (parser.isSet(recoveryDir)) {
-        window.setRecoveryDirectory(parser.value(recoveryDir));
-    }
-    if (parser.isSet(autosaveSeconds)) {
-        bool ok = false;
-        const int period = parser.value(autosaveSeconds).toInt(&ok);
-        if (!ok || period < 0) {
-            std::fputs("error: --autosave-seconds must be a whole number >= 0\n", stderr);
-            return 2;
-        }
-        window.setAutosaveSeconds(period);
-    }
-    window.show();
-    const QStringList projects = parser.positionalArguments();
-    if (!parser.isSet(screenshot)) {
-        // Unsaved changes from a run that did not close cleanly come first; on the very first
-        // start, the tshirt sample.
-        if (!window.offerRecovery()) {
-            if (!projects.isEmpty()) {
-                window.openFile(projects.front());
-            } else {
-                window.openFirstRunSample();
-            }
-        }
-        return QApplication::exec();
-    }
-    // Screenshot mode: no dialogs; errors go to stderr.
-    atelier::ui::Prompts quiet;
-    quiet.error = [](const QString& message) {
-        std::fprintf(stderr, "error: %s\n", qPrintable(message));
-    };
-    quiet.saveChanges = [](const QString&) { return QMessageBox::Discard; };
-    window.setPrompts(quiet);
-    if (!projects.isEmpty() && !window.openProject(projects.front())) {
-        return 1;
-    }
-
-    // Screenshot mode: drape to the time asked for, then grab the window and quit.
-    if (projects.isEmpty()) {
-        std::fputs("error: --screenshot needs a project\n", stderr);
-        return 2;
-    }
-    bool ok = false;
-    const double until = parser.value(seconds).toDouble(&ok);
-    if (!ok || until < 0) {
-        std::fputs("error: --drape-seconds must be a number >= 0\n", stderr);
-        return 2;
-    }
-    const QString out = parser.value(screenshot);
-    int code = 1;
-    QObject::connect(&window.drape(), &atelier::ui::DrapeController::failed,
-                     [&](const QString& message) {
-                         std::fprintf(stderr, "error: %s\n", qPrintable(message));
-                         code = 1;
-                         QApplication::exit(1);
-                     });
-    QObject::connect(&window, &atelier::ui::MainWindow::projectReady, [&] {
+/// Screenshot mode: drapes to `until` simulated seconds (or rest), then saves the window as PNG
+/// and quits with `code` (0 when written).
+void takeScreenshot(MainWindow& window, double until, const QString& out, int& code) {
+    QObject::connect(&window, &MainWindow::projectReady, [&window, until, out, &code] {
         window.drape().start();
         auto* timer = new QTimer(&window);
-        QObject::connect(timer, &QTimer::timeout, [&, timer] {
+        QObject::connect(timer, &QTimer::timeout, [&window, until, out, &code, timer] {
             const atelier::ui::DrapeProgress p = window.drape().progress();
             if (p.time < until && (p.running || p.steps == 0) && until > 0) {
                 return;
@@ -133,7 +54,7 @@ int main(int argc, char** argv) {
             timer->stop();
             window.drape().pause();
             // Two more frames so that the last snapshot is drawn, then the picture.
-            QTimer::singleShot(300, [&] {
+            QTimer::singleShot(300, [&window, out, &code] {
                 // The cost of a frame at full quality with the drape paused: ten redraws.
                 QElapsedTimer clock;
                 clock.start();
@@ -159,6 +80,209 @@ int main(int argc, char** argv) {
         });
         timer->start(50);
     });
+}
+
+/// What the responsiveness measure records while the drape runs.
+struct UiMeasure {
+    static constexpr int TICK_MS = 5;
+    QElapsedTimer clock;
+    qint64 lastTick = -1;     ///< [ns] on `clock`; -1 before the first tick
+    double firstTick = 0;     ///< from the drape's start to the first tick [ms]
+    std::vector<double> gaps; ///< between ticks of a 5 ms precise timer [ms]
+    double longestGap = 0;    ///< [ms]
+    double longestGapAt = 0;  ///< when it ended, from the drape's start [s]
+    long firstFrame = 0;
+};
+
+/// Writes the figures of a finished measure as JSON (atomically) and prints them.
+bool writeUiMeasure(MainWindow& window, UiMeasure& m, const QString& out) {
+    const double wall = double(m.clock.nsecsElapsed()) * 1e-9;
+    std::sort(m.gaps.begin(), m.gaps.end());
+    const auto quantile = [&](double q) {
+        return m.gaps.empty()
+                   ? 0.0
+                   : m.gaps[std::min(m.gaps.size() - 1, std::size_t(q * double(m.gaps.size())))];
+    };
+    const double longest = m.gaps.empty() ? 0.0 : m.gaps.back();
+    const atelier::ui::DrapeProgress p = window.drape().progress();
+    const long frames = window.viewport().framesDrawn() - m.firstFrame;
+    QJsonObject o;
+    o["wall_s"] = wall;
+    o["simulated_s"] = p.time;
+    o["steps"] = static_cast<qint64>(p.steps);
+    o["simulated_per_wall"] = wall > 0 ? p.time / wall : 0.0;
+    o["frames"] = static_cast<qint64>(frames);
+    o["frames_per_second"] = wall > 0 ? double(frames) / wall : 0.0;
+    o["draw_ms_mean"] = window.viewport().drawMilliseconds();
+    o["event_loop_tick_ms"] = UiMeasure::TICK_MS;
+    o["event_loop_longest_block_ms"] = std::max(0.0, longest - UiMeasure::TICK_MS);
+    o["event_loop_longest_block_at_s"] = m.longestGapAt;
+    o["event_loop_first_tick_ms"] = m.firstTick;
+    o["event_loop_gap_p99_ms"] = quantile(0.99);
+    o["event_loop_gap_median_ms"] = quantile(0.5);
+    o["viewport_width"] = window.viewport().width();
+    o["viewport_height"] = window.viewport().height();
+    std::printf("atelier: %.2f s simulated in %.1f s wall (%.2f); 3D view %.1f frames/s "
+                "(%ld frames, %.1f ms per draw); event loop blocked at most %.1f ms "
+                "(99th percentile gap %.1f ms)\n",
+                p.time, wall, wall > 0 ? p.time / wall : 0.0,
+                wall > 0 ? double(frames) / wall : 0.0, frames,
+                window.viewport().drawMilliseconds(), std::max(0.0, longest - UiMeasure::TICK_MS),
+                quantile(0.99));
+    QSaveFile file(out);
+    if (!file.open(QIODevice::WriteOnly) || file.write(QJsonDocument(o).toJson()) < 0 ||
+        !file.commit()) {
+        std::fprintf(stderr, "error: %s: %s\n", qPrintable(out), qPrintable(file.errorString()));
+        return false;
+    }
+    return true;
+}
+
+/// Measure mode (issue 23's responsiveness benchmark): drapes to `until` simulated seconds (or
+/// rest) as the window does, measuring the longest time the event loop did not run (the
+/// lateness of a 5 ms precise timer) and the 3D view's frames per second; writes JSON to `out`.
+void measureResponsiveness(MainWindow& window, double until, const QString& out, int& code) {
+    auto m = std::make_shared<UiMeasure>();
+    QObject::connect(&window, &MainWindow::projectReady, [&window, until, out, &code, m] {
+        window.drape().start();
+        m->clock.start();
+        m->firstFrame = window.viewport().framesDrawn();
+        auto* tick = new QTimer(&window);
+        tick->setTimerType(Qt::PreciseTimer);
+        QObject::connect(tick, &QTimer::timeout, [m] {
+            const qint64 now = m->clock.nsecsElapsed();
+            if (m->lastTick < 0) {
+                // The rest of the project's opening (the pattern view, the docks) runs first.
+                m->firstTick = double(now) * 1e-6;
+                m->lastTick = now;
+                return;
+            }
+            const double gap = double(now - m->lastTick) * 1e-6;
+            m->gaps.push_back(gap);
+            if (gap > m->longestGap) {
+                m->longestGap = gap;
+                m->longestGapAt = double(now) * 1e-9;
+            }
+            m->lastTick = now;
+        });
+        tick->start(UiMeasure::TICK_MS);
+        auto* watch = new QTimer(&window);
+        QObject::connect(watch, &QTimer::timeout, [&window, until, out, &code, m, tick, watch] {
+            const atelier::ui::DrapeProgress p = window.drape().progress();
+            if (p.time < until && (p.running || p.steps == 0) && until > 0) {
+                return;
+            }
+            watch->stop();
+            tick->stop();
+            window.drape().pause();
+            code = writeUiMeasure(window, *m, out) && window.viewport().rendererError().isEmpty()
+                       ? 0
+                       : 1;
+            QApplication::exit(code);
+        });
+        watch->start(50);
+    });
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    QApplication app(argc, argv);
+    QApplication::setApplicationName("atelier");
+    QApplication::setOrganizationName("Atelier");
+    QApplication::setApplicationVersion("0.1.0");
+
+    QCommandLineParser parser;
+    parser.setApplicationDescription("Atelier: design, sew and drape garments");
+    parser.addHelpOption();
+    parser.addVersionOption();
+    parser.addPositionalArgument(
+        "file", "A garment project (.atelier), a GarmentCode specification (.json) or a DXF-AAMA "
+                "pattern (.dxf) to open");
+    const QCommandLineOption screenshot(
+        "screenshot",
+        "Open the project, drape it for --drape-seconds, save the window as PNG "
+        "and quit",
+        "png");
+    const QCommandLineOption seconds(
+        "drape-seconds", "Simulated seconds before --screenshot or --measure-ui", "s", "0");
+    const QCommandLineOption recoveryDir(
+        "recovery-dir",
+        "Where autosaved recovery files go (default: the application's data folder)", "dir");
+    const QCommandLineOption autosaveSeconds(
+        "autosave-seconds", "Autosave period while modified (default: the setting, 60)", "s");
+    const QCommandLineOption measure(
+        "measure-ui",
+        "Open the project, drape it for --drape-seconds (or to rest) as the window does, write "
+        "the 3D view's frames per second and the event loop's longest block as JSON and quit",
+        "json");
+    parser.addOption(screenshot);
+    parser.addOption(measure);
+    parser.addOption(seconds);
+    parser.addOption(recoveryDir);
+    parser.addOption(autosaveSeconds);
+    parser.process(app);
+
+    atelier::ui::MainWindow window(samplesDir());
+    if (parser.isSet(recoveryDir)) {
+        window.setRecoveryDirectory(parser.value(recoveryDir));
+    }
+    if (parser.isSet(autosaveSeconds)) {
+        bool ok = false;
+        const int period = parser.value(autosaveSeconds).toInt(&ok);
+        if (!ok || period < 0) {
+            std::fputs("error: --autosave-seconds must be a whole number >= 0\n", stderr);
+            return 2;
+        }
+        window.setAutosaveSeconds(period);
+    }
+    window.show();
+    const QStringList projects = parser.positionalArguments();
+    if (!parser.isSet(screenshot) && !parser.isSet(measure)) {
+        // Unsaved changes from a run that did not close cleanly come first; on the very first
+        // start, the tshirt sample.
+        if (!window.offerRecovery()) {
+            if (!projects.isEmpty()) {
+                window.openFile(projects.front());
+            } else {
+                window.openFirstRunSample();
+            }
+        }
+        return QApplication::exec();
+    }
+    // Screenshot and measure modes: no dialogs; errors go to stderr.
+    atelier::ui::Prompts quiet;
+    quiet.error = [](const QString& message) {
+        std::fprintf(stderr, "error: %s\n", qPrintable(message));
+    };
+    quiet.saveChanges = [](const QString&) { return QMessageBox::Discard; };
+    window.setPrompts(quiet);
+    if (projects.isEmpty()) {
+        std::fprintf(stderr, "error: --%s needs a project\n",
+                     parser.isSet(screenshot) ? "screenshot" : "measure-ui");
+        return 2;
+    }
+    bool ok = false;
+    const double until = parser.value(seconds).toDouble(&ok);
+    if (!ok || until < 0) {
+        std::fputs("error: --drape-seconds must be a number >= 0\n", stderr);
+        return 2;
+    }
+    if (!window.openProject(projects.front())) {
+        return 1;
+    }
+    int code = 1;
+    QObject::connect(&window.drape(), &atelier::ui::DrapeController::failed,
+                     [&](const QString& message) {
+                         std::fprintf(stderr, "error: %s\n", qPrintable(message));
+                         code = 1;
+                         QApplication::exit(1);
+                     });
+    if (parser.isSet(measure)) {
+        measureResponsiveness(window, until, parser.value(measure), code);
+    } else {
+        takeScreenshot(window, until, parser.value(screenshot), code);
+    }
     const int exitCode = QApplication::exec();
     return exitCode != 0 ? exitCode : code;
 }

@@ -1,11 +1,12 @@
 #include "ui/widgets/viewport.h"
 
-#include "ui/render/headless_context.h"
 #include "ui/render/overlays.h"
 #include "ui/render/pin_markers.h"
 #include "ui/render/renderer.h"
 #include "ui/render/scene.h"
+#include "ui/widgets/render_thread.h"
 
+#include <QElapsedTimer>
 #include <QImage>
 #include <QMouseEvent>
 #include <QPainter>
@@ -14,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace atelier::ui {
 
@@ -60,6 +62,58 @@ Eigen::AlignedBox3d staticBounds(const StaticScene& s) {
     return box;
 }
 
+/// One frame for the render thread: what changed since the last (copied from the view) and
+/// how to draw it; then the picture drawn.
+struct FrameJob {
+    std::uint64_t number = 0;
+    std::optional<render::Scene> scene; ///< the whole scene (then nothing below is updated)
+    sim::MatX3 positions;               ///< the garment's, else
+    sim::MatX3 normals;
+    std::optional<std::vector<render::Colour>> colours; ///< the strain map's
+    std::vector<sim::MatX3> linePositions;              ///< the seam lines'
+    sim::MatX3 pins;
+    render::RenderOptions options;
+    render::Camera camera;
+    bool strainLegend = false;
+    bool draft = false;
+    // What the render thread gives back.
+    QImage picture;
+    QString error;
+    double milliseconds = 0;
+
+    void draw(render::Renderer& renderer) {
+        QElapsedTimer clock;
+        clock.start();
+        Result<void> set;
+        if (scene) {
+            set = renderer.setScene(*scene);
+        } else {
+            set = renderer.updatePositions(0, positions, normals);
+            if (set.ok() && colours) {
+                set = renderer.updateTriangleColours(0, *colours);
+            }
+            for (std::size_t k = 0; set.ok() && k < linePositions.size(); ++k) {
+                set = renderer.updateLinePositions(static_cast<int>(k), linePositions[k]);
+            }
+        }
+        renderer.setPins(pins);
+        auto image =
+            set.ok() ? renderer.render(options, camera) : Result<io::RgbaImage>(set.error());
+        if (!image.ok()) {
+            error = QString::fromStdString(image.error().toString());
+            return;
+        }
+        io::RgbaImage& img = image.value();
+        if (strainLegend) {
+            render::drawStrainLegend(img, Viewport::STRAIN_RANGE);
+        }
+        picture =
+            QImage(img.pixels.data(), img.width, img.height, img.width * 4, QImage::Format_RGBA8888)
+                .copy();
+        milliseconds = double(clock.nsecsElapsed()) * 1e-6;
+    }
+};
+
 constexpr double SLOT_MARKER_RADIUS_PX = 7;
 
 /// A point of the slot's surface at `along` from its origin [m], on its facing meridian: the
@@ -85,35 +139,27 @@ Viewport::Viewport(DrapeController* drape, QWidget* parent) : QWidget(parent), m
     setAttribute(Qt::WA_OpaquePaintEvent);
     setMinimumSize(320, 320);
     connect(&m_poll, &QTimer::timeout, this, &Viewport::poll);
-    connect(m_drape, &DrapeController::pinsChanged, this, [this] { update(); });
-    m_poll.start(33);
+    connect(m_drape, &DrapeController::pinsChanged, this, [this] { requestFrame(); });
+    m_poll.start(16); // up to 60 frames per second, a frame only for a new snapshot
+    m_render = std::make_unique<RenderThread>(); // its context is made while the project opens
     m_fpsClock.start();
 }
 
 Viewport::~Viewport() {
-    m_renderer.reset(); // its GL objects belong to the context, released after it
+    m_render.reset(); // waits for a frame being drawn; its pictures' events go with the view
 }
 
 bool Viewport::ensureRenderer() {
-    if (m_renderer) {
-        return true;
+    if (m_error.isEmpty() && !m_rendererChecked) {
+        m_error = m_render->start();
+        m_rendererChecked = true;
     }
-    if (!m_error.isEmpty()) {
-        return false;
-    }
-    auto context = render::HeadlessContext::create();
-    if (!context.ok()) {
-        m_error = QString::fromStdString(context.error().toString());
-        return false;
-    }
-    m_context = std::move(context.value());
-    auto renderer = render::Renderer::create();
-    if (!renderer.ok()) {
-        m_error = QString::fromStdString(renderer.error().toString());
-        return false;
-    }
-    m_renderer = std::move(renderer.value());
-    return true;
+    return m_error.isEmpty();
+}
+
+void Viewport::requestFrame() {
+    m_frameWanted = true;
+    update();
 }
 
 void Viewport::sceneChanged(bool keepView) {
@@ -124,7 +170,7 @@ void Viewport::sceneChanged(bool keepView) {
     m_drawnVersion = 0;
     m_uploaded = false;
     if (keepView) {
-        update();
+        requestFrame();
     } else {
         setView(render::View::ThreeQuarter);
     }
@@ -132,7 +178,7 @@ void Viewport::sceneChanged(bool keepView) {
 
 void Viewport::setView(render::View view) {
     if (!m_static) {
-        update();
+        requestFrame();
         return;
     }
     const Eigen::AlignedBox3d box = staticBounds(*m_static);
@@ -143,7 +189,7 @@ void Viewport::setView(render::View view) {
     m_distance = offset.norm();
     m_pitch = std::asin(std::clamp(offset.y() / std::max(m_distance, 1e-6f), -1.0f, 1.0f));
     m_yaw = std::atan2(offset.x(), offset.z());
-    update();
+    requestFrame();
 }
 
 render::Camera Viewport::camera(float aspect) const {
@@ -166,21 +212,21 @@ void Viewport::poll() {
         return;
     }
     if (m_drape->snapshot(m_snapshot) && m_snapshot.version != m_drawnVersion) {
-        update();
+        requestFrame();
     }
 }
 
-void Viewport::draw() {
+void Viewport::draw(bool wait) {
     // While the cloth moves, a draft: 0.6 of the resolution (a third of the pixels) and 2×
     // multisampling, scaled up on screen; full resolution and 4× once it stops.
     const bool moving = m_drape->running();
     const qreal ratio = devicePixelRatioF() * (moving ? DRAFT_SCALE : 1.0);
-    const int w = std::max(1, int(width() * ratio));
-    const int h = std::max(1, int(height() * ratio));
+    auto frame = std::make_shared<FrameJob>();
+    frame->number = ++m_framesGiven;
+    frame->draft = moving;
     const bool live = m_snapshot.version > 0 &&
                       m_snapshot.clothPositions.rows() == m_static->startPositions.rows();
     m_drawnPositions = live ? m_snapshot.clothPositions : m_static->startPositions;
-    Result<void> set;
     if (!m_uploaded) {
         // The whole scene once per project: triangles, colours, the body.
         render::Scene scene;
@@ -213,55 +259,73 @@ void Viewport::draw() {
             followSeamLines();
         }
         scene.lines = m_seamLines;
-        set = m_renderer->setScene(scene);
-        m_uploaded = set.ok();
+        frame->scene = std::move(scene);
+        m_uploaded = true; // undone if the frame fails
     } else {
         // While the drape runs only the garment's vertices change (and the colours of a strain
         // map, and the seam lines' vertices).
-        set = m_renderer->updatePositions(0, m_drawnPositions,
-                                          live ? m_snapshot.clothNormals : sim::MatX3());
-        if (set.ok() && m_strainShown) {
+        frame->positions = m_drawnPositions;
+        if (live) {
+            frame->normals = m_snapshot.clothNormals;
+        }
+        if (m_strainShown) {
             m_garmentColours = garmentColoursNow();
-            set = m_renderer->updateTriangleColours(0, m_garmentColours);
+            frame->colours = m_garmentColours;
         }
         followSeamLines();
-        for (std::size_t k = 0; set.ok() && k < m_seamLines.size(); ++k) {
-            set = m_renderer->updateLinePositions(static_cast<int>(k), m_seamLines[k].positions);
+        for (const render::DrawLines& lines : m_seamLines) {
+            frame->linePositions.push_back(lines.positions);
         }
     }
     m_drawnVersion = live ? m_snapshot.version : 0;
     // Pins still holding at the drawn snapshot's time (a released pin's head goes).
     const std::vector<int> pinned = m_drape->pinnedVertices(live ? m_snapshot.time : 0.0);
-    sim::MatX3 pins(static_cast<Eigen::Index>(pinned.size()), 3);
+    frame->pins.resize(static_cast<Eigen::Index>(pinned.size()), 3);
     Eigen::Index n = 0;
     for (const int v : pinned) {
         if (v >= 0 && v < m_drawnPositions.rows()) {
-            pins.row(n++) = m_drawnPositions.row(v);
+            frame->pins.row(n++) = m_drawnPositions.row(v);
         }
     }
-    m_renderer->setPins(pins.topRows(n));
+    frame->pins.conservativeResize(n, 3);
+    frame->options.width = std::max(1, int(width() * ratio));
+    frame->options.height = std::max(1, int(height() * ratio));
+    frame->options.background = {0.93f, 0.93f, 0.94f, 1.0f};
+    frame->options.samples = moving ? 2 : 4;
+    frame->camera = camera();
+    frame->strainLegend = m_strainShown;
 
-    render::RenderOptions options;
-    options.width = w;
-    options.height = h;
-    options.background = {0.93f, 0.93f, 0.94f, 1.0f};
-    options.samples = moving ? 2 : 4;
-    auto image =
-        set.ok() ? m_renderer->render(options, camera()) : Result<io::RgbaImage>(set.error());
-    if (!image.ok()) {
-        m_error = QString::fromStdString(image.error().toString());
-        m_picture = QImage();
+    const auto show = [this, frame] {
+        if (frame->number < m_frameShown) {
+            return; // a later frame (drawn at once) is already shown
+        }
+        m_frameShown = frame->number;
+        ++m_framesDrawn;
+        ++m_framesThisSecond;
+        if (!frame->error.isEmpty()) {
+            m_error = frame->error;
+            m_picture = QImage();
+            m_uploaded = false;
+            return;
+        }
+        m_drawMs = m_drawMs == 0 ? frame->milliseconds : 0.8 * m_drawMs + 0.2 * frame->milliseconds;
+        m_picture = std::move(frame->picture);
+        m_picture.setDevicePixelRatio(devicePixelRatioF());
+        m_draft = frame->draft;
+    };
+    if (wait) {
+        m_render->run([&](render::Renderer& renderer) { frame->draw(renderer); });
+        show();
         return;
     }
-    io::RgbaImage& img = image.value();
-    if (m_strainShown) {
-        render::drawStrainLegend(img, STRAIN_RANGE);
-    }
-    m_picture =
-        QImage(img.pixels.data(), img.width, img.height, img.width * 4, QImage::Format_RGBA8888)
-            .copy();
-    m_picture.setDevicePixelRatio(devicePixelRatioF());
-    m_draft = moving;
+    m_frameInFlight = true;
+    m_render->post([frame](render::Renderer& renderer) { frame->draw(renderer); }, this,
+                   [this, show] {
+                       m_frameInFlight = false;
+                       show();
+                       m_completionPaint = true;
+                       update();
+                   });
 }
 
 QImage Viewport::renderImage(int width, int height, QString* error) {
@@ -280,7 +344,7 @@ QImage Viewport::renderImage(int width, int height, QString* error) {
     if (!ensureRenderer()) {
         return fail(m_error);
     }
-    draw(); // the scene and its pins as they are now, on the GPU
+    draw(true); // the scene and its pins as they are now, on the GPU
     if (!m_error.isEmpty()) {
         return fail(m_error);
     }
@@ -289,7 +353,9 @@ QImage Viewport::renderImage(int width, int height, QString* error) {
     options.height = height;
     options.background = {0.93f, 0.93f, 0.94f, 1.0f};
     options.samples = 4;
-    auto image = m_renderer->render(options, camera(float(width) / float(height)));
+    const render::Camera view = camera(float(width) / float(height));
+    Result<io::RgbaImage> image = Error{"", "", "the render thread did not draw"};
+    m_render->run([&](render::Renderer& renderer) { image = renderer.render(options, view); });
     if (!image.ok()) {
         return fail(QString::fromStdString(image.error().toString()));
     }
@@ -304,12 +370,21 @@ QImage Viewport::renderImage(int width, int height, QString* error) {
 void Viewport::paintEvent(QPaintEvent* /*event*/) {
     QPainter painter(this);
     if (m_static && ensureRenderer()) {
-        QElapsedTimer clock;
-        clock.start();
-        draw();
-        const double ms = double(clock.nsecsElapsed()) * 1e-6;
-        m_drawMs = m_drawMs == 0 ? ms : 0.8 * m_drawMs + 0.2 * ms;
+        if (!m_drape->running()) {
+            m_frameWanted = false;
+            draw(true); // at rest or paused: every paint draws the scene as it is, at once
+        } else if (m_frameWanted || !m_completionPaint) {
+            // While the drape runs the render thread draws; the picture there is shown until
+            // the next one arrives, and a new frame waits for the one being drawn.
+            if (!m_frameInFlight) {
+                m_frameWanted = false;
+                draw(false);
+            } else {
+                m_frameWanted = true;
+            }
+        }
     }
+    m_completionPaint = false;
     if (!m_picture.isNull() && m_error.isEmpty()) {
         if (m_draft) {
             painter.setRenderHint(QPainter::SmoothPixmapTransform);
@@ -326,7 +401,6 @@ void Viewport::paintEvent(QPaintEvent* /*event*/) {
                              ? tr("The 3D view cannot draw: %1").arg(m_error)
                              : tr("Open a garment project (File > Open, or a sample)"));
     }
-    ++m_framesThisSecond;
     if (m_fpsClock.elapsed() >= 1000) {
         m_fps = 1000.0 * m_framesThisSecond / double(m_fpsClock.restart());
         m_framesThisSecond = 0;
@@ -459,7 +533,7 @@ void Viewport::setPreviewBody(const sim::MatX3& positions, const sim::MatX3i& tr
     m_previewBody = positions;
     m_previewTriangles = triangles;
     m_uploaded = false;
-    update();
+    requestFrame();
 }
 
 render::Colour Viewport::selectedColour(const render::Colour& colour) {
@@ -472,7 +546,7 @@ void Viewport::setSelectedPanel(const QString& name) {
     if (name != m_selectedPanel) {
         m_selectedPanel = name;
         m_uploaded = false; // the garment's colours change
-        update();
+        requestFrame();
     }
 }
 
@@ -480,7 +554,7 @@ void Viewport::setStrainShown(bool shown) {
     if (shown != m_strainShown) {
         m_strainShown = shown;
         m_uploaded = false; // the garment's colours change
-        update();
+        requestFrame();
     }
 }
 
@@ -488,13 +562,13 @@ void Viewport::setSeamLinesShown(bool shown) {
     if (shown != m_seamLinesShown) {
         m_seamLinesShown = shown;
         m_uploaded = false; // lines come and go with the scene
-        update();
+        requestFrame();
     }
 }
 
 void Viewport::setSlotsShown(bool shown) {
     m_slotsShown = shown;
-    update();
+    requestFrame();
 }
 
 std::optional<QPointF> Viewport::slotMarker(const QString& name) const {
@@ -534,7 +608,7 @@ QString Viewport::slotAt(const QPointF& at) const {
 void Viewport::setHighlightedSlot(const QString& name) {
     if (name != m_highlightedSlot) {
         m_highlightedSlot = name;
-        update();
+        requestFrame();
     }
 }
 
@@ -633,13 +707,13 @@ void Viewport::mouseMoveEvent(QMouseEvent* event) {
     } else {
         return;
     }
-    update();
+    requestFrame();
 }
 
 void Viewport::wheelEvent(QWheelEvent* event) {
     const float steps = float(event->angleDelta().y()) / 120.0f;
     m_distance = std::clamp(m_distance * std::pow(0.9f, steps), 0.05f, 100.0f);
-    update();
+    requestFrame();
 }
 
 } // namespace atelier::ui

@@ -2,7 +2,8 @@
 /// The 3D view: the garment and its body drawn by the same renderer, in the same kind of
 /// context, as the headless pictures (ui/render: OpenGL 3.3 through EGL, no window surface),
 /// shown as an image in a plain widget (docs/decisions/022-viewport-through-egl.md). It redraws
-/// when the drape publishes a new snapshot (polled 30 times a second), orbits with the left
+/// when the drape publishes a new snapshot (polled 60 times a second; drawn on a thread of its
+/// own while the drape runs, render_thread.h), orbits with the left
 /// mouse button, pans with the right (or middle) one and zooms with the wheel; the named views
 /// frame the content. Left-dragging the cloth grabs it (the drape runs and follows the mouse
 /// in the plane facing the camera); left-dragging elsewhere orbits. Alt+click on the cloth pins
@@ -26,12 +27,9 @@ class QPainter;
 #include <optional>
 #include <vector>
 
-namespace atelier::render {
-class HeadlessContext;
-class Renderer;
-} // namespace atelier::render
-
 namespace atelier::ui {
+
+class RenderThread;
 
 class Viewport : public QWidget {
     Q_OBJECT
@@ -43,6 +41,8 @@ class Viewport : public QWidget {
     void setView(render::View view);
     /// Paints per second over the last second (a new snapshot, an orbit or an expose each).
     double framesPerSecond() const { return m_fps; }
+    /// Frames drawn since the view was made (for the responsiveness measure).
+    long framesDrawn() const { return m_framesDrawn; }
     /// Wall time of drawing one frame (renderer and read-back), a running mean [ms].
     double drawMilliseconds() const { return m_drawMs; }
     /// The last picture drawn (for File > Save picture and tests).
@@ -132,14 +132,23 @@ class Viewport : public QWidget {
     /// The garment triangle under a widget point, as drawn last: its index, barycentric
     /// coordinates and the world point; false when the ray misses the garment.
     bool pick(const QPointF& at, sim::ClothPoint& point, Eigen::Vector3f& hit) const;
-    /// Makes the context and the renderer on first use; false (with m_error) when it cannot.
+    /// Waits (the first time) for the render thread's context and renderer; false (with
+    /// m_error) when it could not make them.
     bool ensureRenderer();
-    /// Draws the scene as it is now into m_picture.
-    void draw();
+    /// Draws the scene as it is now into m_picture: at once (`wait`), or on the render thread,
+    /// the picture arriving through the event loop (while the drape runs).
+    void draw(bool wait);
+    /// Marks the picture out of date and schedules a paint that redraws it.
+    void requestFrame();
 
     DrapeController* m_drape;
-    std::unique_ptr<render::HeadlessContext> m_context;
-    std::unique_ptr<render::Renderer> m_renderer;
+    std::unique_ptr<RenderThread> m_render;
+    std::uint64_t m_framesGiven = 0; ///< frames handed to the render thread
+    std::uint64_t m_frameShown = 0;  ///< the latest of them in m_picture
+    bool m_rendererChecked = false;  ///< m_render's start() has answered
+    bool m_frameInFlight = false;    ///< a frame is being drawn on the render thread
+    bool m_frameWanted = false;      ///< the picture is out of date
+    bool m_completionPaint = false;  ///< the paint scheduled is for a frame that arrived
     QImage m_picture;
     std::shared_ptr<const StaticScene> m_static;
     sim::Snapshot m_snapshot;
@@ -179,6 +188,7 @@ class Viewport : public QWidget {
     QString m_highlightedSlot;
     QElapsedTimer m_fpsClock;
     int m_framesThisSecond = 0;
+    long m_framesDrawn = 0;
     double m_fps = 0;
     double m_drawMs = 0;
 };

@@ -236,6 +236,12 @@ TEST(Viewport, DrawsTheGarmentOnItsBody) {
     EXPECT_FALSE(window.drape().running());
     QTest::mousePress(&window.viewport(), Qt::LeftButton, {}, onCloth);
     ASSERT_TRUE(waitFor([&] { return window.drape().progress().steps >= 3; }, 120));
+    // While it runs, the render thread draws drafts (0.6 of the resolution) that arrive
+    // through the event loop, one per new snapshot.
+    const long framesBefore = window.viewport().framesDrawn();
+    ASSERT_TRUE(waitFor([&] { return window.viewport().framesDrawn() >= framesBefore + 2; }, 60));
+    const qreal ratio = window.viewport().devicePixelRatioF();
+    EXPECT_NEAR(window.viewport().picture().width(), window.viewport().width() * ratio * 0.6, 1);
     QTest::mouseMove(&window.viewport(), onCloth + QPoint(30, -20));
     waitFor([] { return false; }, 0.3);
     QTest::mouseRelease(&window.viewport(), Qt::LeftButton, {}, onCloth + QPoint(30, -20));
@@ -245,6 +251,9 @@ TEST(Viewport, DrawsTheGarmentOnItsBody) {
     sim::Snapshot s;
     ASSERT_TRUE(window.drape().snapshot(s));
     EXPECT_TRUE(s.clothPositions.allFinite());
+    // Paused, a paint draws at once, at full resolution.
+    window.viewport().repaint();
+    EXPECT_NEAR(window.viewport().picture().width(), window.viewport().width() * ratio, 1);
 }
 
 TEST(Viewport, AltClickPinsTheClothAndUnpinsAPinhead) {
