@@ -125,6 +125,8 @@ void MainWindow::buildDocks() {
             m_viewport->setHighlightedSlot(QString::fromStdString(p->placement.slot));
         }
     });
+    // An internal line selected in the pattern: its fold angle in the Panel dock.
+    connect(m_pattern, &PatternView::lineSelected, m_panelDock, &PanelDock::showLine);
     // A press on the cloth in 3D selects its panel in the pattern (and so in the docks).
     connect(m_viewport, &Viewport::panelPicked, this, [this](const QString& name) {
         for (const patterns::doc::Panel& p : m_project.document.panels) {
@@ -210,6 +212,17 @@ void MainWindow::buildDocks() {
                                                                       distance);
                         },
                         QStringLiteral("particle distance %1").arg(panel))) {
+                    docksFollowDocument();
+                }
+            });
+    connect(m_panelDock, &PanelDock::foldAngleRequested, this,
+            [this](quint32 panel, quint32 line, double angle) {
+                if (!edit(
+                        [&](patterns::GarmentDocument& d) {
+                            return patterns::setFoldAngle(d, patterns::PanelId{panel},
+                                                          patterns::LineId{line}, angle);
+                        },
+                        QStringLiteral("fold %1 %2").arg(panel).arg(line))) {
                     docksFollowDocument();
                 }
             });

@@ -48,6 +48,10 @@ PanelDock::PanelDock(QWidget* parent) : QDockWidget(tr("Panel"), parent) {
     m_particleDistance->setToolTip(
         tr("Mesh this panel finer or coarser than the rest (0: the drape's particle distance); "
            "a seam to another panel is sewn at the finer of the two"));
+    // A fold's rest angle: 0 flat, ± towards either side, (−180°, 180°) exclusive.
+    m_foldAngle = spinBox(-179.9, 179.9, 1, tr("°"));
+    m_foldAngle->setToolTip(tr("The rest angle of the cloth's fold along the internal line "
+                               "selected in the pattern (0: flat; select a line to edit)"));
     form->addRow(m_title);
     form->addRow(tr("Name"), m_name);
     form->addRow(tr("Slot"), m_slot);
@@ -57,6 +61,7 @@ PanelDock::PanelDock(QWidget* parent) : QDockWidget(tr("Panel"), parent) {
     form->addRow(tr("Clearance"), m_clearance);
     form->addRow(tr("Fabric"), m_fabric);
     form->addRow(tr("Particle distance"), m_particleDistance);
+    form->addRow(tr("Fold angle"), m_foldAngle);
     setWidget(body);
 
     connect(m_name, &QLineEdit::editingFinished, this, [this] {
@@ -81,6 +86,13 @@ PanelDock::PanelDock(QWidget* parent) : QDockWidget(tr("Panel"), parent) {
         const double metres = mm < 1 ? 0.0 : mm / MM;
         if (p != nullptr && metres != p->particleDistance) {
             Q_EMIT particleDistanceRequested(m_panel.value, metres);
+        }
+    });
+    connect(m_foldAngle, &QDoubleSpinBox::valueChanged, this, [this](double degrees) {
+        const patterns::doc::InternalLine* line = shownLine();
+        // The field rounds to 0.1°: an angle the user left alone keeps its exact value.
+        if (line != nullptr && std::abs(degrees - line->foldAngle * DEG) >= 0.05) {
+            Q_EMIT foldAngleRequested(m_panel.value, m_line.value, degrees / DEG);
         }
     });
     connect(m_fabric, &QComboBox::activated, this, [this](int index) {
@@ -116,6 +128,9 @@ void PanelDock::setPresetNames(const QStringList& names) {
 }
 
 void PanelDock::showPanel(quint32 panel) {
+    if (panel != m_panel.value) {
+        m_line = {};
+    }
     m_panel = patterns::PanelId{panel};
     if (m_document.panel(m_panel) == nullptr) {
         m_panel = {};
@@ -123,8 +138,29 @@ void PanelDock::showPanel(quint32 panel) {
     refresh();
 }
 
+void PanelDock::showLine(quint32 panel, quint32 line) {
+    if (line != 0 && panel != m_panel.value) {
+        showPanel(panel);
+    }
+    m_line = patterns::LineId{line};
+    refresh();
+}
+
 const patterns::doc::Panel* PanelDock::shown() const {
     return m_document.panel(m_panel);
+}
+
+const patterns::doc::InternalLine* PanelDock::shownLine() const {
+    const patterns::doc::Panel* p = shown();
+    if (p == nullptr || !m_line) {
+        return nullptr;
+    }
+    for (const patterns::doc::InternalLine& line : p->internalLines) {
+        if (line.id.value == m_line.value) {
+            return &line;
+        }
+    }
+    return nullptr;
 }
 
 void PanelDock::emitPlacement(const QString& field) {
@@ -162,7 +198,8 @@ void PanelDock::refresh() {
         QSignalBlocker(m_name),     QSignalBlocker(m_slot),
         QSignalBlocker(m_around),   QSignalBlocker(m_along),
         QSignalBlocker(m_rotation), QSignalBlocker(m_clearance),
-        QSignalBlocker(m_fabric),   QSignalBlocker(m_particleDistance)};
+        QSignalBlocker(m_fabric),   QSignalBlocker(m_particleDistance),
+        QSignalBlocker(m_foldAngle)};
     const patterns::doc::Panel* p = shown();
     widget()->setEnabled(p != nullptr);
     m_title->setText(p == nullptr ? tr("Select a panel") : tr("Panel #%1").arg(m_panel.value));
@@ -185,6 +222,9 @@ void PanelDock::refresh() {
     m_rotation->setValue(p->placement.rotation * DEG);
     m_clearance->setValue(p->placement.clearance * MM);
     m_particleDistance->setValue(p->particleDistance * MM);
+    const patterns::doc::InternalLine* line = shownLine();
+    m_foldAngle->setEnabled(line != nullptr);
+    m_foldAngle->setValue(line != nullptr ? line->foldAngle * DEG : 0.0);
     for (const patterns::GarmentMaterial& m : m_document.materials) {
         const QString name = QString::fromStdString(m.name);
         m_fabric->addItem(name, name);

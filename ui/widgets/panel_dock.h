@@ -1,8 +1,9 @@
 #pragma once
 /// The Panel dock: the selected panel's name, its placement on the body (slot, offset around
-/// and along the slot, rotation, clearance), its fabric and its particle distance. Each change is
-/// a request the window turns into one undoable document edit (renamePanel, placePanel,
-/// setPanelMaterial, setPanelParticleDistance); the dock
+/// and along the slot, rotation, clearance), its fabric, its particle distance and the fold
+/// angle of the internal line selected in the pattern. Each change is a request the window turns
+/// into one undoable document edit (renamePanel, placePanel, setPanelMaterial,
+/// setPanelParticleDistance, setFoldAngle); the dock
 /// shows the document as it is after it.
 
 #include "patterns/document.h"
@@ -41,10 +42,15 @@ class PanelDock : public QDockWidget {
     QComboBox* fabricChooser() const { return m_fabric; }
     /// The panel's own particle distance [mm]; 0 (shown as "drape's") for the drape's.
     QDoubleSpinBox* particleDistanceField() const { return m_particleDistance; }
+    /// The fold angle of the internal line selected in the pattern [°]; disabled when none.
+    QDoubleSpinBox* foldAngleField() const { return m_foldAngle; }
 
   public Q_SLOTS:
     /// Shows panel `panel` (0: none; the fields are disabled).
     void showPanel(quint32 panel);
+    /// Shows internal line `line` of panel `panel` (the one selected in the pattern; 0: none)
+    /// in the fold angle field.
+    void showLine(quint32 panel, quint32 line);
 
   Q_SIGNALS:
     void renameRequested(quint32 panel, const QString& name);
@@ -56,11 +62,15 @@ class PanelDock : public QDockWidget {
     void fabricRequested(quint32 panel, const QString& fabric, bool preset);
     /// The panel's own particle distance [m] (0: the drape's).
     void particleDistanceRequested(quint32 panel, double distance);
+    /// The rest angle of the hinges along internal line `line` [rad].
+    void foldAngleRequested(quint32 panel, quint32 line, double angle);
 
   private:
     void refresh();
     void emitPlacement(const QString& field);
     const patterns::doc::Panel* shown() const;
+    /// The internal line shown in the fold angle field, or null.
+    const patterns::doc::InternalLine* shownLine() const;
 
     patterns::GarmentDocument m_document;
     patterns::PanelId m_panel;
@@ -75,6 +85,8 @@ class PanelDock : public QDockWidget {
     QDoubleSpinBox* m_clearance;
     QComboBox* m_fabric;
     QDoubleSpinBox* m_particleDistance;
+    QDoubleSpinBox* m_foldAngle;
+    patterns::LineId m_line; ///< the internal line shown (of m_panel), or none
 };
 
 } // namespace atelier::ui

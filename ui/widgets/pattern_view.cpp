@@ -442,6 +442,10 @@ void PatternView::redraw() {
 }
 
 void PatternView::drawHandles() {
+    if (m_selectedLine.value != m_announcedLine.value) {
+        m_announcedLine = m_selectedLine;
+        Q_EMIT lineSelected(m_selectedPanel.value, m_selectedLine.value);
+    }
     for (QGraphicsItem* h : m_handles) {
         m_scene.removeItem(h);
         delete h;

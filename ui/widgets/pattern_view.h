@@ -135,6 +135,8 @@ class PatternView : public QGraphicsView {
   Q_SIGNALS:
     /// The selected panel's name (empty when none).
     void panelSelected(const QString& name);
+    /// The selected internal line changed: its panel and id (line 0: none selected).
+    void lineSelected(quint32 panel, quint32 line);
     /// A seam was picked with the mouse (its id's value).
     void seamSelected(quint32 seam);
     /// A point was dragged to (x, y) [m] and let go.
@@ -324,6 +326,7 @@ class PatternView : public QGraphicsView {
     std::optional<GrainDrag> m_grainDrag;
     patterns::NotchId m_selectedNotch;
     patterns::LineId m_selectedLine;
+    patterns::LineId m_announcedLine; ///< the last lineSelected() said
     /// The middle button is down: the view pans with the mouse (from here, viewport).
     std::optional<QPoint> m_pan;
     std::optional<SidePick> m_sides[2];

@@ -681,8 +681,17 @@ TEST(PatternView, NotchesInternalLinesDartsAndTheGrainWithTheMouseUndoToTheEmpty
     EXPECT_TRUE(panel().notches.empty());
     click(f.surface(), f.at({-50, -25}));
     EXPECT_TRUE(view.selectedLine()) << "the line's first half passes through (-50, -25)";
+    // Its fold angle in the Panel dock, one undoable edit; the line stays selected.
+    QDoubleSpinBox* fold = f.window.panelDock().foldAngleField();
+    EXPECT_TRUE(fold->isEnabled());
+    EXPECT_EQ(fold->value(), 0.0);
+    fold->setValue(30);
+    EXPECT_NEAR(panel().internalLines.front().foldAngle, std::numbers::pi / 6, 1e-9);
+    EXPECT_TRUE(view.selectedLine());
+    EXPECT_EQ(fold->value(), 30.0);
     QTest::keyClick(&view, Qt::Key_Delete);
     EXPECT_TRUE(panel().internalLines.empty());
+    EXPECT_FALSE(fold->isEnabled()) << "no line selected";
     // Click a leg of the dart (the selected edge), Delete removes the dart.
     leg = patterns::outlineEdgeIndex(panel(), dart.leg1);
     const QPointF legMiddle = view.scenePoint(
@@ -694,8 +703,8 @@ TEST(PatternView, NotchesInternalLinesDartsAndTheGrainWithTheMouseUndoToTheEmpty
     EXPECT_TRUE(panel().darts.empty());
     EXPECT_EQ(panel().outline.points.size(), 6U);
 
-    // Rectangle, notch, line, dart, grain, three removals: undone to the empty project.
-    EXPECT_EQ(f.window.undoStack().count(), 8);
+    // Rectangle, notch, line, dart, grain, fold, three removals: undone to the empty project.
+    EXPECT_EQ(f.window.undoStack().count(), 9);
     while (f.window.undoStack().canUndo()) {
         f.window.undoStack().undo();
     }
