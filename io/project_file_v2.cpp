@@ -236,11 +236,31 @@ class DocumentReader {
         panel.grainAngle = a.grainAngle;
         panel.placement = std::move(a.placement);
         panel.particleDistance = a.particleDistance;
+        if (const json* sheet = r.find("sheet")) {
+            panel.sheet = readSheet(*sheet, r.pointerOf("sheet"));
+        }
         readChain(r.require("outline"), r.pointerOf("outline"), true, panel.outline.points,
                   panel.outline.edges);
         readParts(r, panel);
         r.finish();
         return panel;
+    }
+
+    /// `{"at_mm": [x, y], "angle_deg": a}`: where the panel lies on the pattern sheet.
+    static doc::SheetPlace readSheet(const json& value, const std::string& ptr) {
+        ObjectReader r(value, ptr);
+        doc::SheetPlace place;
+        place.at = point(r, "at_mm");
+        constexpr double FAR = 1000; // [m], as patterns::setSheetPlace
+        if (place.at.cwiseAbs().maxCoeff() > FAR) {
+            r.fail("at_mm", "must be within 1 km of the sheet's origin");
+        }
+        place.angle = angleDeg(r, "angle_deg", 0.0);
+        if (!std::isfinite(place.angle)) {
+            r.fail("angle_deg", "must be finite");
+        }
+        r.finish();
+        return place;
     }
 
     doc::SeamRange readRange(const json& value, const std::string& ptr) {
@@ -321,6 +341,12 @@ ordered_json panelJson(const doc::Panel& panel) {
     out["grain_deg"] = deg(panel.grainAngle);
     if (panel.particleDistance > 0) { // written only when set: older files stay byte-identical
         out["particle_distance_mm"] = mm(panel.particleDistance);
+    }
+    if (panel.sheet) { // likewise
+        ordered_json sheet = ordered_json::object();
+        sheet["at_mm"] = pointMm(panel.sheet->at);
+        sheet["angle_deg"] = deg(panel.sheet->angle);
+        out["sheet"] = std::move(sheet);
     }
     out["outline"] = chainJson(panel.outline.points, panel.outline.edges);
     out["holes"] = ordered_json::array();

@@ -128,6 +128,11 @@ void dumpPanel(std::string& out, const doc::Panel& p) {
     appendVec(out, p.placement.offset);
     appendNumber(out, p.placement.rotation);
     appendNumber(out, p.placement.clearance);
+    if (p.sheet) {
+        out += "\n  sheet";
+        appendVec(out, p.sheet->at);
+        appendNumber(out, p.sheet->angle);
+    }
     out += "\n  outline\n";
     dumpChain(out, "    ", p.outline.points, p.outline.edges);
     for (const doc::Hole& h : p.holes) {

@@ -108,6 +108,14 @@ struct Pin {
     double releaseTime = std::numeric_limits<double>::infinity(); ///< drape time [s]
 };
 
+/// Where a panel lies on the 2D pattern sheet (the designer's arrangement, drawn in the pattern
+/// view; the drape does not use it): the sheet point of the panel's own origin [m] and the
+/// panel's turn, counter-clockwise [rad].
+struct SheetPlace {
+    Vec2 at = Vec2::Zero();
+    double angle = 0;
+};
+
 struct Panel {
     PanelId id;
     std::string name; ///< unique in the document; nothing refers to it
@@ -121,7 +129,8 @@ struct Panel {
     std::string material;                   ///< a fabric of the document's materials
     PanelSide side = PanelSide::Front;
     Placement placement;
-    double particleDistance = 0; ///< as patterns::Panel::particleDistance [m]; 0: the drape's
+    double particleDistance = 0;     ///< as patterns::Panel::particleDistance [m]; 0: the drape's
+    std::optional<SheetPlace> sheet; ///< none: laid out beside the others
 };
 
 /// A range of one panel's outline edge from curve parameter `t0` to `t1` (t0 > t1 runs against

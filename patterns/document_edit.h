@@ -156,4 +156,9 @@ Result<Edit> removeDart(GarmentDocument& document, PanelId panel, DartId dart);
 /// Sets a panel's grain line: the warp direction [rad from +x], finite; stored in (−π, π].
 Result<Edit> setGrainAngle(GarmentDocument& document, PanelId panel, double angle);
 
+/// Moves a panel on the 2D pattern sheet (none: back beside the others); the position finite
+/// and within 1 km, the angle finite, stored in (−π, π].
+Result<Edit> setSheetPlace(GarmentDocument& document, PanelId panel,
+                           std::optional<doc::SheetPlace> place);
+
 } // namespace atelier::patterns

@@ -351,4 +351,29 @@ Result<Edit> setGrainAngle(GarmentDocument& d, PanelId panel, double angle) {
                   });
 }
 
+Result<Edit> setSheetPlace(GarmentDocument& d, PanelId panel,
+                           std::optional<doc::SheetPlace> place) {
+    return record(d, "move panel #" + std::to_string(panel.value) + " on the sheet", {panel}, {},
+                  [&](GarmentDocument& doc) -> Result<std::uint32_t> {
+                      doc::Panel* p = doc.panel(panel);
+                      if (p == nullptr) {
+                          return editError(panelWhere(panel), "no such panel");
+                      }
+                      if (place) {
+                          constexpr double FAR = 1000; // [m]
+                          if (!place->at.allFinite() || place->at.cwiseAbs().maxCoeff() > FAR ||
+                              !std::isfinite(place->angle)) {
+                              return editError(panelWhere(panel),
+                                               "a sheet place must be finite and within 1 km");
+                          }
+                          place->angle = std::remainder(place->angle, 2 * M_PI);
+                          if (place->angle <= -M_PI) {
+                              place->angle += 2 * M_PI;
+                          }
+                      }
+                      p->sheet = place;
+                      return 0U;
+                  });
+}
+
 } // namespace atelier::patterns

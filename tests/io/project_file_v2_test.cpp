@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <numbers>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -306,6 +307,32 @@ TEST(ProjectFileV2, APanelsOwnParticleDistanceRoundTripsAndBadOnesNameTheirPoint
         ASSERT_FALSE(bad.ok()) << value.dump();
         EXPECT_NE(bad.error().toString().find("/panels/1/particle_distance_mm"), std::string::npos)
             << bad.error().toString();
+    }
+}
+
+TEST(ProjectFileV2, APanelsSheetPlaceRoundTripsAndBadOnesNameTheirPointer) {
+    json doc = v2Json();
+    doc["panels"][1]["sheet"] = json::parse(R"({"at_mm": [450, -120.5], "angle_deg": -90})");
+    const auto read = parse(doc.dump());
+    ASSERT_TRUE(read.ok()) << read.error().toString();
+    const auto& sheet = read.value().document.panels[1].sheet;
+    ASSERT_TRUE(sheet);
+    EXPECT_EQ(sheet->at, patterns::Vec2(0.45, -0.1205));
+    EXPECT_NEAR(sheet->angle, -std::numbers::pi / 2, 1e-15);
+    EXPECT_FALSE(read.value().document.panels[0].sheet);
+    const std::string saved = formatProject(read.value());
+    EXPECT_EQ(formatProject(parse(saved).value()), saved);
+    EXPECT_FALSE(json::parse(saved)["panels"][0].contains("sheet"))
+        << "a panel laid out by the view is saved as before";
+    for (const char* bad :
+         {R"({"at_mm": [1, 2, 3]})", R"({"at_mm": [2e6, 0]})",
+          R"({"at_mm": [0, 0], "angle_deg": "x"})", R"({"at_mm": [0, 0], "turn": 1})"}) {
+        json d = doc;
+        d["panels"][1]["sheet"] = json::parse(bad);
+        const auto refused = parse(d.dump());
+        ASSERT_FALSE(refused.ok()) << bad;
+        EXPECT_NE(refused.error().toString().find("/panels/1/sheet"), std::string::npos)
+            << refused.error().toString();
     }
 }
 

@@ -263,6 +263,13 @@ TEST(DocumentMarks, NotchesLinesAndGrainUndoExactly) {
     ASSERT_TRUE(grain.ok());
     edits.push_back(grain.value());
     EXPECT_NEAR(d.panels.front().grainAngle, M_PI, 1e-12);
+    // Its place on the pattern sheet, the turn stored in (−π, π].
+    auto sheet = setSheetPlace(d, id, doc::SheetPlace{Vec2(0.5, -0.25), -3 * M_PI});
+    ASSERT_TRUE(sheet.ok());
+    edits.push_back(sheet.value());
+    ASSERT_TRUE(d.panels.front().sheet);
+    EXPECT_EQ(d.panels.front().sheet->at, Vec2(0.5, -0.25));
+    EXPECT_NEAR(d.panels.front().sheet->angle, M_PI, 1e-12);
 
     const auto removed = removeInternalLine(d, id, LineId{line.value().created});
     ASSERT_TRUE(removed.ok());
@@ -353,6 +360,10 @@ TEST(DocumentMarks, RefusedMarksLeaveTheDocumentUntouched) {
     EXPECT_FALSE(removeDart(d, id, DartId{999}).ok());
     EXPECT_FALSE(setGrainAngle(d, id, nan).ok());
     EXPECT_FALSE(setGrainAngle(d, PanelId{999}, 0).ok());
+    EXPECT_FALSE(setSheetPlace(d, id, doc::SheetPlace{Vec2(nan, 0), 0}).ok());
+    EXPECT_FALSE(setSheetPlace(d, id, doc::SheetPlace{Vec2(2000, 0), 0}).ok());
+    EXPECT_FALSE(setSheetPlace(d, id, doc::SheetPlace{Vec2(0, 0), nan}).ok());
+    EXPECT_FALSE(setSheetPlace(d, PanelId{999}, std::nullopt).ok());
     EXPECT_EQ(dumpDocument(d), before);
 }
 
@@ -491,7 +502,17 @@ struct RandomEditor {
             if (q != nullptr && !q->internalLines.empty() && chance(0.8)) {
                 return removeInternalLine(d, p, q->internalLines[pick(q->internalLines.size())].id);
             }
-            return setGrainAngle(d, p, uniform(-7, 7));
+            if (chance(0.5)) {
+                return setGrainAngle(d, p, uniform(-7, 7));
+            }
+            if (chance(0.2)) {
+                return setSheetPlace(d, p, std::nullopt);
+            }
+            return setSheetPlace(
+                d, p,
+                doc::SheetPlace{Vec2(uniform(-2, 2),
+                                     chance(0.05) ? std::numeric_limits<double>::quiet_NaN() : 0.3),
+                                uniform(-7, 7)});
         }
         case 17: {
             // A line across the middle of the panel's outline points (often inside it).

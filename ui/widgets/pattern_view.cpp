@@ -66,6 +66,20 @@ QTransform shiftedLayout(double dx, double dy = 0) {
     return {1, 0, 0, -1, dx, dy};
 }
 
+/// The layout of a panel placed on the sheet (metres, y up, counter-clockwise) as the scene's
+/// transform (millimetres, y down): the panel's y flipped, turned, then moved.
+QTransform sheetLayout(const patterns::doc::SheetPlace& place) {
+    return QTransform(1, 0, 0, -1, 0, 0) *
+           QTransform().rotate(-place.angle * 180 / std::numbers::pi) *
+           QTransform::fromTranslate(place.at.x() * MM, -place.at.y() * MM);
+}
+
+/// The sheet place of a layout made of a flip, turns and moves (sheetLayout's inverse).
+patterns::doc::SheetPlace sheetPlace(const QTransform& layout) {
+    return {patterns::Vec2(layout.dx() / MM, -layout.dy() / MM),
+            std::atan2(-layout.m12(), layout.m11())};
+}
+
 } // namespace
 
 std::vector<patterns::Vec2> sampleLoop(const patterns::Loop& loop) {
@@ -248,11 +262,21 @@ void PatternView::setDocument(const patterns::GarmentDocument& document, bool ke
     m_layoutDrag.reset();
     if (!keepLayout) {
         m_layouts.clear();
+        m_freeLayouts.clear();
         m_selectedPanel = {};
         m_selectedPoint = {};
         m_selectedEdge = {};
         m_selectedSeam = {};
         cancelTool();
+    }
+    // A panel placed on the sheet lies where the document says; one that is not lies where the
+    // view first laid it out (as before its first move, after that move is undone).
+    for (const patterns::doc::Panel& p : m_document.panels) {
+        if (p.sheet) {
+            m_layouts[p.id.value] = sheetLayout(*p.sheet);
+        } else if (const auto it = m_freeLayouts.find(p.id.value); it != m_freeLayouts.end()) {
+            m_layouts[p.id.value] = it->second;
+        }
     }
     // Panels already laid out keep their place; new ones go right of the rightmost (or where
     // they were drawn).
@@ -271,6 +295,7 @@ void PatternView::setDocument(const patterns::GarmentDocument& document, bool ke
         }
         if (m_pendingLayout && m_pendingLayout->first == p.name) {
             m_layouts[p.id.value] = m_pendingLayout->second;
+            m_freeLayouts[p.id.value] = m_pendingLayout->second;
             m_pendingLayout.reset();
             continue;
         }
@@ -279,6 +304,7 @@ void PatternView::setDocument(const patterns::GarmentDocument& document, bool ke
             continue;
         }
         m_layouts[p.id.value] = shiftedLayout(x - minX);
+        m_freeLayouts[p.id.value] = m_layouts[p.id.value];
         x += maxX - minX + GAP_MM;
     }
     if (m_selectedPanel && panel(m_selectedPanel) == nullptr) {
@@ -1239,8 +1265,14 @@ void PatternView::mouseReleaseEvent(QMouseEvent* event) {
         clearOverlay();
         if (d.moved) {
             drawHandles();
-            Q_EMIT message(d.rotate ? tr("Rotated in the 2D layout (the pattern is unchanged)")
-                                    : tr("Moved in the 2D layout (the pattern is unchanged)"));
+            // Where it lies on the sheet is the document's (saved, undoable); its outline and
+            // its drape are unchanged.
+            const patterns::doc::SheetPlace place = sheetPlace(m_layouts[d.panel.value]);
+            applyEdit([&](patterns::GarmentDocument& doc) {
+                return patterns::setSheetPlace(doc, d.panel, place);
+            });
+            Q_EMIT message(d.rotate ? tr("Rotated on the pattern sheet (the pattern is unchanged)")
+                                    : tr("Moved on the pattern sheet (the pattern is unchanged)"));
         }
         if (m_pressPassedOn) {
             QGraphicsView::mouseReleaseEvent(event); // pressed through it, on the panel

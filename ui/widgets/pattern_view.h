@@ -9,7 +9,7 @@
 ///   pixels); click an edge to select it (V makes it a curve or straight again); double-click
 ///   an edge to add a point; Delete deletes the selected point, or the selected seam (click a
 ///   sewn edge). Drag a panel's body to move it and its round handle to rotate it (Shift: 15°
-///   steps): the layout of the 2D view only, not the document.
+///   steps): its place on the pattern sheet (the document's, one undoable edit), not its outline.
 /// - Rectangle (S): drag out a rectangle, a new panel.
 /// - Polygon (H): click corners; click the first one, double-click or press Enter to close,
 ///   Backspace drops the last, Esc cancels.
@@ -304,6 +304,8 @@ class PatternView : public QGraphicsView {
     Editor m_editor;
     /// Each panel's layout in the scene (pattern mm, y up → scene), by panel id.
     std::map<std::uint32_t, QTransform> m_layouts;
+    /// The layouts the view gave panels that are not placed on the sheet (kept for an undo).
+    std::map<std::uint32_t, QTransform> m_freeLayouts;
     /// The layout of the next panel added under this name (one just drawn).
     std::optional<std::pair<std::string, QTransform>> m_pendingLayout;
     std::map<std::uint32_t, QGraphicsPathItem*> m_items;

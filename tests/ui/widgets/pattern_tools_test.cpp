@@ -514,7 +514,7 @@ TEST(PatternView, DraggingABezierHandleBendsTheEdge) {
     EXPECT_TRUE(f.errors.isEmpty()) << f.errors.join("; ").toStdString();
 }
 
-TEST(PatternView, MovingAndRotatingAPanelChangesTheLayoutNotTheDocument) {
+TEST(PatternView, MovingAndRotatingAPanelPlacesItOnTheSheetUndoably) {
     Fixture f;
     PatternView& view = f.view();
     view.setTool(PatternView::Tool::Rectangle);
@@ -522,7 +522,7 @@ TEST(PatternView, MovingAndRotatingAPanelChangesTheLayoutNotTheDocument) {
     ASSERT_EQ(f.document().panels.size(), 1U);
     view.setTool(PatternView::Tool::Select);
     const patterns::doc::Panel panel = f.document().panels.front();
-    const std::string before = patterns::dumpDocument(f.document());
+    const std::string drawn = patterns::dumpDocument(f.document());
     const patterns::Vec2 corner = panel.outline.points.front().position;
     const QPointF cornerBefore = view.scenePoint(panel.id, corner);
     // Drag the body 100 mm right.
@@ -531,6 +531,13 @@ TEST(PatternView, MovingAndRotatingAPanelChangesTheLayoutNotTheDocument) {
     const double pixel = 1 / view.transform().m11();
     EXPECT_NEAR(moved.x() - cornerBefore.x(), 100, 2 * pixel);
     EXPECT_NEAR(moved.y() - cornerBefore.y(), 0, 2 * pixel);
+    // Where it lies on the sheet is the document's, one undoable edit; its outline is unchanged.
+    ASSERT_TRUE(f.document().panels.front().sheet);
+    EXPECT_EQ(f.window.undoStack().count(), 2);
+    EXPECT_EQ(f.document().panels.front().outline.points.front().position, corner);
+    const patterns::doc::SheetPlace place = *f.document().panels.front().sheet;
+    EXPECT_NEAR(view.scenePoint(panel.id, {0, 0}).x(), place.at.x() * 1000, 1e-6);
+    EXPECT_NEAR(view.scenePoint(panel.id, {0, 0}).y(), -place.at.y() * 1000, 1e-6);
     // The rotate handle is above the panel's middle: drag it a quarter turn round the middle.
     const QPointF middle = view.scenePoint(panel.id, {0, 0});
     const QPoint knob = view.viewPoint(panel.id, {0, 0.1}) - QPoint(0, 24);
@@ -541,13 +548,16 @@ TEST(PatternView, MovingAndRotatingAPanelChangesTheLayoutNotTheDocument) {
     const QPointF up = view.scenePoint(panel.id, {0, 0.1}) - view.scenePoint(panel.id, {0, 0});
     EXPECT_NEAR(up.x(), 100, 1e-6);
     EXPECT_NEAR(up.y(), 0, 1e-6);
-    EXPECT_EQ(patterns::dumpDocument(f.document()), before) << "the document is unchanged";
-    EXPECT_EQ(f.window.undoStack().count(), 1);
+    ASSERT_TRUE(f.document().panels.front().sheet);
+    EXPECT_NEAR(f.document().panels.front().sheet->angle, -std::numbers::pi / 2, 1e-9)
+        << "a quarter turn clockwise";
+    EXPECT_EQ(f.window.undoStack().count(), 3);
+    const std::string before = patterns::dumpDocument(f.document());
     // A point of the turned panel dragged 20 mm right on the screen moves 20 mm up in its
     // pattern (to within a pixel, 2 mm).
     const QPoint cornerAt = view.viewPoint(panel.id, corner);
     drag(f.surface(), cornerAt, cornerAt + QPoint(10, 0));
-    ASSERT_EQ(f.window.undoStack().count(), 2)
+    ASSERT_EQ(f.window.undoStack().count(), 4)
         << f.errors.join("; ").toStdString() << " selected point " << view.selectedPoint().value
         << " panel " << view.selectedPanel().value;
     const patterns::Vec2 dragged = f.document().panel(panel.id)->outline.points.front().position;
@@ -571,6 +581,14 @@ TEST(PatternView, MovingAndRotatingAPanelChangesTheLayoutNotTheDocument) {
               Qt::NoButton);
     EXPECT_EQ(view.viewPoint(panel.id, {0, 0}) - was, QPoint(40, 30));
     EXPECT_EQ(f.document().panels.size(), 2U) << "nothing drawn";
+    // Undo the second rectangle, the turn and the move: the panel lies where it was drawn.
+    for (int k = 0; k < 3; ++k) {
+        f.window.undoStack().undo();
+    }
+    EXPECT_EQ(patterns::dumpDocument(f.document()), drawn);
+    const QPointF back = view.scenePoint(panel.id, corner);
+    EXPECT_NEAR(back.x(), cornerBefore.x(), 1e-6);
+    EXPECT_NEAR(back.y(), cornerBefore.y(), 1e-6);
     EXPECT_TRUE(f.errors.isEmpty()) << f.errors.join("; ").toStdString();
 }
 
