@@ -230,3 +230,38 @@ TEST(BodyAnimation, BadAnimationsAreRefusedNamingTheFileAndTheProblem) {
     options.duration = 0.05;
     EXPECT_NE(errorOf(bend, options).find("a motion needs at least two"), std::string::npos);
 }
+
+TEST(BodyAnimation, BlendersFbxAndColladaExportsOfThePrismAreTheAnalyticalSkinning) {
+    // The prism and its "bend", rigged, animated and exported by Blender 3.4's own FBX (binary)
+    // and COLLADA exporters (tests/io/data/skins/make_skins.py makes them): files another tool
+    // wrote, with its axes, units, bone frames and baked keys (24 a second).
+    const test::SkinnedGltfSpec spec = prism();
+    for (const char* name : {"bend.fbx", "bend.dae"}) {
+        SCOPED_TRACE(name);
+        const std::filesystem::path file =
+            std::filesystem::path(ATELIER_SOURCE_DIR) / "tests/io/data/skins" / name;
+        io::BodyAnimationOptions options;
+        options.fps = 10;
+        auto motion = io::importBodyAnimation(file, options);
+        ASSERT_TRUE(motion.ok()) << motion.error().toString();
+        const io::BodyMotion& m = motion.value();
+        ASSERT_EQ(m.frames.size(), 11U); // 0, 0.1, ..., 1 s
+        EXPECT_EQ(m.first.report.up, io::UpAxis::Y);
+        ASSERT_EQ(m.first.vertices.rows(), 12) << "the prism's corners, welded";
+        // Each imported vertex is the prism corner it stands on in the first frame.
+        for (Eigen::Index v = 0; v < m.first.vertices.rows(); ++v) {
+            Eigen::Index corner = 0;
+            const double gap =
+                (spec.positions.rowwise() - m.frames[0].row(v)).rowwise().norm().minCoeff(&corner);
+            ASSERT_LT(gap, 1e-5) << "vertex " << v << " at " << m.frames[0].row(v);
+            for (const std::size_t k : {3U, 5U, 10U}) {
+                const double t = 0.1 * static_cast<double>(k);
+                const sim::Vec3 want = bent(spec.positions.row(corner).transpose(),
+                                            spec.upperWeight[static_cast<std::size_t>(corner)], t);
+                EXPECT_LT((m.frames[k].row(v).transpose() - want).norm(), 1e-5)
+                    << "corner " << corner << " at t = " << t << ": " << m.frames[k].row(v)
+                    << " against " << want.transpose();
+            }
+        }
+    }
+}
