@@ -78,11 +78,20 @@ DrapeController::DrapeController(QObject* parent) : QObject(parent) {
         [this](const patterns::BodySource& source) -> Result<patterns::Body> {
             {
                 const std::lock_guard lock(m_mutex);
-                if (m_offeredBody && m_offeredBody->first == source) {
-                    return m_offeredBody->second;
+                for (auto it = m_recentBodies.rbegin(); it != m_recentBodies.rend(); ++it) {
+                    if (it->first == source) {
+                        return it->second;
+                    }
                 }
             }
-            return io::loadBody(source, m_projectFile.parent_path(), m_projectFile);
+            auto body = io::loadBody(source, m_projectFile.parent_path(), m_projectFile);
+            ++m_bodiesBuilt;
+            // A mannequin depends on its source alone; a mesh file may change on disk.
+            if (body.ok() && source.meshPath.empty()) {
+                const std::lock_guard lock(m_mutex);
+                rememberBody(source, body.value());
+            }
+            return body;
         });
     m_session->setPublishing(true);
     m_session->setInteractive(true); // the step `atelier-cli bench drape` measures
@@ -109,7 +118,15 @@ void DrapeController::post(std::function<void()> command) {
 
 void DrapeController::offerBody(const patterns::BodySource& source, patterns::Body body) {
     const std::lock_guard lock(m_mutex);
-    m_offeredBody.emplace(source, std::move(body));
+    rememberBody(source, std::move(body));
+}
+
+void DrapeController::rememberBody(const patterns::BodySource& source, patterns::Body body) {
+    std::erase_if(m_recentBodies, [&](const auto& recent) { return recent.first == source; });
+    m_recentBodies.emplace_back(source, std::move(body));
+    if (m_recentBodies.size() > RECENT_BODIES) {
+        m_recentBodies.erase(m_recentBodies.begin());
+    }
 }
 
 void DrapeController::open(const QString& path) {

@@ -69,9 +69,12 @@ class DrapeController : public QObject {
     DrapeController(const DrapeController&) = delete;
     DrapeController& operator=(const DrapeController&) = delete;
 
-    /// A body already built for `source` (the Body dock's preview): the next prepare whose
-    /// project has that body source takes it instead of building it again.
+    /// A body already built for `source` (the Body dock's preview): a prepare whose project
+    /// has that body source takes it instead of building it again (as it does the last few
+    /// mannequins it built itself).
     void offerBody(const patterns::BodySource& source, patterns::Body body);
+    /// Bodies the drape has built or loaded itself (not taken from the recent ones).
+    int bodiesBuilt() const { return m_bodiesBuilt.load(); }
 
     /// Loads a project file and prepares its drape on the worker (opened() or failed() follow).
     void open(const QString& path);
@@ -177,8 +180,14 @@ class DrapeController : public QObject {
     /// Pinned vertices and their release times [s] (simulated); guarded by m_mutex.
     std::vector<std::pair<int, double>> m_pinned;
     patterns::GarmentDocument m_document; ///< guarded by m_mutex
-    /// A body built elsewhere, and its source (offerBody); guarded by m_mutex.
-    std::optional<std::pair<patterns::BodySource, patterns::Body>> m_offeredBody;
+    /// Bodies built lately and their sources, the latest last: offered ones (offerBody) and
+    /// mannequins the drape built, so that undoing a body change does not build the earlier
+    /// one again (1–4 s); at most RECENT_BODIES; guarded by m_mutex.
+    std::vector<std::pair<patterns::BodySource, patterns::Body>> m_recentBodies;
+    static constexpr std::size_t RECENT_BODIES = 4;
+    std::atomic<int> m_bodiesBuilt{0};
+    /// Keeps `body` as the latest of m_recentBodies (m_mutex held).
+    void rememberBody(const patterns::BodySource& source, patterns::Body body);
 
     mutable std::mutex m_mutex;
     std::condition_variable m_wake;

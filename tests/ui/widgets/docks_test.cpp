@@ -247,6 +247,7 @@ TEST(BodyDock, AMeasurementIsPreviewedAndLandsAsOneUndoableBodyChange) {
     EXPECT_EQ(s.window.undoStack().count(), 1);
     EXPECT_NEAR(waistOf(s.window.project().body), patterns::BodyMeasurements{}.waist + 0.04, 1e-12);
 
+    const int built = s.window.drape().bodiesBuilt();
     s.window.undoStack().undo();
     EXPECT_EQ(s.window.project().body, was);
     EXPECT_DOUBLE_EQ(waist->value(), patterns::BodyMeasurements{}.waist * 100);
@@ -258,6 +259,7 @@ TEST(BodyDock, AMeasurementIsPreviewedAndLandsAsOneUndoableBodyChange) {
         },
         60))
         << "the first body again, to the bit";
+    EXPECT_EQ(s.window.drape().bodiesBuilt(), built) << "the first body is not built again";
     EXPECT_TRUE(s.prompts.errors.isEmpty()) << s.prompts.errors.join("; ").toStdString();
 }
 
