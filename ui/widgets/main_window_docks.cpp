@@ -127,6 +127,22 @@ void MainWindow::buildDocks() {
     });
     // An internal line selected in the pattern: its fold angle in the Panel dock.
     connect(m_pattern, &PatternView::lineSelected, m_panelDock, &PanelDock::showLine);
+    // The placement handle dragged in 3D: the panel moves on its slot, one undoable step.
+    connect(m_viewport, &Viewport::placementMoveRequested, this,
+            [this](const QString& name, double around, double along) {
+                for (const patterns::doc::Panel& p : m_project.document.panels) {
+                    if (QString::fromStdString(p.name) != name) {
+                        continue;
+                    }
+                    patterns::Placement placement = p.placement;
+                    placement.offset += patterns::Vec2(around, along);
+                    const patterns::PanelId id = p.id;
+                    edit([&](patterns::GarmentDocument& d) {
+                        return patterns::placePanel(d, id, placement);
+                    });
+                    return;
+                }
+            });
     // A press on the cloth in 3D selects its panel in the pattern (and so in the docks).
     connect(m_viewport, &Viewport::panelPicked, this, [this](const QString& name) {
         for (const patterns::doc::Panel& p : m_project.document.panels) {

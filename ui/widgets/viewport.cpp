@@ -115,6 +115,7 @@ struct FrameJob {
 };
 
 constexpr double SLOT_MARKER_RADIUS_PX = 7;
+constexpr double PLACEMENT_HANDLE_RADIUS_PX = 8;
 
 /// A point of the slot's surface at `along` from its origin [m], on its facing meridian: the
 /// profile's radius and section centre there (or the slot's radius on its axis).
@@ -612,6 +613,48 @@ void Viewport::setHighlightedSlot(const QString& name) {
     }
 }
 
+std::optional<std::pair<Eigen::Vector3d, patterns::ArrangementSlot>>
+Viewport::placementAnchor() const {
+    if (!m_slotsShown || !m_static || m_selectedPanel.isEmpty()) {
+        return std::nullopt;
+    }
+    const auto slot = std::find_if(m_static->bodySlots.begin(), m_static->bodySlots.end(),
+                                   [&](const patterns::ArrangementSlot& s) {
+                                       return QString::fromStdString(s.name) == m_highlightedSlot;
+                                   });
+    if (slot == m_static->bodySlots.end()) {
+        return std::nullopt;
+    }
+    for (std::size_t p = 0; p < m_static->panelNames.size() && p < m_static->panelTriangles.size();
+         ++p) {
+        if (QString::fromStdString(m_static->panelNames[p]) != m_selectedPanel) {
+            continue;
+        }
+        const auto [first, count] = m_static->panelTriangles[p];
+        if (count <= 0) {
+            return std::nullopt;
+        }
+        Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+        for (int t = first; t < first + count; ++t) {
+            for (int k = 0; k < 3; ++k) {
+                centre +=
+                    m_static->startPositions.row(m_static->garmentTriangles(t, k)).transpose();
+            }
+        }
+        return std::pair{centre / (3.0 * count), *slot};
+    }
+    return std::nullopt;
+}
+
+std::optional<QPointF> Viewport::placementHandle() const {
+    const auto anchor = placementAnchor();
+    if (!anchor) {
+        return std::nullopt;
+    }
+    const auto at = render::projectToPixel(camera(), anchor->first, width(), height());
+    return at ? std::optional<QPointF>(QPointF(at->x(), at->y())) : std::nullopt;
+}
+
 void Viewport::paintSlots(QPainter& painter) const {
     if (!m_slotsShown || !m_static) {
         return;
@@ -641,11 +684,37 @@ void Viewport::paintSlots(QPainter& painter) const {
             painter.drawText(*at + QPointF(SLOT_MARKER_RADIUS_PX + 3, 4), name);
         }
     }
+    // The selected panel's placement handle: a diamond, and while dragged a line from where it
+    // was to where it goes.
+    if (const auto handle = placementHandle()) {
+        QPointF at = *handle;
+        if (m_handleDrag) {
+            const Eigen::Vector3d now = m_handleDrag->now.cast<double>();
+            if (const auto p = render::projectToPixel(c, now, width(), height())) {
+                at = QPointF(p->x(), p->y());
+                painter.setPen(QPen(QColor(230, 120, 0), 2, Qt::DotLine));
+                painter.drawLine(*handle, at);
+            }
+        }
+        const double r = PLACEMENT_HANDLE_RADIUS_PX;
+        painter.setPen(QPen(QColor(120, 60, 0), 1.5));
+        painter.setBrush(QColor(230, 120, 0, 230));
+        painter.drawPolygon(QPolygonF(
+            {at + QPointF(0, -r), at + QPointF(r, 0), at + QPointF(0, r), at + QPointF(-r, 0)}));
+    }
 }
 
 void Viewport::mousePressEvent(QMouseEvent* event) {
     m_lastMouse = event->position().toPoint();
     if (event->button() == Qt::LeftButton && event->modifiers() == Qt::NoModifier && m_slotsShown) {
+        if (const auto handle = placementHandle();
+            handle &&
+            std::hypot(handle->x() - event->position().x(), handle->y() - event->position().y()) <=
+                PLACEMENT_HANDLE_RADIUS_PX + 2) {
+            const Eigen::Vector3f start = placementAnchor()->first.cast<float>();
+            m_handleDrag = HandleDrag{start, ray(event->position()).second, start};
+            return;
+        }
         if (const QString slot = slotAt(event->position()); !slot.isEmpty()) {
             Q_EMIT slotClicked(slot);
             return;
@@ -673,6 +742,28 @@ void Viewport::mousePressEvent(QMouseEvent* event) {
 }
 
 void Viewport::mouseReleaseEvent(QMouseEvent* event) {
+    if (event->button() == Qt::LeftButton && m_handleDrag) {
+        const HandleDrag drag = *m_handleDrag;
+        m_handleDrag.reset();
+        requestFrame();
+        const auto anchor = placementAnchor();
+        if (!anchor) {
+            return;
+        }
+        // Around: along the circle about the slot's axis through the anchor; along: the axis.
+        const patterns::ArrangementSlot& slot = anchor->second;
+        const Eigen::Vector3d move = (drag.now - drag.start).cast<double>();
+        const Eigen::Vector3d fromAxis =
+            anchor->first - slot.origin - (anchor->first - slot.origin).dot(slot.axis) * slot.axis;
+        const Eigen::Vector3d tangent =
+            fromAxis.norm() > 1e-9 ? slot.axis.cross(fromAxis).normalized() : slot.right();
+        const double around = move.dot(tangent);
+        const double along = move.dot(slot.axis);
+        if (std::hypot(around, along) > 1e-4) {
+            Q_EMIT placementMoveRequested(m_selectedPanel, around, along);
+        }
+        return;
+    }
     if (event->button() == Qt::LeftButton && m_grabbing) {
         m_grabbing = false;
         m_drape->release();
@@ -683,6 +774,16 @@ void Viewport::mouseMoveEvent(QMouseEvent* event) {
     const QPoint p = event->position().toPoint();
     const QPoint d = p - m_lastMouse;
     m_lastMouse = p;
+    if ((event->buttons() & Qt::LeftButton) && m_handleDrag) {
+        const auto [origin, dir] = ray(event->position());
+        const float facing = dir.dot(m_handleDrag->normal);
+        if (std::abs(facing) > 1e-6f) {
+            const float s = (m_handleDrag->start - origin).dot(m_handleDrag->normal) / facing;
+            m_handleDrag->now = origin + s * dir;
+            update(); // the handle and its line are painted over the same picture
+        }
+        return;
+    }
     if ((event->buttons() & Qt::LeftButton) && m_grabbing) {
         // The target: where the mouse ray meets the plane through the grabbed point that
         // faces the camera.

@@ -70,6 +70,11 @@ class Viewport : public QWidget {
     std::optional<QPointF> slotMarker(const QString& name) const;
     /// The slot whose marker is under `at` (widget coordinates), or empty.
     QString slotAt(const QPointF& at) const;
+    /// Where the selected panel's placement handle is drawn (widget coordinates): the centre of
+    /// its cloth as placed on its (highlighted) slot, shown with the slots. Dragging it moves
+    /// the panel around and along the slot (placementMoveRequested on release). nullopt when
+    /// not shown.
+    std::optional<QPointF> placementHandle() const;
     /// Draws slot `name` (the selected panel's) in the highlight colour; empty: none.
     void setHighlightedSlot(const QString& name);
     QString highlightedSlot() const { return m_highlightedSlot; }
@@ -110,6 +115,9 @@ class Viewport : public QWidget {
     /// A left press on panel `name`'s cloth (it is grabbed too): selecting it in the pattern is
     /// the window's part.
     void panelPicked(const QString& name);
+    /// The placement handle of panel `name` was dragged: its offset on its slot is to move by
+    /// `around` and `along` [m] (the window's part: one undoable placement).
+    void placementMoveRequested(const QString& name, double around, double along);
 
   public Q_SLOTS:
     /// A new static scene (a new project, framed from three-quarter; or an edited garment,
@@ -171,6 +179,17 @@ class Viewport : public QWidget {
 
     /// Draws the slots' lines, markers and names over the picture.
     void paintSlots(QPainter& painter) const;
+    /// The selected panel's cloth centre as placed (start positions) and its slot, when the
+    /// slots are shown and both are known.
+    std::optional<std::pair<Eigen::Vector3d, patterns::ArrangementSlot>> placementAnchor() const;
+    /// A drag of the placement handle: where it started and is now, in the plane through the
+    /// anchor that faces the camera [m].
+    struct HandleDrag {
+        Eigen::Vector3f start;
+        Eigen::Vector3f normal;
+        Eigen::Vector3f now;
+    };
+    std::optional<HandleDrag> m_handleDrag;
 
     /// The garment's triangle colours for the positions drawn: the strain map's or the panels'.
     std::vector<render::Colour> garmentColoursNow() const;

@@ -291,7 +291,7 @@ TEST(PanelDock, APanelsOwnParticleDistanceRemeshesItUndoably) {
     EXPECT_TRUE(s.prompts.errors.isEmpty()) << s.prompts.errors.join("; ").toStdString();
 }
 
-TEST(Viewport, AClickOnASlotMarkerPlacesTheSelectedPanelThere) {
+TEST(Viewport, ASlotMarkerClickAndThePlacementHandlePlaceTheSelectedPanel) {
     SkirtWindow s;
     ASSERT_TRUE(s.open());
     Viewport& view = s.window.viewport();
@@ -312,6 +312,35 @@ TEST(Viewport, AClickOnASlotMarkerPlacesTheSelectedPanelThere) {
     EXPECT_EQ(view.highlightedSlot(), "torso_front");
     EXPECT_EQ(s.window.undoStack().count(), 1);
     EXPECT_TRUE(s.drapeFollows());
+
+    // The selected panel's handle, at its cloth's centre as placed: dragged 40 pixels right and
+    // 30 up in the front view, the panel moves around the slot (towards +x, the slot's right)
+    // and up along it, in one undoable step; the slot and the turn stay.
+    QCoreApplication::processEvents();
+    const auto handle = view.placementHandle();
+    ASSERT_TRUE(handle);
+    ASSERT_TRUE(view.rect().contains(handle->toPoint()));
+    const patterns::Placement placed = s.frontPanel().placement;
+    const QPointF to = *handle + QPointF(40, -30);
+    QMouseEvent grip(QEvent::MouseButtonPress, *handle, view.mapToGlobal(*handle), Qt::LeftButton,
+                     Qt::LeftButton, Qt::NoModifier);
+    QApplication::sendEvent(&view, &grip);
+    QMouseEvent move(QEvent::MouseMove, to, view.mapToGlobal(to), Qt::NoButton, Qt::LeftButton,
+                     Qt::NoModifier);
+    QApplication::sendEvent(&view, &move);
+    QMouseEvent drop(QEvent::MouseButtonRelease, to, view.mapToGlobal(to), Qt::LeftButton,
+                     Qt::NoButton, Qt::NoModifier);
+    QApplication::sendEvent(&view, &drop);
+    EXPECT_EQ(s.window.undoStack().count(), 2);
+    const patterns::Placement moved = s.frontPanel().placement;
+    EXPECT_EQ(moved.slot, placed.slot);
+    EXPECT_EQ(moved.rotation, placed.rotation);
+    EXPECT_GT(moved.offset.x() - placed.offset.x(), 0.01);
+    EXPECT_GT(moved.offset.y() - placed.offset.y(), 0.01);
+    EXPECT_FALSE(s.window.drape().running()) << "the handle does not grab the cloth";
+    EXPECT_TRUE(s.drapeFollows());
+    s.window.undoStack().undo();
+    EXPECT_EQ(s.frontPanel().placement.offset, placed.offset);
 
     // Another project: no panel shown, so a click on a marker places nothing.
     ASSERT_TRUE(openAndWait(s.window, GARMENTS + "/tshirt.atelier"));
