@@ -31,6 +31,7 @@
 #include <cmath>
 #include <initializer_list>
 #include <map>
+#include <numbers>
 
 namespace atelier::ui {
 
@@ -141,6 +142,21 @@ void MainWindow::buildDocks() {
                         return patterns::placePanel(d, id, placement);
                     });
                     return;
+                }
+            });
+    connect(m_viewport, &Viewport::placementTurnRequested, this,
+            [this](const QString& name, double angle) {
+                for (const patterns::doc::Panel& p : m_project.document.panels) {
+                    if (QString::fromStdString(p.name) == name) {
+                        patterns::Placement placement = p.placement;
+                        placement.rotation =
+                            std::remainder(placement.rotation + angle, 2 * std::numbers::pi);
+                        const patterns::PanelId id = p.id;
+                        edit([&](patterns::GarmentDocument& d) {
+                            return patterns::placePanel(d, id, placement);
+                        });
+                        return;
+                    }
                 }
             });
     // A press on the cloth in 3D selects its panel in the pattern (and so in the docks).

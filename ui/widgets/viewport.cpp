@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <optional>
 
 namespace atelier::ui {
@@ -116,6 +117,7 @@ struct FrameJob {
 
 constexpr double SLOT_MARKER_RADIUS_PX = 7;
 constexpr double PLACEMENT_HANDLE_RADIUS_PX = 8;
+constexpr double ROTATION_KNOB_OFFSET_PX = 36; // above the placement handle
 
 /// A point of the slot's surface at `along` from its origin [m], on its facing meridian: the
 /// profile's radius and section centre there (or the slot's radius on its axis).
@@ -655,6 +657,12 @@ std::optional<QPointF> Viewport::placementHandle() const {
     return at ? std::optional<QPointF>(QPointF(at->x(), at->y())) : std::nullopt;
 }
 
+std::optional<QPointF> Viewport::rotationKnob() const {
+    const auto handle = placementHandle();
+    return handle ? std::optional<QPointF>(*handle - QPointF(0, ROTATION_KNOB_OFFSET_PX))
+                  : std::nullopt;
+}
+
 void Viewport::paintSlots(QPainter& painter) const {
     if (!m_slotsShown || !m_static) {
         return;
@@ -688,7 +696,15 @@ void Viewport::paintSlots(QPainter& painter) const {
     // was to where it goes.
     if (const auto handle = placementHandle()) {
         QPointF at = *handle;
-        if (m_handleDrag) {
+        QPointF knob = *rotationKnob();
+        if (m_handleDrag && m_handleDrag->turn) {
+            knob = m_handleDrag->at;
+        }
+        painter.setPen(QPen(QColor(120, 60, 0), 1.5));
+        painter.drawLine(*handle, knob);
+        painter.setBrush(QColor(255, 255, 255, 230));
+        painter.drawEllipse(knob, PLACEMENT_HANDLE_RADIUS_PX - 2, PLACEMENT_HANDLE_RADIUS_PX - 2);
+        if (m_handleDrag && !m_handleDrag->turn) {
             const Eigen::Vector3d now = m_handleDrag->now.cast<double>();
             if (const auto p = render::projectToPixel(c, now, width(), height())) {
                 at = QPointF(p->x(), p->y());
@@ -707,12 +723,20 @@ void Viewport::paintSlots(QPainter& painter) const {
 void Viewport::mousePressEvent(QMouseEvent* event) {
     m_lastMouse = event->position().toPoint();
     if (event->button() == Qt::LeftButton && event->modifiers() == Qt::NoModifier && m_slotsShown) {
-        if (const auto handle = placementHandle();
-            handle &&
-            std::hypot(handle->x() - event->position().x(), handle->y() - event->position().y()) <=
-                PLACEMENT_HANDLE_RADIUS_PX + 2) {
+        const auto near = [&](const std::optional<QPointF>& p) {
+            return p &&
+                   std::hypot(p->x() - event->position().x(), p->y() - event->position().y()) <=
+                       PLACEMENT_HANDLE_RADIUS_PX + 2;
+        };
+        const bool onHandle = near(placementHandle());
+        if (onHandle || near(rotationKnob())) {
             const Eigen::Vector3f start = placementAnchor()->first.cast<float>();
-            m_handleDrag = HandleDrag{start, ray(event->position()).second, start};
+            m_handleDrag = HandleDrag{start,
+                                      ray(event->position()).second,
+                                      start,
+                                      !onHandle,
+                                      event->position(),
+                                      event->position()};
             return;
         }
         if (const QString slot = slotAt(event->position()); !slot.isEmpty()) {
@@ -747,7 +771,28 @@ void Viewport::mouseReleaseEvent(QMouseEvent* event) {
         m_handleDrag.reset();
         requestFrame();
         const auto anchor = placementAnchor();
-        if (!anchor) {
+        const auto handle = placementHandle();
+        if (!anchor || !handle) {
+            return;
+        }
+        if (drag.turn) {
+            // The knob's turn about the handle on the screen (y down), counter-clockwise
+            // positive; seen from inside the slot (the camera behind the panel) the other way.
+            const auto screenAngle = [&](const QPointF& p) {
+                return std::atan2(-(p.y() - handle->y()), p.x() - handle->x());
+            };
+            double angle = std::remainder(screenAngle(drag.at) - screenAngle(drag.pressAt),
+                                          2 * std::numbers::pi);
+            const patterns::ArrangementSlot& slot = anchor->second;
+            const Eigen::Vector3d outward =
+                anchor->first - slot.origin -
+                (anchor->first - slot.origin).dot(slot.axis) * slot.axis;
+            if ((camera().eye.cast<double>() - anchor->first).dot(outward) < 0) {
+                angle = -angle;
+            }
+            if (std::abs(angle) > 1e-3) {
+                Q_EMIT placementTurnRequested(m_selectedPanel, angle);
+            }
             return;
         }
         // Around: along the circle about the slot's axis through the anchor; along: the axis.
@@ -775,6 +820,7 @@ void Viewport::mouseMoveEvent(QMouseEvent* event) {
     const QPoint d = p - m_lastMouse;
     m_lastMouse = p;
     if ((event->buttons() & Qt::LeftButton) && m_handleDrag) {
+        m_handleDrag->at = event->position();
         const auto [origin, dir] = ray(event->position());
         const float facing = dir.dot(m_handleDrag->normal);
         if (std::abs(facing) > 1e-6f) {

@@ -75,6 +75,9 @@ class Viewport : public QWidget {
     /// the panel around and along the slot (placementMoveRequested on release). nullopt when
     /// not shown.
     std::optional<QPointF> placementHandle() const;
+    /// The rotation knob above the placement handle (widget coordinates): dragging it round
+    /// the handle turns the panel on its slot (placementTurnRequested on release).
+    std::optional<QPointF> rotationKnob() const;
     /// Draws slot `name` (the selected panel's) in the highlight colour; empty: none.
     void setHighlightedSlot(const QString& name);
     QString highlightedSlot() const { return m_highlightedSlot; }
@@ -118,6 +121,9 @@ class Viewport : public QWidget {
     /// The placement handle of panel `name` was dragged: its offset on its slot is to move by
     /// `around` and `along` [m] (the window's part: one undoable placement).
     void placementMoveRequested(const QString& name, double around, double along);
+    /// The rotation knob of panel `name` was dragged: its placement's rotation is to change by
+    /// `angle` [rad], counter-clockwise seen from outside the slot.
+    void placementTurnRequested(const QString& name, double angle);
 
   public Q_SLOTS:
     /// A new static scene (a new project, framed from three-quarter; or an edited garment,
@@ -188,6 +194,9 @@ class Viewport : public QWidget {
         Eigen::Vector3f start;
         Eigen::Vector3f normal;
         Eigen::Vector3f now;
+        bool turn = false; ///< the rotation knob: `pressAt` and `at` are what count
+        QPointF pressAt;   ///< widget coordinates
+        QPointF at;
     };
     std::optional<HandleDrag> m_handleDrag;
 

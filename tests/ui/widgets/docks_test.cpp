@@ -341,6 +341,27 @@ TEST(Viewport, ASlotMarkerClickAndThePlacementHandlePlaceTheSelectedPanel) {
     EXPECT_TRUE(s.drapeFollows());
     s.window.undoStack().undo();
     EXPECT_EQ(s.frontPanel().placement.offset, placed.offset);
+    ASSERT_TRUE(s.drapeFollows());
+    // Its rotation knob above it, dragged a quarter turn counter-clockwise round it.
+    QCoreApplication::processEvents();
+    const auto centre = view.placementHandle();
+    const auto knob = view.rotationKnob();
+    ASSERT_TRUE(centre && knob);
+    const double arm = centre->y() - knob->y();
+    const QPointF left = *centre - QPointF(arm, 0);
+    QMouseEvent hold(QEvent::MouseButtonPress, *knob, view.mapToGlobal(*knob), Qt::LeftButton,
+                     Qt::LeftButton, Qt::NoModifier);
+    QApplication::sendEvent(&view, &hold);
+    QMouseEvent swing(QEvent::MouseMove, left, view.mapToGlobal(left), Qt::NoButton, Qt::LeftButton,
+                      Qt::NoModifier);
+    QApplication::sendEvent(&view, &swing);
+    QMouseEvent letGo(QEvent::MouseButtonRelease, left, view.mapToGlobal(left), Qt::LeftButton,
+                      Qt::NoButton, Qt::NoModifier);
+    QApplication::sendEvent(&view, &letGo);
+    EXPECT_EQ(s.window.undoStack().count(), 2);
+    EXPECT_NEAR(s.frontPanel().placement.rotation, placed.rotation + std::numbers::pi / 2, 1e-6);
+    EXPECT_EQ(s.frontPanel().placement.offset, placed.offset);
+    EXPECT_TRUE(s.drapeFollows());
 
     // Another project: no panel shown, so a click on a marker places nothing.
     ASSERT_TRUE(openAndWait(s.window, GARMENTS + "/tshirt.atelier"));
