@@ -29,6 +29,7 @@ std::string formatReport(const sim::Simulation& simulation, const ReportFields& 
     j["version"] = 1;
     j["steps"] = stats.steps;
     j["rejected_steps"] = stats.rejectedSteps;
+    j["strain_rejected_steps"] = stats.strainRejectedSteps;
     j["force_evaluations"] = stats.forceEvaluations;
     j["cg_iterations"] = stats.cgIterations;
     j["linear_solver"] = std::string(sim::linearSolverName(scene.integrator.linearSolver));

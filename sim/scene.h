@@ -174,6 +174,14 @@ struct IntegratorOptions {
     /// taken as diverging and rejected like a non-finite one (explicit methods beyond their
     /// stability limit blow up through huge but finite values first).
     double divergenceStrain = 10.0;
+    /// A step whose collision corrections leave some edge longer than (1 + collisionStrainLimit)
+    /// × its rest length, and longer than before the corrections and at the step's start, is
+    /// rejected and retried at a quarter of the step; where even the floor step does that, the
+    /// run stops naming the edge. Contacts that fight over the mesh (a contact distance near
+    /// the edge length) otherwise stretch the cloth silently: a heavy stiff sheet at 15 mm
+    /// thickness went to 3.2× its edges' rest length (docs/decisions/029-strain-guard.md).
+    /// The bundled drapes' corrections stretch an edge by at most 0.56 in a step while sewing.
+    double collisionStrainLimit = 1.0;
     /// A step whose kinetic energy exceeds this many times the energy put into the cloth so
     /// far (initial energy, work of gravity, pins and drives) is rejected as diverging.
     double divergenceEnergyFactor = 10.0;

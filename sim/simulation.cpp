@@ -459,8 +459,14 @@ bool Simulation::Impl::attemptStep(double h, double& errorRatio, double& work) {
         energyRejected = !ok;
         keRejected = ke;
     }
-    const bool accept = ok && errorRatio <= 1.0;
+    std::string stretched;
+    if (ok && errorRatio <= 1.0) {
+        stretched = divergentStretch(xNew);
+        ok = stretched.empty();
+    }
+    bool accept = ok && errorRatio <= 1.0;
     if (accept && collision) {
+        xPreCollision = xNew;
         // Collision detection over the step and the kinematic corrections (A) of the end
         // state; energy the corrections add (moving obstacles, friction carrying the cloth)
         // counts as put in.
@@ -471,6 +477,11 @@ bool Simulation::Impl::attemptStep(double h, double& errorRatio, double& work) {
         work += std::max(0.0, after - before) + std::max(0.0, collisionPower * h);
         collisionPower = 0;
         stats.contacts = collision->figures().contacts;
+        stretched = collisionStretch();
+        if (!stretched.empty()) {
+            accept = ok = false;
+            ++stats.strainRejectedSteps;
+        }
     }
     if (accept) {
         work +=
@@ -480,7 +491,9 @@ bool Simulation::Impl::attemptStep(double h, double& errorRatio, double& work) {
         return true;
     }
     std::ostringstream why;
-    if (energyRejected) {
+    if (!stretched.empty()) {
+        why << stretched;
+    } else if (energyRejected) {
         why << "kinetic energy " << keRejected << " J above " << opt.divergenceEnergyFactor
             << " × the energy put in";
     } else if (!ok) {
@@ -494,6 +507,66 @@ bool Simulation::Impl::attemptStep(double h, double& errorRatio, double& work) {
         errorRatio = std::numeric_limits<double>::infinity(); // shrink the step by 4
     }
     return false;
+}
+
+std::string Simulation::Impl::divergentStretch(const MatX3& xs) const {
+    const double limit = scene.integrator.divergenceStrain;
+    std::size_t worst = allEdges.size();
+    double worstStrain = limit;
+    for (std::size_t e = 0; e < allEdges.size(); ++e) {
+        const double strain =
+            (xs.row(allEdges[e][1]) - xs.row(allEdges[e][0])).norm() / allEdgeRest[e] - 1.0;
+        if (strain > worstStrain) {
+            worstStrain = strain;
+            worst = e;
+        }
+    }
+    if (worst == allEdges.size()) {
+        return {};
+    }
+    const int c = edgeCloth[worst];
+    const int off = offsets[static_cast<std::size_t>(c)];
+    std::ostringstream why;
+    why << "edge (" << allEdges[worst][0] - off << ", " << allEdges[worst][1] - off
+        << ") of cloth '" << scene.cloths[static_cast<std::size_t>(c)].name << "' at "
+        << 1.0 + worstStrain << " × its rest length (divergence above " << 1.0 + limit << " ×)";
+    return why.str();
+}
+
+std::string Simulation::Impl::collisionStretch() const {
+    const double limit = scene.integrator.collisionStrainLimit;
+    std::size_t worst = allEdges.size();
+    double worstStrain = limit;
+    double worstBefore = 0;
+    for (std::size_t e = 0; e < allEdges.size(); ++e) {
+        const int a = allEdges[e][0], b = allEdges[e][1];
+        const double rest = allEdgeRest[e];
+        const double strain = (xNew.row(b) - xNew.row(a)).norm() / rest - 1.0;
+        if (!(strain > worstStrain)) {
+            continue;
+        }
+        const double before = (xPreCollision.row(b) - xPreCollision.row(a)).norm() / rest - 1.0;
+        const double start = (x.row(b) - x.row(a)).norm() / rest - 1.0;
+        if (strain > before && strain > start) {
+            worstStrain = strain;
+            worstBefore = before;
+            worst = e;
+        }
+    }
+    if (worst == allEdges.size()) {
+        return {};
+    }
+    const int c = edgeCloth[worst];
+    const int off = offsets[static_cast<std::size_t>(c)];
+    const ClothSpec& cloth = scene.cloths[static_cast<std::size_t>(c)];
+    std::ostringstream why;
+    why << "the collision corrections stretched edge (" << allEdges[worst][0] - off << ", "
+        << allEdges[worst][1] - off << ") of cloth '" << cloth.name << "' from "
+        << 1.0 + worstBefore << " to " << 1.0 + worstStrain << " × its rest length ("
+        << allEdgeRest[worst] << " m; limit " << 1.0 + limit << " ×): contacts fighting over "
+        << "the mesh, as where the contact distance (cloth thickness " << cloth.thickness
+        << " m plus the obstacle's or other cloth's) nears the edge length";
+    return why.str();
 }
 
 void Simulation::Impl::weldAfterStep() {

@@ -18,8 +18,11 @@ namespace atelier::sim {
 
 /// Counters and figures of a run so far.
 struct RunStats {
-    long steps = 0;            ///< accepted steps
-    long rejectedSteps = 0;    ///< steps rejected (error above tolerance or non-finite state)
+    long steps = 0;         ///< accepted steps
+    long rejectedSteps = 0; ///< steps rejected (error above tolerance or non-finite state)
+    /// Of which rejected because the collision corrections stretched an edge beyond
+    /// IntegratorOptions::collisionStrainLimit
+    long strainRejectedSteps = 0;
     long forceEvaluations = 0; ///< derivative evaluations (Runge–Kutta stages, implicit solves)
     long cgIterations = 0;     ///< implicit Euler: conjugate-gradient iterations in total
     long linearSolves = 0;     ///< implicit Euler: linear solves (one per attempted step)
