@@ -460,6 +460,10 @@ bool Simulation::Impl::attemptStep(double h, double& errorRatio, double& work) {
         keRejected = ke;
     }
     std::string stretched;
+    if (ok && errorRatio <= 1.0) {
+        stretched = divergentStretch(xNew);
+        ok = stretched.empty();
+    }
     bool accept = ok && errorRatio <= 1.0;
     if (accept && collision) {
         xPreCollision = xNew;
@@ -503,6 +507,30 @@ bool Simulation::Impl::attemptStep(double h, double& errorRatio, double& work) {
         errorRatio = std::numeric_limits<double>::infinity(); // shrink the step by 4
     }
     return false;
+}
+
+std::string Simulation::Impl::divergentStretch(const MatX3& xs) const {
+    const double limit = scene.integrator.divergenceStrain;
+    std::size_t worst = allEdges.size();
+    double worstStrain = limit;
+    for (std::size_t e = 0; e < allEdges.size(); ++e) {
+        const double strain =
+            (xs.row(allEdges[e][1]) - xs.row(allEdges[e][0])).norm() / allEdgeRest[e] - 1.0;
+        if (strain > worstStrain) {
+            worstStrain = strain;
+            worst = e;
+        }
+    }
+    if (worst == allEdges.size()) {
+        return {};
+    }
+    const int c = edgeCloth[worst];
+    const int off = offsets[static_cast<std::size_t>(c)];
+    std::ostringstream why;
+    why << "edge (" << allEdges[worst][0] - off << ", " << allEdges[worst][1] - off
+        << ") of cloth '" << scene.cloths[static_cast<std::size_t>(c)].name << "' at "
+        << 1.0 + worstStrain << " × its rest length (divergence above " << 1.0 + limit << " ×)";
+    return why.str();
 }
 
 std::string Simulation::Impl::collisionStretch() const {

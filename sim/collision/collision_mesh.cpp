@@ -37,7 +37,6 @@ CollisionMesh::CollisionMesh(const SceneSpec& scene, const std::vector<int>& off
     alias = sewnAliases(scene, n);
     clothOf.assign(static_cast<std::size_t>(n), 0);
     thickness.resize(n);
-    rest.setZero(n, 3);
     int triangleCount = 0, edgeCount = 0;
     for (const ClothSpec& c : scene.cloths) {
         triangleCount += c.mesh.triangleCount();
@@ -60,7 +59,6 @@ CollisionMesh::CollisionMesh(const SceneSpec& scene, const std::vector<int>& off
         for (int i = 0; i < c.mesh.vertexCount(); ++i) {
             clothOf[static_cast<std::size_t>(off + i)] = static_cast<int>(ci);
             thickness[off + i] = c.thickness;
-            rest.row(off + i) = Vec3(c.mesh.rest(i, 0), c.mesh.rest(i, 1), 0.0).transpose();
         }
         for (int t = 0; t < c.mesh.triangleCount(); ++t) {
             triangleCloth.push_back(static_cast<int>(ci));

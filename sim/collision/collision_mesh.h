@@ -19,10 +19,8 @@ struct CollisionMesh {
     /// `offsets`: first global vertex of each cloth plus the total.
     CollisionMesh(const SceneSpec& scene, const std::vector<int>& offsets);
 
-    std::vector<int> clothOf; ///< per global vertex: its cloth
-    VecX thickness;           ///< per global vertex [m]
-    /// Per global vertex: its rest (pattern) position in its cloth's plane, z = 0 [m]
-    MatX3 rest;
+    std::vector<int> clothOf;       ///< per global vertex: its cloth
+    VecX thickness;                 ///< per global vertex [m]
     MatX3i triangles;               ///< all cloth triangles, global vertex indices (|F|×3)
     std::vector<int> triangleCloth; ///< per triangle: its cloth
     MatX2i edges;                   ///< all cloth edges, global (|E|×2)

@@ -252,15 +252,6 @@ void ObstacleDetector::faceVertex(DetectionChunk& out, const Frame& fr, int q) c
         c.weight[i] = bary[static_cast<std::size_t>(i)];
     }
     const Vec3 d = cp.point - q1;
-    if (near && !(d.dot(away) > 0) && cp.distance > TINY &&
-        std::min({cp.bary[0], cp.bary[1], cp.bary[2]}) <= 0) {
-        // q beside the face, beyond one of its edges and behind its plane: the face has not
-        // passed over it, and pushing the face along its normal would shove it sideways by
-        // the contact distance (a steep face in a fold: edges stretched by a whole edge
-        // length when that distance nears the edge length). The face's edges and corners
-        // keep their own contacts with q's edges and faces.
-        return;
-    }
     c.normal = (near && d.dot(away) > 0 && cp.distance > TINY) ? Vec3(d / cp.distance) : away;
     if (c.normal.squaredNorm() == 0) {
         return;

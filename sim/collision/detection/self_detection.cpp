@@ -1,7 +1,6 @@
 #include "sim/collision/detection/self_detection.h"
 
 #include "sim/collision/ccd/crossing_tests.h"
-#include "sim/collision/distance/edge_edge.h"
 #include "sim/collision/distance/point_triangle.h"
 #include "sim/collision/indexing.h"
 #include "sim/collision/triangle_normal.h"
@@ -45,20 +44,6 @@ class SelfDetector {
             .cloths[static_cast<std::size_t>(m_mesh.clothOf[static_cast<std::size_t>(v)])]
             .material;
     }
-    /// Whether vertex p and the face fb of the same cloth are closer than the contact
-    /// distance d0 in the rest shape: the cloth's own elasticity keeps them apart, and a
-    /// contact between them would push the mesh apart in its plane wherever the contact
-    /// distance nears the edge length (a heavy sheet of 31 mm edges at 5 mm thickness ended
-    /// at 13% strain with these contacts, 5.4% without; docs/decisions/029-strain-guard.md).
-    bool closeAtRest(int p, const int* fb, double d0) const {
-        if (m_mesh.clothOf[static_cast<std::size_t>(p)] !=
-            m_mesh.clothOf[static_cast<std::size_t>(fb[0])]) {
-            return false;
-        }
-        return closestPointOnTriangle(row(m_mesh.rest, p), row(m_mesh.rest, fb[0]),
-                                      row(m_mesh.rest, fb[1]), row(m_mesh.rest, fb[2]))
-                   .distance < d0;
-    }
     /// The vertices owned by triangle a against triangle b.
     void vertexFaces(DetectionChunk& out, int a, int b) const;
     /// Edge–edge, each unordered pair of owned edges of ta and tb once.
@@ -86,9 +71,6 @@ void SelfDetector::vertexFaces(DetectionChunk& out, int a, int b) const {
             continue;
         }
         const double d0 = m_mesh.thickness[p] + tb0;
-        if (closeAtRest(p, fb, d0)) {
-            continue;
-        }
         const Vec3 pe = row(xe, p);
         const TrianglePoint cp = closestPointOnTriangle(pe, be[0], be[1], be[2]);
         std::array<double, 3> bary = cp.bary;
@@ -159,13 +141,6 @@ void SelfDetector::edgeEdges(DetectionChunk& out, int ta, int tb) const {
             }
             const double d0 = std::max(m_mesh.thickness[e0], m_mesh.thickness[e1]) +
                               std::max(m_mesh.thickness[g0], m_mesh.thickness[g1]);
-            if (m_mesh.clothOf[static_cast<std::size_t>(e0)] ==
-                    m_mesh.clothOf[static_cast<std::size_t>(g0)] &&
-                closestPointsOfSegments(row(m_mesh.rest, e0), row(m_mesh.rest, e1),
-                                        row(m_mesh.rest, g0), row(m_mesh.rest, g1))
-                        .distance < d0) {
-                continue; // closer than the contact distance at rest: see closeAtRest
-            }
             const auto meeting =
                 edgesMeet(row(xs, e0), row(xe, e0), row(xs, e1), row(xe, e1), row(xs, g0),
                           row(xe, g0), row(xs, g1), row(xe, g1), d0 * m_factor, m_swept);
