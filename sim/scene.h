@@ -176,11 +176,9 @@ struct IntegratorOptions {
     double divergenceStrain = 10.0;
     /// A step whose collision corrections leave some edge longer than (1 + collisionStrainLimit)
     /// × its rest length, and longer than before the corrections and at the step's start, is
-    /// rejected and retried at a quarter of the step; where even the floor step does that, the
-    /// run stops naming the edge. Contacts that fight over the mesh (a contact distance near
-    /// the edge length) otherwise stretch the cloth silently: a heavy stiff sheet at 15 mm
-    /// thickness went to 3.2× its edges' rest length (docs/decisions/029-strain-guard.md).
-    /// The bundled drapes' corrections stretch an edge by at most 0.56 in a step while sewing.
+    /// counted and named (RunStats::stretchingSteps, stretching): contacts fighting over the
+    /// mesh (a contact distance near the edge length) stretched a heavy stiff sheet at 15 mm
+    /// thickness to 3.2× its edges' rest length in silence (docs/decisions/029-strain-guard.md).
     double collisionStrainLimit = 1.0;
     /// A step whose kinetic energy exceeds this many times the energy put into the cloth so
     /// far (initial energy, work of gravity, pins and drives) is rejected as diverging.

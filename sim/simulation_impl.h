@@ -189,9 +189,6 @@ struct Simulation::Impl {
     /// the tolerance (+inf when the state was not finite or diverged), `work` the energy put
     /// in [J].
     bool attemptStep(double h, double& errorRatio, double& work);
-    /// The most stretched edge of xs beyond IntegratorOptions::divergenceStrain, as a
-    /// rejection reason; empty when none is.
-    std::string divergentStretch(const MatX3& xs) const;
     /// A rejection reason when the collision corrections (xPreCollision → xNew) left an edge
     /// stretched beyond IntegratorOptions::collisionStrainLimit and longer than both before
     /// the corrections and at the step's start (x); empty otherwise.
