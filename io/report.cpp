@@ -29,6 +29,9 @@ std::string formatReport(const sim::Simulation& simulation, const ReportFields& 
     j["version"] = 1;
     j["steps"] = stats.steps;
     j["rejected_steps"] = stats.rejectedSteps;
+    j["steps_stretched_by_collisions"] = stats.stretchingSteps;
+    j["stretched_by_collisions"] =
+        stats.stretching.empty() ? nlohmann::json(nullptr) : nlohmann::json(stats.stretching);
     j["force_evaluations"] = stats.forceEvaluations;
     j["cg_iterations"] = stats.cgIterations;
     j["linear_solver"] = std::string(sim::linearSolverName(scene.integrator.linearSolver));

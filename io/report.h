@@ -24,7 +24,9 @@ using ReportValue =
 using ReportFields = std::map<std::string, ReportValue>;
 
 /// The report of a run as JSON text (2-space indented). Keys:
-/// `format` ("atelier-report"), `version` (1), `steps`, `rejected_steps`, `force_evaluations`,
+/// `format` ("atelier-report"), `version` (1), `steps`, `rejected_steps`,
+/// `steps_stretched_by_collisions` and `stretched_by_collisions` (RunStats::stretchingSteps,
+/// stretching: string or null), `force_evaluations`,
 /// `cg_iterations`, `linear_solver` (name), `linear_solves`, `linear_solves_unconverged`
 /// (ended above the tolerance), `linear_solves_capped` (of which at the iteration cap),
 /// `linear_solve_worst_residual` (largest final relative residual [-]),

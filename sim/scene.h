@@ -174,6 +174,12 @@ struct IntegratorOptions {
     /// taken as diverging and rejected like a non-finite one (explicit methods beyond their
     /// stability limit blow up through huge but finite values first).
     double divergenceStrain = 10.0;
+    /// A step whose collision corrections leave some edge longer than (1 + collisionStrainLimit)
+    /// × its rest length, and longer than before the corrections and at the step's start, is
+    /// counted and named (RunStats::stretchingSteps, stretching): contacts fighting over the
+    /// mesh (a contact distance near the edge length) stretched a heavy stiff sheet at 15 mm
+    /// thickness to 3.2× its edges' rest length in silence (docs/decisions/029-strain-guard.md).
+    double collisionStrainLimit = 1.0;
     /// A step whose kinetic energy exceeds this many times the energy put into the cloth so
     /// far (initial energy, work of gravity, pins and drives) is rejected as diverging.
     double divergenceEnergyFactor = 10.0;

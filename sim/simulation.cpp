@@ -461,6 +461,7 @@ bool Simulation::Impl::attemptStep(double h, double& errorRatio, double& work) {
     }
     const bool accept = ok && errorRatio <= 1.0;
     if (accept && collision) {
+        xPreCollision = xNew;
         // Collision detection over the step and the kinematic corrections (A) of the end
         // state; energy the corrections add (moving obstacles, friction carrying the cloth)
         // counts as put in.
@@ -471,6 +472,12 @@ bool Simulation::Impl::attemptStep(double h, double& errorRatio, double& work) {
         work += std::max(0.0, after - before) + std::max(0.0, collisionPower * h);
         collisionPower = 0;
         stats.contacts = collision->figures().contacts;
+        // Counted and said, not rejected: retried smaller, the same corrections stretch the
+        // same way, and legitimate ones (trapped cloth carried out) do it too.
+        if (const std::string s = collisionStretch(); !s.empty()) {
+            ++stats.stretchingSteps;
+            stats.stretching = s + " at t = " + std::to_string(t + h) + " s";
+        }
     }
     if (accept) {
         work +=
@@ -494,6 +501,42 @@ bool Simulation::Impl::attemptStep(double h, double& errorRatio, double& work) {
         errorRatio = std::numeric_limits<double>::infinity(); // shrink the step by 4
     }
     return false;
+}
+
+std::string Simulation::Impl::collisionStretch() const {
+    const double limit = scene.integrator.collisionStrainLimit;
+    std::size_t worst = allEdges.size();
+    double worstStrain = limit;
+    double worstBefore = 0;
+    for (std::size_t e = 0; e < allEdges.size(); ++e) {
+        const int a = allEdges[e][0], b = allEdges[e][1];
+        const double rest = allEdgeRest[e];
+        const double strain = (xNew.row(b) - xNew.row(a)).norm() / rest - 1.0;
+        if (!(strain > worstStrain)) {
+            continue;
+        }
+        const double before = (xPreCollision.row(b) - xPreCollision.row(a)).norm() / rest - 1.0;
+        const double start = (x.row(b) - x.row(a)).norm() / rest - 1.0;
+        if (strain > before && strain > start) {
+            worstStrain = strain;
+            worstBefore = before;
+            worst = e;
+        }
+    }
+    if (worst == allEdges.size()) {
+        return {};
+    }
+    const int c = edgeCloth[worst];
+    const int off = offsets[static_cast<std::size_t>(c)];
+    const ClothSpec& cloth = scene.cloths[static_cast<std::size_t>(c)];
+    std::ostringstream why;
+    why << "the collision corrections stretched edge (" << allEdges[worst][0] - off << ", "
+        << allEdges[worst][1] - off << ") of cloth '" << cloth.name << "' from "
+        << 1.0 + worstBefore << " to " << 1.0 + worstStrain << " × its rest length ("
+        << allEdgeRest[worst] << " m; limit " << 1.0 + limit << " ×): contacts fighting over "
+        << "the mesh, as where the contact distance (cloth thickness " << cloth.thickness
+        << " m plus the obstacle's or other cloth's) nears the edge length";
+    return why.str();
 }
 
 void Simulation::Impl::weldAfterStep() {

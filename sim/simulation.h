@@ -18,8 +18,12 @@ namespace atelier::sim {
 
 /// Counters and figures of a run so far.
 struct RunStats {
-    long steps = 0;            ///< accepted steps
-    long rejectedSteps = 0;    ///< steps rejected (error above tolerance or non-finite state)
+    long steps = 0;         ///< accepted steps
+    long rejectedSteps = 0; ///< steps rejected (error above tolerance or non-finite state)
+    /// Accepted steps whose collision corrections stretched an edge beyond
+    /// IntegratorOptions::collisionStrainLimit, and the last such stretch in words
+    long stretchingSteps = 0;
+    std::string stretching;
     long forceEvaluations = 0; ///< derivative evaluations (Runge–Kutta stages, implicit solves)
     long cgIterations = 0;     ///< implicit Euler: conjugate-gradient iterations in total
     long linearSolves = 0;     ///< implicit Euler: linear solves (one per attempted step)

@@ -40,6 +40,9 @@ void Simulation::Impl::buildStateAndModels() {
         mass.segment(off, nv) = m;
         for (int e = 0; e < c.mesh.edges.rows(); ++e) {
             allEdges.push_back({c.mesh.edges(e, 0) + off, c.mesh.edges(e, 1) + off});
+            allEdgeRest.push_back(
+                (c.mesh.rest.row(c.mesh.edges(e, 1)) - c.mesh.rest.row(c.mesh.edges(e, 0))).norm());
+            edgeCloth.push_back(static_cast<int>(ci));
         }
         switch (c.model) {
         case StretchModel::Springs:

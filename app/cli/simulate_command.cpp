@@ -247,6 +247,11 @@ int runSimulate(const SimulateOptions& options) {
                   << ": simulation failed at t = " << simulation->time() << " s"
                   << (why.empty() ? "" : ": " + why) << "\n";
     }
+    if (stats.stretchingSteps > 0) {
+        std::cerr << "warning: " << options.scene << ": in " << stats.stretchingSteps
+                  << " steps the collision corrections stretched the cloth; last: "
+                  << stats.stretching << "\n";
+    }
     if (stats.unconvergedSolves > 0) {
         std::cerr << "warning: " << options.scene << ": " << stats.unconvergedSolves << " of "
                   << stats.linearSolves << " linear solves ended above their tolerance ("
