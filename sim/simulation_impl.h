@@ -71,7 +71,7 @@ struct Simulation::Impl {
     std::vector<std::array<int, 2>> allEdges; ///< global edges of all cloths (high damping)
     std::vector<double> allEdgeRest;          ///< their rest lengths [m]
     std::vector<int> edgeCloth;               ///< per edge of allEdges: its cloth
-    MatX3 xPreCollision; ///< the step's end before the collision corrections (strain guard)
+    MatX3 xPreCollision; ///< the step's end before the collision corrections (strain watch)
     std::vector<std::unique_ptr<ForceModel>> models;
     std::vector<std::string> stages;
     std::vector<double*> modelTimers;
@@ -189,7 +189,7 @@ struct Simulation::Impl {
     /// the tolerance (+inf when the state was not finite or diverged), `work` the energy put
     /// in [J].
     bool attemptStep(double h, double& errorRatio, double& work);
-    /// A rejection reason when the collision corrections (xPreCollision → xNew) left an edge
+    /// What to report when the collision corrections (xPreCollision → xNew) left an edge
     /// stretched beyond IntegratorOptions::collisionStrainLimit and longer than both before
     /// the corrections and at the step's start (x); empty otherwise.
     std::string collisionStretch() const;

@@ -322,15 +322,19 @@ TEST(Viewport, ASlotMarkerClickAndThePlacementHandlePlaceTheSelectedPanel) {
     ASSERT_TRUE(view.rect().contains(handle->toPoint()));
     const patterns::Placement placed = s.frontPanel().placement;
     const QPointF to = *handle + QPointF(40, -30);
-    QMouseEvent grip(QEvent::MouseButtonPress, *handle, view.mapToGlobal(*handle), Qt::LeftButton,
-                     Qt::LeftButton, Qt::NoModifier);
-    QApplication::sendEvent(&view, &grip);
-    QMouseEvent move(QEvent::MouseMove, to, view.mapToGlobal(to), Qt::NoButton, Qt::LeftButton,
-                     Qt::NoModifier);
-    QApplication::sendEvent(&view, &move);
-    QMouseEvent drop(QEvent::MouseButtonRelease, to, view.mapToGlobal(to), Qt::LeftButton,
-                     Qt::NoButton, Qt::NoModifier);
-    QApplication::sendEvent(&view, &drop);
+    // A left-button drag in the view: press, one move, release.
+    const auto dragIn = [&view](const QPointF& from, const QPointF& to) {
+        QMouseEvent press(QEvent::MouseButtonPress, from, view.mapToGlobal(from), Qt::LeftButton,
+                          Qt::LeftButton, Qt::NoModifier);
+        QApplication::sendEvent(&view, &press);
+        QMouseEvent move(QEvent::MouseMove, to, view.mapToGlobal(to), Qt::NoButton, Qt::LeftButton,
+                         Qt::NoModifier);
+        QApplication::sendEvent(&view, &move);
+        QMouseEvent release(QEvent::MouseButtonRelease, to, view.mapToGlobal(to), Qt::LeftButton,
+                            Qt::NoButton, Qt::NoModifier);
+        QApplication::sendEvent(&view, &release);
+    };
+    dragIn(*handle, to);
     EXPECT_EQ(s.window.undoStack().count(), 2);
     const patterns::Placement moved = s.frontPanel().placement;
     EXPECT_EQ(moved.slot, placed.slot);
@@ -349,15 +353,7 @@ TEST(Viewport, ASlotMarkerClickAndThePlacementHandlePlaceTheSelectedPanel) {
     ASSERT_TRUE(centre && knob);
     const double arm = centre->y() - knob->y();
     const QPointF left = *centre - QPointF(arm, 0);
-    QMouseEvent hold(QEvent::MouseButtonPress, *knob, view.mapToGlobal(*knob), Qt::LeftButton,
-                     Qt::LeftButton, Qt::NoModifier);
-    QApplication::sendEvent(&view, &hold);
-    QMouseEvent swing(QEvent::MouseMove, left, view.mapToGlobal(left), Qt::NoButton, Qt::LeftButton,
-                      Qt::NoModifier);
-    QApplication::sendEvent(&view, &swing);
-    QMouseEvent letGo(QEvent::MouseButtonRelease, left, view.mapToGlobal(left), Qt::LeftButton,
-                      Qt::NoButton, Qt::NoModifier);
-    QApplication::sendEvent(&view, &letGo);
+    dragIn(*knob, left);
     EXPECT_EQ(s.window.undoStack().count(), 2);
     EXPECT_NEAR(s.frontPanel().placement.rotation, placed.rotation + std::numbers::pi / 2, 1e-6);
     EXPECT_EQ(s.frontPanel().placement.offset, placed.offset);
