@@ -4,6 +4,8 @@
 #include "patterns/document_edit_detail.h"
 #include "patterns/mesh.h"
 
+#include "sim/forces/continuum_bending.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -622,6 +624,9 @@ Result<Edit> setMaterial(GarmentDocument& d, const GarmentMaterial& material) {
          {Rule{"density", m.density, true, ANY}, Rule{"weft stretch", m.stretchWeft, true, ANY},
           Rule{"warp stretch", m.stretchWarp, true, ANY}, Rule{"shear", m.shear, true, ANY},
           Rule{"Poisson's ratio", m.poisson, false, 1}, Rule{"bending", m.bending, false, ANY},
+          Rule{"weft bending", m.bendingWeft, false, ANY},
+          Rule{"warp bending", m.bendingWarp, false, ANY},
+          Rule{"bias bending", m.bendingBias, false, ANY},
           Rule{"damping", m.damping, false, ANY},
           Rule{"static friction", m.staticFriction, false, ANY},
           Rule{"kinetic friction", m.kineticFriction, false, ANY},
@@ -634,6 +639,9 @@ Result<Edit> setMaterial(GarmentDocument& d, const GarmentMaterial& material) {
                                         (r.below < ANY ? " and below 1" : "") + " (found " +
                                         std::to_string(r.value) + ")");
         }
+    }
+    if (sim::BendingRigidity rigidity; const auto why = sim::bendingRigidity(m, rigidity)) {
+        return editError(where, *why);
     }
     Edit edit;
     edit.description = where;

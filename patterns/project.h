@@ -34,6 +34,8 @@ struct BodySource {
 struct DrapeSettings {
     double particleDistance = 0.01; ///< target mesh edge length [m]
     sim::StretchModel model = sim::StretchModel::Fem;
+    /// Bending: the continuum plate's rigidity on any mesh, or the per-hinge coefficient.
+    sim::BendingModel bendingModel = sim::BendingModel::Continuum;
     sim::IntegratorKind integrator = sim::IntegratorKind::ImplicitEuler;
     double dt = 1.0 / 300; ///< step (fixed, or first of rk45) [s]
     /// Implicit Euler: relative tolerance of the conjugate-gradient solve. Draping needs the
