@@ -48,9 +48,9 @@ bool sameParameters(const sim::Material& a, const sim::Material& b) {
            a.stretchWarp == b.stretchWarp && a.shear == b.shear && a.poisson == b.poisson &&
            a.bending == b.bending && a.bendingWeft == b.bendingWeft &&
            a.bendingWarp == b.bendingWarp && a.bendingBias == b.bendingBias &&
-           a.damping == b.damping &&
-           a.staticFriction == b.staticFriction && a.kineticFriction == b.kineticFriction &&
-           a.plasticYieldAngle == b.plasticYieldAngle && a.plasticRate == b.plasticRate;
+           a.damping == b.damping && a.staticFriction == b.staticFriction &&
+           a.kineticFriction == b.kineticFriction && a.plasticYieldAngle == b.plasticYieldAngle &&
+           a.plasticRate == b.plasticRate;
 }
 
 // Unit conversions, chosen so that whole values come out exact (10 mm → 0.01, 90° → π/2).

@@ -513,8 +513,8 @@ std::string dumpDocument(const GarmentDocument& d) {
              {m.material.density, m.material.stretchWeft, m.material.stretchWarp, m.material.shear,
               m.material.poisson, m.material.bending, m.material.bendingWeft,
               m.material.bendingWarp, m.material.bendingBias, m.material.damping,
-              m.material.staticFriction,
-              m.material.kineticFriction, m.material.plasticYieldAngle, m.material.plasticRate}) {
+              m.material.staticFriction, m.material.kineticFriction, m.material.plasticYieldAngle,
+              m.material.plasticRate}) {
             appendNumber(out, v);
         }
         out += '\n';

@@ -38,7 +38,7 @@ struct ClothSpec {
     bool crossSprings = false; ///< springs model only: add springs across each hinge
     bool bending = true;       ///< bending (with `bendingModel`)
     BendingModel bendingModel = BendingModel::Continuum;
-    bool plasticity = false;   ///< bending plasticity (material.plasticYieldAngle)
+    bool plasticity = false; ///< bending plasticity (material.plasticYieldAngle)
     /// (|H|) optional per-hinge rest fold angle [rad] (0 = flat); empty = flat pattern.
     VecX restAngles;
     /// Collision thickness: the distance this cloth keeps from obstacles and other cloth,

@@ -64,8 +64,8 @@ void Simulation::Impl::buildStateAndModels() {
             models.push_back(std::make_unique<FemStretch>(c.mesh, off, c.material));
             break;
         }
-        const bool bends = c.material.bending > 0 || c.material.bendingWeft > 0 ||
-                           c.material.bendingWarp > 0;
+        const bool bends =
+            c.material.bending > 0 || c.material.bendingWeft > 0 || c.material.bendingWarp > 0;
         if (c.bending && bends && c.mesh.hinges.rows() > 0) {
             if (c.bendingModel == BendingModel::Continuum) {
                 models.push_back(std::make_unique<ContinuumBending>(

@@ -12,8 +12,8 @@ namespace atelier::sim {
 
 std::optional<std::string> bendingRigidity(const Material& material, BendingRigidity& out) {
     const auto valid = [](double v) { return std::isfinite(v) && v >= 0; };
-    if (!valid(material.bending) || !valid(material.bendingWeft) ||
-        !valid(material.bendingWarp) || !valid(material.bendingBias)) {
+    if (!valid(material.bending) || !valid(material.bendingWeft) || !valid(material.bendingWarp) ||
+        !valid(material.bendingBias)) {
         return "bending rigidities must be finite and not negative";
     }
     out.weft = material.bendingWeft > 0 ? material.bendingWeft : material.bending;
@@ -109,7 +109,8 @@ ContinuumBending::ContinuumBending(const ClothMesh& mesh, int offset, const Mate
     trianglesOfEdge.reserve(static_cast<std::size_t>(2 * nf));
     for (int t = 0; t < nf; ++t) {
         for (int i = 0; i < 3; ++i) {
-            const auto key = edgeKey(mesh.triangles(t, (i + 1) % 3), mesh.triangles(t, (i + 2) % 3));
+            const auto key =
+                edgeKey(mesh.triangles(t, (i + 1) % 3), mesh.triangles(t, (i + 2) % 3));
             auto [it, inserted] = trianglesOfEdge.try_emplace(key, std::array<int, 2>{t, -1});
             if (!inserted) {
                 it->second[1] = t;

@@ -42,7 +42,8 @@ double stripRigidity(const BendingRigidity& rigidity, double angle);
 /// rigidity per unit width B [N·m] (moment per width = B·curvature, as cantilever testers
 /// report it), orthotropic in the material frame (BendingRigidity), on any mesh:
 /// \f[ E = \sum_T \bar A_T\,\tfrac12\,\kappa_T^{\mathsf T} D\,\kappa_T,\qquad
-///     D = \operatorname{diag}(B_1, B_2, B_t),\quad \kappa = (\kappa_{11}, \kappa_{22}, 2\kappa_{12}) \f]
+///     D = \operatorname{diag}(B_1, B_2, B_t),\quad \kappa = (\kappa_{11}, \kappa_{22},
+///     2\kappa_{12}) \f]
 /// with κ_T the constant curvature of triangle T in rest (pattern) coordinates: Grinspun et al.
 /// 2006's edge-based shape operator ("Computing discrete shape operators on general meshes"),
 /// also the curvature of the rotation-free BST plate triangle (Oñate & Zárate 2000):
@@ -79,8 +80,7 @@ class ContinuumBending : public ForceModel {
     /// BST triangle) instead of half in each, where the clamped strip's root was too soft (tip
     /// deflection 1.27× at 10 mm, docs/decisions/020-continuum-bending.md).
     ContinuumBending(const ClothMesh& mesh, int offset, const Material& material,
-                     const VecX& restAngles, bool plasticity,
-                     const std::vector<char>& held = {});
+                     const VecX& restAngles, bool plasticity, const std::vector<char>& held = {});
 
     std::string_view name() const override { return "bending"; }
     void addForces(const MatX3& x, const MatX3& v, MatX3& f) const override;
@@ -120,21 +120,21 @@ class ContinuumBending : public ForceModel {
     VecX m_restAngle; ///< (|H|) θ̄ [rad]
 
     // W = Σ_T Q_T as CSR over hinges.
-    std::vector<int> m_wStart;     ///< (|H|+1)
-    std::vector<int> m_wColumn;    ///< hinge j of each entry
-    std::vector<double> m_wValue;  ///< W_hj [N·m]
+    std::vector<int> m_wStart;    ///< (|H|+1)
+    std::vector<int> m_wColumn;   ///< hinge j of each entry
+    std::vector<double> m_wValue; ///< W_hj [N·m]
 
     // Per triangle: its hinges (−1 where the edge is a border), Q_T, and the stencil of six
     // vertices (its three, then the three opposite across its edges, −1 on a border).
     Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor> m_triHinges;
-    std::vector<Mat3> m_q;            ///< (|F|) Q_T over (hinge slot i, slot j) [N·m]
-    std::vector<Mat3> m_curvatureMap; ///< (|F|) M_T: κ_T = M_T φ_T [1/m]
+    std::vector<Mat3> m_q;                         ///< (|F|) Q_T over (hinge slot i, slot j) [N·m]
+    std::vector<Mat3> m_curvatureMap;              ///< (|F|) M_T: κ_T = M_T φ_T [1/m]
     std::vector<std::array<int, 12>> m_cornerSlot; ///< (|F|) stencil slot of hinge i's corner a
 
     double m_damping; ///< τ [s]
     bool m_plasticity;
-    double m_yieldAngle;  ///< [rad]
-    double m_plasticRate; ///< [1/s]
+    double m_yieldAngle;            ///< [rad]
+    double m_plasticRate;           ///< [1/s]
     ElementGather m_hingeGather;    ///< k = 4 over hinges (forces, Hessian terms)
     ElementGather m_triangleGather; ///< k = 6 over triangle stencils (Gauss–Newton terms)
 

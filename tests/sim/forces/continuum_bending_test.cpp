@@ -1,3 +1,5 @@
+#include "patterns/triangulate.h"
+
 #include "sim/forces/continuum_bending.h"
 #include "sim/forces/force_check.h"
 
@@ -25,21 +27,6 @@ Material orthotropic() {
     m.bendingWarp = 1.5e-4;
     m.bendingBias = 1.8e-4;
     return m;
-}
-
-/// `mesh` with its rest coordinates turned by `angle` [rad] about the origin: the same
-/// triangulation at another angle to the material axes.
-ClothMesh rotated(const ClothMesh& mesh, double angle) {
-    const double c = std::cos(angle);
-    const double s = std::sin(angle);
-    MatX2 rest = mesh.rest;
-    for (int i = 0; i < rest.rows(); ++i) {
-        rest.row(i) << c * mesh.rest(i, 0) - s * mesh.rest(i, 1),
-            s * mesh.rest(i, 0) + c * mesh.rest(i, 1);
-    }
-    ClothMesh out;
-    EXPECT_FALSE(buildClothMesh(rest, mesh.triangles, out).has_value());
-    return out;
 }
 
 /// The pattern rolled onto a cylinder of radius R whose curvature runs along the unit
@@ -152,31 +139,77 @@ TEST(ContinuumBending, InteriorTrianglesReadWeftAndWarpRollsOnTheGrid) {
     }
 }
 
-/// Energy of rolls ½·κ²·(B₁c⁴ + B₂s⁴ + 4B_t c²s²)·A against the continuum plate's, on regular,
-/// irregular and rotated meshes: PRINTED for measurement.
-TEST(ContinuumBending, CylinderEnergyAgainstTheContinuum) {
-    const double radius = 1.0;
-    const Material m = orthotropic();
+/// A rectangle meshed by constrained Delaunay refinement (min angle 25°), as garment panels
+/// are: edges of about `h` [m].
+ClothMesh delaunayRectangle(double width, double height, double h) {
+    patterns::TriangulationInput in;
+    const std::array<Vec2, 4> corners{Vec2(0, 0), Vec2(width, 0), Vec2(width, height),
+                                      Vec2(0, height)};
+    for (std::size_t c = 0; c < 4; ++c) {
+        const Vec2 a = corners[c];
+        const Vec2 b = corners[(c + 1) % 4];
+        const int n = std::max(1, static_cast<int>(std::lround((b - a).norm() / h)));
+        for (int i = 0; i < n; ++i) {
+            in.points.push_back(a + (b - a) * (static_cast<double>(i) / n));
+        }
+    }
+    const int count = static_cast<int>(in.points.size());
+    for (int i = 0; i < count; ++i) {
+        in.constraints.push_back({i, (i + 1) % count});
+    }
+    in.maxEdge = h;
+    patterns::TriangulationOutput out;
+    EXPECT_FALSE(patterns::triangulate(in, out).has_value());
+    MatX2 rest(static_cast<Eigen::Index>(out.points.size()), 2);
+    for (std::size_t i = 0; i < out.points.size(); ++i) {
+        rest.row(static_cast<Eigen::Index>(i)) = out.points[i].transpose();
+    }
+    ClothMesh mesh;
+    const auto error = buildClothMesh(rest, out.triangles, mesh);
+    EXPECT_FALSE(error.has_value()) << *error;
+    return mesh;
+}
+
+/// Energy of the pattern rolled onto a cylinder of radius 0.5 m bending along `angle` [rad]
+/// to the weft, over the continuum plate's ½·B(φ)·A/R² with B(φ) = B₁c⁴ + B₂s⁴ + 4B_t c²s²
+/// (a roll imposes the curvature: no transverse relaxation).
+double rollRatio(const ContinuumBending& model, const ClothMesh& mesh, const Material& m,
+                 double angle) {
     BendingRigidity r;
-    ASSERT_FALSE(bendingRigidity(m, r).has_value());
-    for (const auto kind : {Triangulation::Regular, Triangulation::Irregular}) {
-        for (const double meshAngle : {0.0, std::numbers::pi / 4, 0.4}) {
-            for (const int cells : {10, 20, 40}) {
-                const ClothMesh mesh =
-                    rotated(test::makeTestMesh(kind, cells, cells, 0.2, 0.2, 5), meshAngle);
-                const ContinuumBending model(mesh, 0, m, VecX(), false);
-                for (const double phi : {0.0, std::numbers::pi / 4, std::numbers::pi / 2}) {
-                    const Vec2 d(std::cos(phi), std::sin(phi));
-                    const double c2 = d.x() * d.x();
-                    const double s2 = d.y() * d.y();
-                    const double density =
-                        r.weft * c2 * c2 + r.warp * s2 * s2 + 4 * r.twist * c2 * s2;
-                    const double continuum = 0.5 * density * 0.04 / (radius * radius);
-                    const double ratio = model.energy(cylinder(mesh, d, radius)) / continuum;
-                    std::printf("MEASURE %s mesh %.2f cells %d bend %.2f ratio %.4f\n",
-                                kind == Triangulation::Regular ? "regular" : "irregular",
-                                meshAngle, cells, phi, ratio);
-                }
+    EXPECT_FALSE(bendingRigidity(m, r).has_value());
+    const double radius = 0.5;
+    const Vec2 d(std::cos(angle), std::sin(angle));
+    const double c2 = d.x() * d.x();
+    const double s2 = d.y() * d.y();
+    const double density = r.weft * c2 * c2 + r.warp * s2 * s2 + 4 * r.twist * c2 * s2;
+    const double area = mesh.restArea.sum();
+    return model.energy(cylinder(mesh, d, radius)) / (0.5 * density * area / (radius * radius));
+}
+
+TEST(ContinuumBending, RollsStoreTheContinuumEnergyOnTheGridAlongWeftAndWarp) {
+    const Material m = orthotropic();
+    for (const int cells : {10, 20, 40}) {
+        const ClothMesh mesh = test::makeTestMesh(Triangulation::Regular, cells, cells, 0.2, 0.2);
+        const ContinuumBending model(mesh, 0, m, VecX(), false);
+        // All but the border column, where a free edge adds nothing.
+        const double interior = (cells - 1.0) / cells;
+        EXPECT_NEAR(rollRatio(model, mesh, m, 0.0), interior, 1e-3) << cells;
+        EXPECT_NEAR(rollRatio(model, mesh, m, std::numbers::pi / 2), interior, 1e-3) << cells;
+    }
+}
+
+/// On Delaunay meshes (garment panels) the shape operator is not exact: rolls store 5-14% above
+/// the continuum at 20, 10 and 5 mm, in every direction alike (measured 1.050-1.136 isotropic,
+/// 1.012-1.136 orthotropic); discrete shells stored 1.5-4.5×.
+TEST(ContinuumBending, RollsOnDelaunayMeshesStoreNearTheContinuumInEveryDirection) {
+    for (const Material& m : {bendingMaterial(), orthotropic()}) {
+        for (const double h : {0.02, 0.01, 0.005}) {
+            const ClothMesh mesh = delaunayRectangle(0.2, 0.2, h);
+            const ContinuumBending model(mesh, 0, m, VecX(), false);
+            for (double deg : {0.0, 30.0, 45.0, 90.0, 135.0}) {
+                const double ratio = rollRatio(model, mesh, m, deg * std::numbers::pi / 180);
+                EXPECT_GT(ratio, 1.0) << h << " m, " << deg << "°";
+                EXPECT_LT(ratio, 1.15) << h << " m, " << deg << "°";
             }
         }
     }
