@@ -14,6 +14,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace atelier::patterns {
@@ -102,6 +103,21 @@ Result<Edit> renamePanel(GarmentDocument& document, PanelId panel, std::string n
 
 /// Places a panel on a body slot.
 Result<Edit> placePanel(GarmentDocument& document, PanelId panel, const Placement& placement);
+
+/// Places several panels at once, each as placePanel: one edit (one undo step). Refused, the
+/// document untouched, when any of them is.
+Result<Edit> placePanels(GarmentDocument& document,
+                         const std::vector<std::pair<PanelId, Placement>>& placements);
+
+/// Placements that lay `panels` side by side around slot `slot`, in the order given, `gap` [m]
+/// apart, the row centred on the slot's middle line (offset around 0): panel i's offset around
+/// is u_i − lo_i with u_0 = −W/2, u_{i+1} = u_i + (hi_i − lo_i) + gap and W the row's width,
+/// where [lo_i, hi_i] is the panel's extent around the slot as placementCoordinates lays it
+/// (mirrored for a Back panel, about the middle of its box, turned by its rotation). Each keeps
+/// its rotation, clearance and offset along the slot; panels not in the document are left out.
+std::vector<std::pair<PanelId, Placement>> sideBySide(const GarmentDocument& document,
+                                                      const std::vector<PanelId>& panels,
+                                                      const std::string& slot, double gap = 0.02);
 
 /// Meshes a panel at its own particle distance [m] (0: the drape's), 1 mm to 1 m.
 Result<Edit> setPanelParticleDistance(GarmentDocument& document, PanelId panel, double distance);

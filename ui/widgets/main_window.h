@@ -18,6 +18,7 @@
 #include <QUndoStack>
 
 #include <functional>
+#include <vector>
 
 class QAction;
 class QMenu;
@@ -132,6 +133,9 @@ class MainWindow : public QMainWindow {
     /// Places `panel` on the body's slot `slot` (placePanel, its offset, rotation and clearance
     /// kept): one undoable edit; the panel is placed again there.
     bool placePanelOnSlot(patterns::PanelId panel, const QString& slot);
+    /// Places `panels` side by side on slot `slot`, in that order (patterns::sideBySide, each
+    /// keeping its rotation, clearance and offset along the slot): one undoable edit.
+    bool placePanelsOnSlot(const std::vector<patterns::PanelId>& panels, const QString& slot);
     /// New drape settings for the project: an undoable change (a new particle distance
     /// re-meshes and places the garment again; other values continue the drape).
     bool setDrapeSettings(const patterns::DrapeSettings& settings);

@@ -28,6 +28,7 @@
 #include <QStatusBar>
 #include <QUndoCommand>
 
+#include <algorithm>
 #include <cmath>
 #include <initializer_list>
 #include <map>
@@ -181,6 +182,11 @@ void MainWindow::buildDocks() {
     connect(m_drape, &DrapeController::opened, this, slotNames);
     connect(m_drape, &DrapeController::rebuilt, this, slotNames);
     connect(m_viewport, &Viewport::slotClicked, this, [this](const QString& slot) {
+        if (const std::vector<patterns::PanelId> selected = m_pattern->selectedPanels();
+            selected.size() > 1) {
+            placePanelsOnSlot(selected, slot); // a copy: the edit redraws the selection
+            return;
+        }
         if (!m_panelDock->panel()) {
             statusBar()->showMessage(tr("Select a panel, then click a slot to place it"), 4000);
             return;
@@ -225,6 +231,16 @@ void MainWindow::buildDocks() {
         });
     connect(m_panelDock, &PanelDock::placeRequested, this,
             [this](quint32 panel, const patterns::Placement& placement, const QString& field) {
+                // A slot chosen for one of several panels selected: all go there.
+                const std::vector<patterns::PanelId> selected = m_pattern->selectedPanels();
+                if (field.isEmpty() && selected.size() > 1 &&
+                    std::find(selected.begin(), selected.end(), patterns::PanelId{panel}) !=
+                        selected.end()) {
+                    if (!placePanelsOnSlot(selected, QString::fromStdString(placement.slot))) {
+                        docksFollowDocument();
+                    }
+                    return;
+                }
                 const QString merge = field.isEmpty()
                                           ? QString()
                                           : QStringLiteral("place %1 %2").arg(panel).arg(field);
@@ -350,6 +366,14 @@ bool MainWindow::placePanelOnSlot(patterns::PanelId panel, const QString& slot) 
     placement.slot = slot.toStdString();
     return edit(
         [&](patterns::GarmentDocument& d) { return patterns::placePanel(d, panel, placement); });
+}
+
+bool MainWindow::placePanelsOnSlot(const std::vector<patterns::PanelId>& panels,
+                                   const QString& slot) {
+    const std::string name = slot.toStdString();
+    return edit([&](patterns::GarmentDocument& d) {
+        return patterns::placePanels(d, patterns::sideBySide(d, panels, name));
+    });
 }
 
 bool MainWindow::setDrapeSettings(const patterns::DrapeSettings& settings) {

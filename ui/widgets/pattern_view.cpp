@@ -17,6 +17,7 @@
 #include <QScrollBar>
 #include <QWheelEvent>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -114,9 +115,32 @@ PatternView::PatternView(QWidget* parent) : QGraphicsView(parent) {
         if (m_redrawing) {
             return;
         }
-        const QList<QGraphicsItem*> selected = m_scene.selectedItems();
-        const patterns::PanelId id{
-            selected.isEmpty() ? 0U : selected.front()->data(DATA_PANEL).value<quint32>()};
+        // The panels selected, in the order they were: those still selected, then the new
+        // ones (Ctrl+click adds one); the last one added is the selected panel, whose points
+        // and handles are shown and which the docks show.
+        std::vector<patterns::PanelId> now;
+        for (const QGraphicsItem* item : m_scene.selectedItems()) {
+            now.push_back(patterns::PanelId{item->data(DATA_PANEL).value<quint32>()});
+        }
+        const auto in = [](const std::vector<patterns::PanelId>& list, patterns::PanelId id) {
+            return std::find(list.begin(), list.end(), id) != list.end();
+        };
+        std::vector<patterns::PanelId> ordered;
+        for (const patterns::PanelId id : m_selectedPanels) {
+            if (in(now, id)) {
+                ordered.push_back(id);
+            }
+        }
+        patterns::PanelId id = in(ordered, m_selectedPanel) ? m_selectedPanel
+                               : ordered.empty()            ? patterns::PanelId{}
+                                                            : ordered.back();
+        for (const patterns::PanelId added : now) {
+            if (!in(ordered, added)) {
+                ordered.push_back(added);
+                id = added;
+            }
+        }
+        m_selectedPanels = std::move(ordered);
         if (id != m_selectedPanel) {
             m_selectedPanel = id;
             m_selectedPoint = {};
@@ -125,8 +149,13 @@ PatternView::PatternView(QWidget* parent) : QGraphicsView(parent) {
             m_selectedLine = {};
             drawHandles();
         }
-        Q_EMIT panelSelected(selected.isEmpty() ? QString()
-                                                : selected.front()->data(DATA_NAME).toString());
+        const patterns::doc::Panel* shown = panel(m_selectedPanel);
+        Q_EMIT panelSelected(shown != nullptr ? QString::fromStdString(shown->name) : QString());
+        if (m_selectedPanels.size() > 1) {
+            Q_EMIT message(tr("%1 panels selected: click a body slot in the 3D view to place "
+                              "them side by side")
+                               .arg(m_selectedPanels.size()));
+        }
     });
 
     m_toolGroup = new QActionGroup(this);
@@ -264,6 +293,7 @@ void PatternView::setDocument(const patterns::GarmentDocument& document, bool ke
         m_layouts.clear();
         m_freeLayouts.clear();
         m_selectedPanel = {};
+        m_selectedPanels.clear();
         m_selectedPoint = {};
         m_selectedEdge = {};
         m_selectedSeam = {};
@@ -307,8 +337,9 @@ void PatternView::setDocument(const patterns::GarmentDocument& document, bool ke
         m_freeLayouts[p.id.value] = m_layouts[p.id.value];
         x += maxX - minX + GAP_MM;
     }
+    std::erase_if(m_selectedPanels, [this](patterns::PanelId id) { return panel(id) == nullptr; });
     if (m_selectedPanel && panel(m_selectedPanel) == nullptr) {
-        m_selectedPanel = {};
+        m_selectedPanel = m_selectedPanels.empty() ? patterns::PanelId{} : m_selectedPanels.back();
     }
     patterns::doc::Panel* selected = m_document.panel(m_selectedPanel);
     int index = 0;
@@ -459,8 +490,10 @@ void PatternView::redraw() {
             }
         }
     }
-    if (const auto it = m_items.find(m_selectedPanel.value); it != m_items.end()) {
-        it->second->setSelected(true);
+    for (const patterns::PanelId id : m_selectedPanels) {
+        if (const auto it = m_items.find(id.value); it != m_items.end()) {
+            it->second->setSelected(true);
+        }
     }
     m_redrawing = false;
     drawHandles();

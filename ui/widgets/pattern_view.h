@@ -3,8 +3,9 @@
 /// internal lines) and its seams, one colour per panel as in the 3D view and one per seam.
 /// Zoom with the wheel, pan by dragging the background (Select) or with the middle button
 /// (every tool). Tools (toolActions()):
-/// - Select (A): a click selects a panel and shows its outline and hole points, and the Bézier
-///   handles of its curved edges. Drag a point or a handle to move it (lengths shown; Shift
+/// - Select (A): a click selects a panel (Ctrl+click adds or removes one) and shows its outline
+///   and hole points, and the Bézier handles of its curved edges. Drag a point or a handle to
+///   move it (lengths shown; Shift
 ///   snaps to a 5 mm grid, Ctrl+Shift to 1 mm; points snap to other points within a few
 ///   pixels); click an edge to select it (V makes it a curve or straight again); double-click
 ///   an edge to add a point; Delete deletes the selected point, or the selected seam (click a
@@ -92,8 +93,12 @@ class PatternView : public QGraphicsView {
 
     // ---- Selection ----
 
-    /// The selected panel, or none.
+    /// The selected panel, or none: the last one selected.
     patterns::PanelId selectedPanel() const { return m_selectedPanel; }
+    /// Every selected panel (Ctrl+click adds or removes one), in the order they were selected;
+    /// the last is selectedPanel().
+    const std::vector<patterns::PanelId>& selectedPanels() const { return m_selectedPanels; }
+    /// Selects `panel` alone.
     void selectPanel(patterns::PanelId panel);
     /// The selected outline or hole point of the selected panel, or none.
     patterns::PointId selectedPoint() const { return m_selectedPoint; }
@@ -315,6 +320,7 @@ class PatternView : public QGraphicsView {
     QString m_feedback;
     int m_panels = 0;
     patterns::PanelId m_selectedPanel;
+    std::vector<patterns::PanelId> m_selectedPanels; ///< in selection order, m_selectedPanel last
     patterns::PointId m_selectedPoint;
     patterns::EdgeId m_selectedEdge;
     patterns::SeamId m_selectedSeam;

@@ -33,6 +33,7 @@
 #include <QSettings>
 #include <QSignalSpy>
 #include <QTemporaryDir>
+#include <QTest>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -291,7 +292,7 @@ TEST(PanelDock, APanelsOwnParticleDistanceRemeshesItUndoably) {
     EXPECT_TRUE(s.prompts.errors.isEmpty()) << s.prompts.errors.join("; ").toStdString();
 }
 
-TEST(Viewport, ASlotMarkerClickAndThePlacementHandlePlaceTheSelectedPanel) {
+TEST(Viewport, ASlotMarkerClickAndThePlacementHandlePlaceTheSelectedPanels) {
     SkirtWindow s;
     ASSERT_TRUE(s.open());
     Viewport& view = s.window.viewport();
@@ -358,6 +359,42 @@ TEST(Viewport, ASlotMarkerClickAndThePlacementHandlePlaceTheSelectedPanel) {
     EXPECT_NEAR(s.frontPanel().placement.rotation, placed.rotation + std::numbers::pi / 2, 1e-6);
     EXPECT_EQ(s.frontPanel().placement.offset, placed.offset);
     EXPECT_TRUE(s.drapeFollows());
+
+    // Ctrl+click on the back panel in the pattern adds it to the selection; a click on the
+    // torso_front marker then places both there side by side (patterns::sideBySide, the front,
+    // selected first, on the left), one undo entry that undo takes back whole.
+    const patterns::PanelId back = s.window.project().document.panels.at(1).id;
+    const patterns::doc::Panel& backPanel = *s.window.project().document.panel(back);
+    patterns::Vec2 inside = patterns::Vec2::Zero();
+    for (const patterns::doc::Point& p : backPanel.outline.points) {
+        inside += p.position / static_cast<double>(backPanel.outline.points.size());
+    }
+    inside = 0.7 * inside + 0.3 * backPanel.outline.points.front().position;
+    PatternView& pattern = s.window.patternView();
+    const QPoint onBack = pattern.viewPoint(back, inside);
+    QTest::mouseClick(pattern.viewport(), Qt::LeftButton, Qt::ControlModifier, onBack);
+    ASSERT_EQ(pattern.selectedPanels(), (std::vector<patterns::PanelId>{s.front, back}));
+    EXPECT_EQ(pattern.selectedPanel(), back) << "the last one selected is shown in the docks";
+    const patterns::GarmentDocument single = s.window.project().document;
+    const auto expected = patterns::sideBySide(single, {s.front, back}, "torso_front");
+    QCoreApplication::processEvents();
+    const auto front = view.slotMarker("torso_front");
+    ASSERT_TRUE(front);
+    QTest::mouseClick(&view, Qt::LeftButton, {}, front->toPoint());
+    EXPECT_EQ(s.window.undoStack().count(), 3);
+    for (const auto& [id, placement] : expected) {
+        EXPECT_EQ(s.window.project().document.panel(id)->placement.slot, "torso_front");
+        EXPECT_EQ(s.window.project().document.panel(id)->placement.offset, placement.offset);
+    }
+    EXPECT_LT(expected[0].second.offset.x(), expected[1].second.offset.x());
+    EXPECT_EQ(pattern.selectedPanels().size(), 2U) << "the selection survives the edit";
+    EXPECT_TRUE(s.drapeFollows());
+    s.window.undoStack().undo();
+    EXPECT_EQ(patterns::dumpDocument(s.window.project().document), patterns::dumpDocument(single));
+    EXPECT_TRUE(s.drapeFollows());
+    // Ctrl+click on it again takes it out of the selection.
+    QTest::mouseClick(pattern.viewport(), Qt::LeftButton, Qt::ControlModifier, onBack);
+    EXPECT_EQ(pattern.selectedPanels(), (std::vector<patterns::PanelId>{s.front}));
 
     // Another project: no panel shown, so a click on a marker places nothing.
     ASSERT_TRUE(openAndWait(s.window, GARMENTS + "/tshirt.atelier"));
