@@ -165,6 +165,24 @@ Result<Edit> setFoldAngle(GarmentDocument& document, PanelId panel, LineId line,
 Result<Edit> addDart(GarmentDocument& document, PanelId panel, EdgeId edge, double t, double width,
                      double depth);
 
+/// A dart's size: the distance between its legs' bases (width) and from the middle of the chord
+/// between them to its tip (depth) [m].
+struct DartSize {
+    double width = 0;
+    double depth = 0;
+};
+
+/// The size of dart `dart` of `panel`; nullopt when the panel has no such dart.
+std::optional<DartSize> dartSize(const doc::Panel& panel, DartId dart);
+
+/// Resizes a dart: its bases slide along the chord between them, `width` apart about its middle
+/// [m], and its tip moves along its direction from that middle to `depth` from it [m]. The
+/// outline edges beside the bases keep their other ends (and curve handles). Refused when a
+/// size is not positive, a base would pass the far end of its neighbouring edge ("wider than its
+/// edge allows") or the legs would leave the panel.
+Result<Edit> setDartSize(GarmentDocument& document, PanelId panel, DartId dart, double width,
+                         double depth);
+
 /// Removes a dart and its tip: the outline runs straight from one leg's base to the other's,
 /// through the edge of the first leg. Refused while a seam or notch is on a leg.
 Result<Edit> removeDart(GarmentDocument& document, PanelId panel, DartId dart);

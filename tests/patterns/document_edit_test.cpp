@@ -392,6 +392,48 @@ TEST(DocumentMarks, ADartCutsTheEdgeAndIsSewnWhenMeshed) {
     EXPECT_EQ(dumpDocument(d), start);
 }
 
+TEST(DocumentMarks, ADartsWidthAndDepthAreSetUndoably) {
+    GarmentDocument d = rectangle();
+    const PanelId id = d.panels.front().id;
+    auto dart = addDart(d, id, d.panels.front().outline.edges[0].id, 0.5, 0.04, 0.12);
+    ASSERT_TRUE(dart.ok()) << dart.error().toString();
+    const DartId dartId{dart.value().created};
+    const auto size = dartSize(d.panels.front(), dartId);
+    ASSERT_TRUE(size);
+    EXPECT_NEAR(size->width, 0.04, 1e-12);
+    EXPECT_NEAR(size->depth, 0.12, 1e-12);
+    EXPECT_FALSE(dartSize(d.panels.front(), DartId{999}));
+    const std::string cut = dumpDocument(d);
+
+    // 60 mm wide, 100 mm deep: the bases slide along the bottom edge about the same middle.
+    auto resized = setDartSize(d, id, dartId, 0.06, 0.10);
+    ASSERT_TRUE(resized.ok()) << resized.error().toString();
+    const doc::Panel& p = d.panels.front();
+    EXPECT_NEAR((p.outline.points[1].position - Vec2(0.12, 0)).norm(), 0, 1e-12);
+    EXPECT_NEAR((p.outline.points[2].position - Vec2(0.15, 0.10)).norm(), 0, 1e-12);
+    EXPECT_NEAR((p.outline.points[3].position - Vec2(0.18, 0)).norm(), 0, 1e-12);
+    EXPECT_NEAR(dartSize(p, dartId)->width, 0.06, 1e-12);
+    EXPECT_NEAR(dartSize(p, dartId)->depth, 0.10, 1e-12);
+    EXPECT_TRUE(checkDocument(d).ok());
+    const std::string wide = dumpDocument(d);
+    undo(d, resized.value());
+    EXPECT_EQ(dumpDocument(d), cut);
+    redo(d, resized.value());
+    EXPECT_EQ(dumpDocument(d), wide);
+
+    // Refused, nothing changed: not positive, past the bottom edge's ends (0.3 m wide), the
+    // tip out of the panel (0.4 m high), no such dart.
+    EXPECT_FALSE(setDartSize(d, id, dartId, 0, 0.1).ok());
+    EXPECT_FALSE(setDartSize(d, id, dartId, 0.05, -0.1).ok());
+    EXPECT_FALSE(setDartSize(d, id, dartId, std::nan(""), 0.1).ok());
+    const auto tooWide = setDartSize(d, id, dartId, 0.3, 0.1);
+    ASSERT_FALSE(tooWide.ok());
+    EXPECT_NE(tooWide.error().toString().find("wider than its edge"), std::string::npos);
+    EXPECT_FALSE(setDartSize(d, id, dartId, 0.05, 0.45).ok());
+    EXPECT_FALSE(setDartSize(d, id, DartId{999}, 0.05, 0.1).ok());
+    EXPECT_EQ(dumpDocument(d), wide);
+}
+
 TEST(DocumentMarks, RefusedMarksLeaveTheDocumentUntouched) {
     GarmentDocument d = rectangle();
     const PanelId id = d.panels.front().id;

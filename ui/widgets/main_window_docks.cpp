@@ -129,6 +129,8 @@ void MainWindow::buildDocks() {
     });
     // An internal line selected in the pattern: its fold angle in the Panel dock.
     connect(m_pattern, &PatternView::lineSelected, m_panelDock, &PanelDock::showLine);
+    // A dart's leg selected in the pattern: its width and depth in the Panel dock.
+    connect(m_pattern, &PatternView::dartSelected, m_panelDock, &PanelDock::showDart);
     // The placement handle dragged in 3D: the panel moves on its slot, one undoable step.
     connect(m_viewport, &Viewport::placementMoveRequested, this,
             [this](const QString& name, double around, double along) {
@@ -250,6 +252,17 @@ void MainWindow::buildDocks() {
                         },
                         merge)) {
                     docksFollowDocument();
+                }
+            });
+    connect(m_panelDock, &PanelDock::dartSizeRequested, this,
+            [this](quint32 panel, quint32 dart, double width, double depth, const QString& field) {
+                if (!edit(
+                        [&](patterns::GarmentDocument& d) {
+                            return patterns::setDartSize(d, patterns::PanelId{panel},
+                                                         patterns::DartId{dart}, width, depth);
+                        },
+                        QStringLiteral("dart %1 %2 %3").arg(panel).arg(dart).arg(field))) {
+                    docksFollowDocument(); // the fields show the dart as it is
                 }
             });
     connect(m_panelDock, &PanelDock::particleDistanceRequested, this,

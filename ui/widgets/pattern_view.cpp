@@ -505,6 +505,18 @@ void PatternView::drawHandles() {
         m_announcedLine = m_selectedLine;
         Q_EMIT lineSelected(m_selectedPanel.value, m_selectedLine.value);
     }
+    patterns::DartId dart; // the dart whose leg is the selected edge
+    if (const patterns::doc::Panel* p = panel(m_selectedPanel); p != nullptr && m_selectedEdge) {
+        for (const patterns::doc::Dart& d : p->darts) {
+            if (d.leg1 == m_selectedEdge || d.leg2 == m_selectedEdge) {
+                dart = d.id;
+            }
+        }
+    }
+    if (dart.value != m_announcedDart.value) {
+        m_announcedDart = dart;
+        Q_EMIT dartSelected(m_selectedPanel.value, dart.value);
+    }
     for (QGraphicsItem* h : m_handles) {
         m_scene.removeItem(h);
         delete h;

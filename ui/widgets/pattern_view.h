@@ -142,6 +142,9 @@ class PatternView : public QGraphicsView {
     void panelSelected(const QString& name);
     /// The selected internal line changed: its panel and id (line 0: none selected).
     void lineSelected(quint32 panel, quint32 line);
+    /// The selected dart changed (the dart whose leg is the selected edge): its panel and id
+    /// (dart 0: none selected).
+    void dartSelected(quint32 panel, quint32 dart);
     /// A seam was picked with the mouse (its id's value).
     void seamSelected(quint32 seam);
     /// A point was dragged to (x, y) [m] and let go.
@@ -335,6 +338,7 @@ class PatternView : public QGraphicsView {
     patterns::NotchId m_selectedNotch;
     patterns::LineId m_selectedLine;
     patterns::LineId m_announcedLine; ///< the last lineSelected() said
+    patterns::DartId m_announcedDart; ///< the last dartSelected() said
     /// The middle button is down: the view pans with the mouse (from here, viewport).
     std::optional<QPoint> m_pan;
     std::optional<SidePick> m_sides[2];

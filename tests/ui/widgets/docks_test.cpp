@@ -17,6 +17,7 @@
 
 #include "io/pattern_svg.h"
 
+#include "patterns/curve.h"
 #include "patterns/cusick.h"
 #include "patterns/document_edit.h"
 #include "patterns/mannequin.h"
@@ -196,6 +197,57 @@ TEST(PanelDock, ConsecutiveChangesOfOneFieldAreOneUndoEntry) {
     s.window.undoStack().redo();
     EXPECT_NEAR(s.frontPanel().placement.rotation, turned, 1e-9) << "redone at once too";
     EXPECT_TRUE(s.drapeFollows());
+}
+
+TEST(PanelDock, SetsTheSelectedDartsWidthAndDepthUndoably) {
+    SkirtWindow s;
+    ASSERT_TRUE(s.open());
+    // A dart 30 mm wide and 90 mm deep in the middle of the front's waist (edge 3).
+    const patterns::EdgeId waist = s.frontPanel().outline.edges.at(3).id;
+    ASSERT_TRUE(s.window.edit([&](patterns::GarmentDocument& d) {
+        return patterns::addDart(d, s.front, waist, 0.5, 0.03, 0.09);
+    }));
+    const patterns::doc::Dart dart = s.frontPanel().darts.at(0);
+    PanelDock& dock = s.window.panelDock();
+    EXPECT_FALSE(dock.dartWidthField()->isEnabled()) << "no dart selected";
+    // A click on the dart's first leg in the pattern selects it, and the dock shows its size.
+    const patterns::doc::Panel& p = s.frontPanel();
+    const auto leg = static_cast<std::size_t>(patterns::outlineEdgeIndex(p, dart.leg1));
+    const patterns::Vec2 onLeg = patterns::pointAt(patterns::contourSegment(p.outline, leg), 0.5);
+    PatternView& pattern = s.window.patternView();
+    QTest::mouseClick(pattern.viewport(), Qt::LeftButton, {}, pattern.viewPoint(s.front, onLeg));
+    ASSERT_EQ(pattern.selectedEdge(), dart.leg1);
+    ASSERT_TRUE(dock.dartWidthField()->isEnabled());
+    EXPECT_NEAR(dock.dartWidthField()->value(), 30, 0.05);
+    EXPECT_NEAR(dock.dartDepthField()->value(), 90, 0.05);
+    const std::string cut = patterns::dumpDocument(s.window.project().document);
+
+    // 40 then 41 mm wide (one undo entry), then 100 mm deep (another).
+    dock.dartWidthField()->setValue(40);
+    dock.dartWidthField()->setValue(41);
+    EXPECT_EQ(s.window.undoStack().count(), 2);
+    auto size = patterns::dartSize(s.frontPanel(), dart.id);
+    ASSERT_TRUE(size);
+    EXPECT_NEAR(size->width, 0.041, 1e-9);
+    EXPECT_NEAR(size->depth, 0.09, 1e-9);
+    dock.dartDepthField()->setValue(100);
+    EXPECT_EQ(s.window.undoStack().count(), 3);
+    EXPECT_NEAR(patterns::dartSize(s.frontPanel(), dart.id)->depth, 0.1, 1e-9);
+    EXPECT_TRUE(s.drapeFollows());
+
+    // Wider than the waist: refused with one message saying so; the field shows the dart as is.
+    const std::string resized = patterns::dumpDocument(s.window.project().document);
+    dock.dartWidthField()->setValue(1500);
+    ASSERT_EQ(s.prompts.errors.size(), 1);
+    EXPECT_TRUE(s.prompts.errors.front().contains("wider than its edge allows"))
+        << s.prompts.errors.front().toStdString();
+    EXPECT_NEAR(dock.dartWidthField()->value(), 41, 0.05);
+    EXPECT_EQ(patterns::dumpDocument(s.window.project().document), resized);
+    EXPECT_EQ(s.window.undoStack().count(), 3);
+    s.window.undoStack().undo();
+    s.window.undoStack().undo();
+    EXPECT_EQ(patterns::dumpDocument(s.window.project().document), cut);
+    EXPECT_NEAR(dock.dartWidthField()->value(), 30, 0.05);
 }
 
 TEST(BodyDock, AMeasurementIsPreviewedAndLandsAsOneUndoableBodyChange) {
