@@ -537,6 +537,28 @@ void PatternView::drawHandles() {
                 line->setZValue(6);
                 m_handles.push_back(line);
             }
+            if (s.kind == patterns::SegmentKind::Arc) {
+                // The bulge handle: a square on the arc's middle, on a line from the chord's.
+                const QPointF middle = toScene(selected->id, patterns::pointAt(s, 0.5));
+                auto* arm =
+                    m_scene.addLine(QLineF(toScene(selected->id, 0.5 * (s.start + s.end)), middle),
+                                    screenPen(QColor(90, 90, 110), 1));
+                arm->setZValue(9);
+                m_handles.push_back(arm);
+                auto* h =
+                    m_scene.addRect(-HANDLE_PX / 2, -HANDLE_PX / 2, HANDLE_PX, HANDLE_PX,
+                                    QPen(QColor(30, 30, 40), 1), QBrush(QColor(80, 160, 230)));
+                h->setFlag(QGraphicsItem::ItemIgnoresTransformations);
+                h->setPos(middle);
+                h->setZValue(10);
+                h->setData(DATA_ROLE, ROLE_CONTROL);
+                h->setData(DATA_PANEL, quint32(selected->id.value));
+                h->setData(DATA_EDGE, quint32(edge.id.value));
+                h->setData(DATA_CONTROL, CONTROL_BULGE);
+                h->setToolTip(tr("drag to bend the arc"));
+                m_handles.push_back(h);
+                continue;
+            }
             if (s.kind != patterns::SegmentKind::Quadratic &&
                 s.kind != patterns::SegmentKind::Cubic) {
                 continue;
@@ -765,16 +787,26 @@ void PatternView::showHandleDrag() {
     if (const auto it = m_items.find(m_handleDrag->panel.value); it != m_items.end()) {
         it->second->setPath(panelPath(curved, layout(m_handleDrag->panel)));
     }
-    const patterns::Vec2 at =
-        m_handleDrag->control == 1 ? m_handleDrag->curve.control1 : m_handleDrag->curve.control2;
+    const patterns::Segment segment =
+        patterns::contourSegment(*contour, static_cast<std::size_t>(index));
+    const bool arc = m_handleDrag->control == CONTROL_BULGE;
+    const patterns::Vec2 at = arc                          ? patterns::pointAt(segment, 0.5)
+                              : m_handleDrag->control == 1 ? m_handleDrag->curve.control1
+                                                           : m_handleDrag->curve.control2;
     for (QGraphicsItem* h : m_handles) {
         if (h->data(DATA_EDGE).value<quint32>() == m_handleDrag->edge.value &&
             h->data(DATA_CONTROL).toInt() == m_handleDrag->control) {
             h->setPos(toScene(m_handleDrag->panel, at));
         }
     }
-    const double length =
-        patterns::arcLength(patterns::contourSegment(*contour, static_cast<std::size_t>(index)));
+    const double length = patterns::arcLength(segment);
+    if (arc) {
+        const double sagitta = (at - 0.5 * (segment.start + segment.end)).norm();
+        setFeedback(
+            tr("edge %1 mm  height %2 mm").arg(length * MM, 0, 'f', 1).arg(sagitta * MM, 0, 'f', 1),
+            toScene(m_handleDrag->panel, at));
+        return;
+    }
     setFeedback(tr("edge %1 mm  (%2, %3)")
                     .arg(length * MM, 0, 'f', 1)
                     .arg(at.x() * MM, 0, 'f', 1)
@@ -1144,8 +1176,15 @@ void PatternView::mousePressEvent(QMouseEvent* event) {
             patterns::doc::Panel copy = *panel(id);
             int index = 0;
             if (const patterns::doc::Contour* c = patterns::contourOfEdge(copy, edge, index)) {
-                m_handleDrag = HandleDrag{id, edge, item->data(DATA_CONTROL).toInt(),
-                                          c->edges[static_cast<std::size_t>(index)].curve, false};
+                const patterns::Segment s =
+                    patterns::contourSegment(*c, static_cast<std::size_t>(index));
+                m_handleDrag = HandleDrag{id,
+                                          edge,
+                                          item->data(DATA_CONTROL).toInt(),
+                                          c->edges[static_cast<std::size_t>(index)].curve,
+                                          false,
+                                          s.start,
+                                          s.end};
                 m_selectedEdge = edge;
                 event->accept();
                 return;
@@ -1254,8 +1293,12 @@ void PatternView::mouseMoveEvent(QMouseEvent* event) {
     if (m_handleDrag) {
         const patterns::Vec2 p = toPattern(
             m_handleDrag->panel, snap(scene, event->modifiers(), {}, m_handleDrag->panel));
-        (m_handleDrag->control == 1 ? m_handleDrag->curve.control1 : m_handleDrag->curve.control2) =
-            p;
+        if (m_handleDrag->control == CONTROL_BULGE) {
+            m_handleDrag->curve.bulge = bulgeThrough(m_handleDrag->start, m_handleDrag->end, p);
+        } else {
+            (m_handleDrag->control == 1 ? m_handleDrag->curve.control1
+                                        : m_handleDrag->curve.control2) = p;
+        }
         m_handleDrag->moved = true;
         showHandleDrag();
         event->accept();

@@ -4,8 +4,8 @@
 /// Zoom with the wheel, pan by dragging the background (Select) or with the middle button
 /// (every tool). Tools (toolActions()):
 /// - Select (A): a click selects a panel (Ctrl+click adds or removes one) and shows its outline
-///   and hole points, and the Bézier handles of its curved edges. Drag a point or a handle to
-///   move it (lengths shown; Shift
+///   and hole points, and the Bézier handles of its curved edges (an arc's: one on its middle,
+///   whose drag sets its bulge). Drag a point or a handle to move it (lengths shown; Shift
 ///   snaps to a 5 mm grid, Ctrl+Shift to 1 mm; points snap to other points within a few
 ///   pixels); click an edge to select it (V makes it a curve or straight again); double-click
 ///   an edge to add a point; Delete deletes the selected point, or the selected seam (click a
@@ -172,13 +172,15 @@ class PatternView : public QGraphicsView {
         patterns::Vec2 position = patterns::Vec2::Zero(); ///< where it is now [m]
         bool moved = false;
     };
-    /// A Bézier handle being dragged.
+    /// A Bézier handle, or an arc's bulge handle, being dragged.
     struct HandleDrag {
         patterns::PanelId panel;
         patterns::EdgeId edge;
-        int control = 1;            ///< 1 or 2
+        int control = 1;            ///< 1 or 2, or CONTROL_BULGE (an arc's middle)
         patterns::doc::Curve curve; ///< with the handle where it is now
         bool moved = false;
+        patterns::Vec2 start = patterns::Vec2::Zero(); ///< the edge's ends [m]
+        patterns::Vec2 end = patterns::Vec2::Zero();
     };
     /// A panel being moved or rotated in the layout.
     struct LayoutDrag {

@@ -30,6 +30,7 @@ constexpr int DATA_POINT = 2;
 constexpr int DATA_ROLE = 3;
 constexpr int DATA_EDGE = 4;
 constexpr int DATA_CONTROL = 5;
+constexpr int CONTROL_BULGE = 3; // DATA_CONTROL of an arc's bulge handle (Béziers': 1, 2)
 constexpr int ROLE_POINT = 1;
 constexpr int ROLE_CONTROL = 2;
 constexpr int ROLE_ROTATE = 3;
