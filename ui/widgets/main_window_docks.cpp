@@ -162,6 +162,18 @@ void MainWindow::buildDocks() {
                     }
                 }
             });
+    // With the Seam tool, a press on the cloth in 3D picks the edge nearest it, as a click on
+    // the pattern does (the pattern view's picks: one seam tool, two views).
+    connect(m_pattern, &PatternView::toolChanged, this, [this](PatternView::Tool tool) {
+        m_viewport->setSeamPicking(tool == PatternView::Tool::Seam);
+    });
+    connect(m_viewport, &Viewport::seamPointPicked, this,
+            [this](const QString& name, double x, double y, Qt::KeyboardModifiers modifiers) {
+                if (const patterns::doc::Panel* p =
+                        m_project.document.panelNamed(name.toStdString())) {
+                    m_pattern->pickSeamAt(p->id, patterns::Vec2(x, y), modifiers);
+                }
+            });
     // A press on the cloth in 3D selects its panel in the pattern (and so in the docks).
     connect(m_viewport, &Viewport::panelPicked, this, [this](const QString& name) {
         for (const patterns::doc::Panel& p : m_project.document.panels) {

@@ -1035,6 +1035,36 @@ void PatternView::pickSeamEdge(const EdgePick& pick, Qt::KeyboardModifiers modif
     updateSeamPick();
 }
 
+bool PatternView::pickSeamAt(patterns::PanelId id, const patterns::Vec2& at,
+                             Qt::KeyboardModifiers modifiers) {
+    const patterns::doc::Panel* p = panel(id);
+    if (m_tool != Tool::Seam || p == nullptr) {
+        return false;
+    }
+    // The outline point nearest `at`, sampled as pickEdge samples (in pattern metres here).
+    double best = SEAM_PICK_3D_MM / MM;
+    std::optional<EdgePick> pick;
+    for (std::size_t e = 0; e < p->outline.edges.size(); ++e) {
+        const patterns::Segment s = patterns::contourSegment(p->outline, e);
+        constexpr int SAMPLES = 200;
+        for (int k = 1; k < SAMPLES; ++k) {
+            const double t = double(k) / SAMPLES;
+            const patterns::Vec2 q = patterns::pointAt(s, t);
+            if (const double d = (q - at).norm(); d < best) {
+                best = d;
+                pick = EdgePick{id, p->outline.edges[e].id, static_cast<int>(e), true, t, q};
+            }
+        }
+    }
+    if (!pick) {
+        Q_EMIT message(tr("Click the cloth within %1 mm of an edge of the panel to pick it")
+                           .arg(SEAM_PICK_3D_MM));
+        return false;
+    }
+    pickSeamEdge(*pick, modifiers);
+    return true;
+}
+
 void PatternView::updateSeamPick() {
     m_seamRanges[0] = m_sides[0] ? rangesOf(*m_sides[0]) : std::vector<patterns::doc::SeamRange>{};
     m_seamRanges[1].clear();

@@ -16,7 +16,7 @@
 ///   Backspace drops the last, Esc cancels.
 /// - Seam (N): click an outline edge, Shift+click to extend the range to another edge (Ctrl:
 ///   from or to the clicked point), then the same on the second side; R reverses the second
-///   side, Enter sews, Esc cancels.
+///   side, Enter sews, Esc cancels. Presses on the cloth in the 3D view pick too (pickSeamAt).
 /// - Curve (P): a free-form panel, pen-style: click for a corner, press and drag for a smooth
 ///   point (the drag pulls its Bézier handles); close as a polygon.
 /// - Internal line (L): click points inside a panel; double-click or Enter ends the line.
@@ -134,6 +134,12 @@ class PatternView : public QGraphicsView {
     /// Removes the selected notch or internal line, or the dart whose leg is the selected
     /// edge. False when none is selected or the edit is refused.
     bool deleteSelectedMark();
+    /// With the Seam tool, picks the outline edge of `panel` nearest its pattern point `at` [m]
+    /// (a press on the cloth in the 3D view), within 40 mm, as a click on that edge here with
+    /// `modifiers` picks it (the same sides, Shift and Ctrl). False, and a message, when none
+    /// is that near; false when another tool is active or there is no such panel.
+    bool pickSeamAt(patterns::PanelId panel, const patterns::Vec2& at,
+                    Qt::KeyboardModifiers modifiers);
     /// The ranges picked with the Seam tool: side 0 (a) or 1 (b).
     const std::vector<patterns::doc::SeamRange>& seamPick(int side) const;
 

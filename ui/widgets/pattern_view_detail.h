@@ -20,6 +20,7 @@ constexpr double MM = 1000.0; // the scene is in millimetres, y down
 constexpr double GAP_MM = 60.0;
 constexpr double HANDLE_PX = 9.0;         // handle diameter on screen
 constexpr double PICK_EDGE_PX = 8.0;      // a click this close to an edge picks it
+constexpr double SEAM_PICK_3D_MM = 40.0;  // a seam pick on the cloth this close to an edge
 constexpr double SNAP_PX = 8.0;           // a point this close to another snaps onto it
 constexpr double ROTATE_HANDLE_PX = 24.0; // the rotate handle's distance above the panel
 constexpr double ROTATE_STEP_DEG = 15.0;  // Shift while rotating
