@@ -94,7 +94,8 @@ class MainWindow : public QMainWindow {
     QString recoveryDirectory() const { return m_recoveryDir; }
     /// Autosave period [s] while modified (default 60, QSettings "autosave/seconds").
     void setAutosaveSeconds(int seconds);
-    /// The recovery file of the project being edited.
+    /// The recovery file of the project being edited by this window: HASH-PID-N.atelier, HASH
+    /// its project file's path's, PID the process's and N the window's number in it.
     QString recoveryFile() const;
     /// Writes the recovery file now if the project is modified (the autosave timer calls it).
     bool autosave();
@@ -244,6 +245,7 @@ class MainWindow : public QMainWindow {
     bool m_modifiedOutsideStack = false;
     Prompts m_prompts;
     QString m_recoveryDir;
+    int m_windowNumber = 0; ///< this window's number in the process (its recovery file's name)
     QTimer m_autosave;
 };
 
