@@ -527,6 +527,20 @@ void PatternView::drawHandles() {
         return;
     }
     const QTransform t = layout(selected->id);
+    // A curve's square handle at `at` [m]: control 1 or 2 of a Bézier edge, or an arc's bulge.
+    const auto addControl = [&](const patterns::Vec2& at, patterns::EdgeId edge, int control) {
+        auto* h = m_scene.addRect(-HANDLE_PX / 2, -HANDLE_PX / 2, HANDLE_PX, HANDLE_PX,
+                                  QPen(QColor(30, 30, 40), 1), QBrush(QColor(80, 160, 230)));
+        h->setFlag(QGraphicsItem::ItemIgnoresTransformations);
+        h->setPos(toScene(selected->id, at));
+        h->setZValue(10);
+        h->setData(DATA_ROLE, ROLE_CONTROL);
+        h->setData(DATA_PANEL, quint32(selected->id.value));
+        h->setData(DATA_EDGE, quint32(edge.value));
+        h->setData(DATA_CONTROL, control);
+        m_handles.push_back(h);
+        return h;
+    };
     const auto addHandles = [&](const patterns::doc::Contour& contour) {
         for (std::size_t e = 0; e < contour.edges.size(); ++e) {
             const patterns::doc::Edge& edge = contour.edges[e];
@@ -539,24 +553,13 @@ void PatternView::drawHandles() {
             }
             if (s.kind == patterns::SegmentKind::Arc) {
                 // The bulge handle: a square on the arc's middle, on a line from the chord's.
-                const QPointF middle = toScene(selected->id, patterns::pointAt(s, 0.5));
-                auto* arm =
-                    m_scene.addLine(QLineF(toScene(selected->id, 0.5 * (s.start + s.end)), middle),
-                                    screenPen(QColor(90, 90, 110), 1));
+                const patterns::Vec2 middle = patterns::pointAt(s, 0.5);
+                auto* arm = m_scene.addLine(QLineF(toScene(selected->id, 0.5 * (s.start + s.end)),
+                                                   toScene(selected->id, middle)),
+                                            screenPen(QColor(90, 90, 110), 1));
                 arm->setZValue(9);
                 m_handles.push_back(arm);
-                auto* h =
-                    m_scene.addRect(-HANDLE_PX / 2, -HANDLE_PX / 2, HANDLE_PX, HANDLE_PX,
-                                    QPen(QColor(30, 30, 40), 1), QBrush(QColor(80, 160, 230)));
-                h->setFlag(QGraphicsItem::ItemIgnoresTransformations);
-                h->setPos(middle);
-                h->setZValue(10);
-                h->setData(DATA_ROLE, ROLE_CONTROL);
-                h->setData(DATA_PANEL, quint32(selected->id.value));
-                h->setData(DATA_EDGE, quint32(edge.id.value));
-                h->setData(DATA_CONTROL, CONTROL_BULGE);
-                h->setToolTip(tr("drag to bend the arc"));
-                m_handles.push_back(h);
+                addControl(middle, edge.id, CONTROL_BULGE)->setToolTip(tr("drag to bend the arc"));
                 continue;
             }
             if (s.kind != patterns::SegmentKind::Quadratic &&
@@ -575,17 +578,7 @@ void PatternView::drawHandles() {
             armItem->setZValue(9);
             m_handles.push_back(armItem);
             for (int c = 1; c <= (cubic ? 2 : 1); ++c) {
-                auto* h =
-                    m_scene.addRect(-HANDLE_PX / 2, -HANDLE_PX / 2, HANDLE_PX, HANDLE_PX,
-                                    QPen(QColor(30, 30, 40), 1), QBrush(QColor(80, 160, 230)));
-                h->setFlag(QGraphicsItem::ItemIgnoresTransformations);
-                h->setPos(toScene(selected->id, c == 1 ? s.control1 : s.control2));
-                h->setZValue(10);
-                h->setData(DATA_ROLE, ROLE_CONTROL);
-                h->setData(DATA_PANEL, quint32(selected->id.value));
-                h->setData(DATA_EDGE, quint32(edge.id.value));
-                h->setData(DATA_CONTROL, c);
-                m_handles.push_back(h);
+                addControl(c == 1 ? s.control1 : s.control2, edge.id, c);
             }
         }
         for (const patterns::doc::Point& point : contour.points) {
