@@ -15,9 +15,10 @@ struct Material {
     double poisson =
         0.3; ///< Poisson ratio ν_weft,warp (contraction along warp per weft strain) [-]
     /// Bending rigidity per unit width B [N·m]: moment per width = B × curvature, as a
-    /// cantilever tester (ASTM D1388) or KES-FB2 reports it. With the continuum bending model
-    /// (the default) it means that on any mesh; with the hinge model it is a per-hinge
-    /// coefficient (sim/forces/bending.h). Isotropic unless the per-direction values are set.
+    /// cantilever tester (ASTM D1388) or KES-FB2 reports it, with the continuum bending model
+    /// (BendingModel::Continuum) on any mesh; with the hinge model (the default for now) it is
+    /// a per-hinge coefficient (sim/forces/bending.h). Isotropic unless the per-direction values
+    /// are set (the hinge model ignores them).
     double bending = 1e-5;
     /// B of a strip cut along the weft (curvature along x) [N·m]; 0 = `bending`.
     double bendingWeft = 0;

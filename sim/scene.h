@@ -37,7 +37,8 @@ struct ClothSpec {
     StretchModel model = StretchModel::Fem;
     bool crossSprings = false; ///< springs model only: add springs across each hinge
     bool bending = true;       ///< bending (with `bendingModel`)
-    BendingModel bendingModel = BendingModel::Continuum;
+    /// Hinge by default until the hard cases pass with Continuum (decisions/020).
+    BendingModel bendingModel = BendingModel::Hinge;
     bool plasticity = false; ///< bending plasticity (material.plasticYieldAngle)
     /// (|H|) optional per-hinge rest fold angle [rad] (0 = flat); empty = flat pattern.
     VecX restAngles;

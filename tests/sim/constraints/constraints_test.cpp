@@ -255,11 +255,6 @@ TEST(Constraints, SeamBlockedByABodyIsLedAroundIt) {
     // μ = 0.1 the routed pull stops 2 cm short, at 0.5 7–9 cm short, like a rope over a post).
     const int cells = 4;
     SceneSpec scene = test::smallSheet(StretchModel::Fem, cells, 0.1, false);
-    // The figures above were measured with discrete-shells bending, 1.5-3× stiffer than the
-    // continuum plate of the same bending_n_m on this grid; the scene is sensitive to it (with
-    // the continuum 1e-5 N·m the routed pull stops 6.7 cm short, decisions/020), and it tests
-    // routing, not bending.
-    scene.cloths[0].bendingModel = BendingModel::Hinge;
     scene.cloths[0].position.col(0).array() -= 0.05;
     scene.cloths[0].position.col(1).array() -= 0.08; // top row at y = 0.02
     ClothSpec back = scene.cloths[0];
