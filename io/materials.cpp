@@ -4,6 +4,8 @@
 #include "io/json_reader.h"
 #include "io/material_json.h"
 
+#include "sim/forces/continuum_bending.h"
+
 #include <limits>
 
 namespace atelier::io {
@@ -47,6 +49,13 @@ void readMaterial(ObjectReader& reader, sim::Material& material, bool requireAll
     field("shear_n_per_m", material.shear, true, NO_MAX, requireAll);
     field("poisson", material.poisson, false, 1.0, requireAll);
     field("bending_n_m", material.bending, false, NO_MAX, requireAll);
+    // Per-direction bending rigidities are optional (0 = bending_n_m).
+    field("bending_weft_n_m", material.bendingWeft, false, NO_MAX, false);
+    field("bending_warp_n_m", material.bendingWarp, false, NO_MAX, false);
+    field("bending_bias_n_m", material.bendingBias, false, NO_MAX, false);
+    if (sim::BendingRigidity rigidity; const auto why = sim::bendingRigidity(material, rigidity)) {
+        reader.fail(material.bendingBias > 0 ? "bending_bias_n_m" : "bending_n_m", *why);
+    }
     field("damping_s", material.damping, false, NO_MAX, requireAll);
     field("static_friction", material.staticFriction, false, NO_MAX, requireAll);
     field("kinetic_friction", material.kineticFriction, false, NO_MAX, requireAll);

@@ -46,9 +46,11 @@ constexpr std::array<sim::StretchModel, 3> MODELS = {
 bool sameParameters(const sim::Material& a, const sim::Material& b) {
     return a.density == b.density && a.stretchWeft == b.stretchWeft &&
            a.stretchWarp == b.stretchWarp && a.shear == b.shear && a.poisson == b.poisson &&
-           a.bending == b.bending && a.damping == b.damping &&
-           a.staticFriction == b.staticFriction && a.kineticFriction == b.kineticFriction &&
-           a.plasticYieldAngle == b.plasticYieldAngle && a.plasticRate == b.plasticRate;
+           a.bending == b.bending && a.bendingWeft == b.bendingWeft &&
+           a.bendingWarp == b.bendingWarp && a.bendingBias == b.bendingBias &&
+           a.damping == b.damping && a.staticFriction == b.staticFriction &&
+           a.kineticFriction == b.kineticFriction && a.plasticYieldAngle == b.plasticYieldAngle &&
+           a.plasticRate == b.plasticRate;
 }
 
 // Unit conversions, chosen so that whole values come out exact (10 mm → 0.01, 90° → π/2).
@@ -319,6 +321,14 @@ patterns::DrapeSettings readSimulation(const json& value, const std::string& poi
         }
         d.model = *m;
     }
+    if (const auto model = r.optionalString("bending_model")) {
+        const auto m = sim::bendingModelFromName(*model);
+        if (!m) {
+            r.fail("bending_model", "unknown bending model " + inQuotes(*model) +
+                                        " (expected \"continuum\" or \"hinge\")");
+        }
+        d.bendingModel = *m;
+    }
     if (const auto integrator = r.optionalString("integrator")) {
         const auto kind = sim::integratorFromName(*integrator);
         if (!kind) {
@@ -421,6 +431,14 @@ ordered_json materialJson(const patterns::GarmentMaterial& material) {
     out["shear_n_per_m"] = number(m.shear);
     out["poisson"] = number(m.poisson);
     out["bending_n_m"] = number(m.bending);
+    // Per-direction rigidities only when set: an isotropic fabric's entry stays as it was.
+    for (const auto& [key, value] : {std::pair{"bending_weft_n_m", m.bendingWeft},
+                                     std::pair{"bending_warp_n_m", m.bendingWarp},
+                                     std::pair{"bending_bias_n_m", m.bendingBias}}) {
+        if (value > 0) {
+            out[key] = number(value);
+        }
+    }
     out["damping_s"] = number(m.damping);
     out["static_friction"] = number(m.staticFriction);
     out["kinetic_friction"] = number(m.kineticFriction);
@@ -446,6 +464,9 @@ ordered_json simulationJson(const patterns::DrapeSettings& d) {
     ordered_json out = ordered_json::object();
     out["particle_distance_mm"] = mm(d.particleDistance);
     out["model"] = std::string(sim::stretchModelName(d.model));
+    if (d.bendingModel != patterns::DrapeSettings{}.bendingModel) {
+        out["bending_model"] = std::string(sim::bendingModelName(d.bendingModel));
+    }
     out["integrator"] = std::string(sim::integratorName(d.integrator));
     out["dt_s"] = number(d.dt);
     out["cg_tolerance"] = number(d.cgTolerance);

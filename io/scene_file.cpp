@@ -389,6 +389,14 @@ class SceneParser {
             r.fail("cross_springs", "cross springs exist only in the \"springs\" model");
         }
         cloth.bending = r.boolean("bending", cloth.bending);
+        if (const auto model = r.optionalString("bending_model")) {
+            const auto m = sim::bendingModelFromName(*model);
+            if (!m) {
+                r.fail("bending_model", "unknown bending model " + inQuotes(*model) +
+                                            " (expected \"continuum\" or \"hinge\")");
+            }
+            cloth.bendingModel = *m;
+        }
         cloth.plasticity = r.boolean("plasticity", cloth.plasticity);
         if (cloth.plasticity && !(cloth.material.plasticYieldAngle > 0)) {
             r.fail("plasticity", "plasticity needs a material with plastic_yield_angle_rad > 0");

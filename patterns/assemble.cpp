@@ -91,6 +91,7 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
             wrapOnSlot(placementCoordinates(panel, pm), *slot, panel.placement.clearance);
         cloth.material = material->material;
         cloth.model = settings.model;
+        cloth.bendingModel = settings.bendingModel;
         cloth.restAngles = hingeRestAngles(cloth.mesh, pm);
         cloth.thickness = settings.clothThickness;
         cloth.selfCollision = settings.selfCollision;

@@ -511,8 +511,10 @@ std::string dumpDocument(const GarmentDocument& d) {
         appendText(out, m.material.name);
         for (const double v :
              {m.material.density, m.material.stretchWeft, m.material.stretchWarp, m.material.shear,
-              m.material.poisson, m.material.bending, m.material.damping, m.material.staticFriction,
-              m.material.kineticFriction, m.material.plasticYieldAngle, m.material.plasticRate}) {
+              m.material.poisson, m.material.bending, m.material.bendingWeft,
+              m.material.bendingWarp, m.material.bendingBias, m.material.damping,
+              m.material.staticFriction, m.material.kineticFriction, m.material.plasticYieldAngle,
+              m.material.plasticRate}) {
             appendNumber(out, v);
         }
         out += '\n';

@@ -4,6 +4,8 @@
 #include "patterns/document_edit_detail.h"
 #include "patterns/mesh.h"
 
+#include "sim/forces/continuum_bending.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -554,19 +556,90 @@ Result<Edit> renamePanel(GarmentDocument& d, PanelId panel, std::string name) {
 }
 
 Result<Edit> placePanel(GarmentDocument& d, PanelId panel, const Placement& placement) {
-    return record(d, "place panel #" + std::to_string(panel.value), {panel}, {},
-                  [&](GarmentDocument& doc) -> Result<std::uint32_t> {
-                      doc::Panel* p = doc.panel(panel);
-                      if (p == nullptr) {
-                          return editError(panelWhere(panel), "no such panel");
-                      }
-                      if (!placement.offset.allFinite() || !std::isfinite(placement.rotation) ||
-                          !(placement.clearance >= 0)) {
-                          return editError(panelWhere(panel), "placement values must be finite");
-                      }
-                      p->placement = placement;
-                      return 0U;
-                  });
+    return placePanels(d, {{panel, placement}});
+}
+
+Result<Edit> placePanels(GarmentDocument& d,
+                         const std::vector<std::pair<PanelId, Placement>>& placements) {
+    std::vector<PanelId> ids;
+    for (const auto& [panel, placement] : placements) {
+        ids.push_back(panel);
+    }
+    const std::string description = placements.size() == 1
+                                        ? "place panel #" + std::to_string(ids.front().value)
+                                        : "place " + std::to_string(placements.size()) + " panels";
+    return record(d, description, ids, {}, [&](GarmentDocument& doc) -> Result<std::uint32_t> {
+        if (placements.empty()) {
+            return editError("", "no panel to place");
+        }
+        for (const auto& [panel, placement] : placements) {
+            doc::Panel* p = doc.panel(panel);
+            if (p == nullptr) {
+                return editError(panelWhere(panel), "no such panel");
+            }
+            if (!placement.offset.allFinite() || !std::isfinite(placement.rotation) ||
+                !(placement.clearance >= 0)) {
+                return editError(panelWhere(panel), "placement values must be finite");
+            }
+            p->placement = placement;
+        }
+        return 0U;
+    });
+}
+
+std::vector<std::pair<PanelId, Placement>> sideBySide(const GarmentDocument& d,
+                                                      const std::vector<PanelId>& panels,
+                                                      const std::string& slot, double gap) {
+    // Each panel's extent around the slot [lo, hi] about its own origin on it, as
+    // placementCoordinates lays it: mirrored for a Back panel, centred on its box, turned.
+    constexpr int SAMPLES = 8; // per outline edge
+    std::vector<std::pair<PanelId, Placement>> out;
+    std::vector<std::pair<double, double>> extents;
+    for (const PanelId id : panels) {
+        const doc::Panel* p = d.panel(id);
+        if (p == nullptr || p->outline.edges.empty()) {
+            continue;
+        }
+        std::vector<Vec2> points;
+        for (std::size_t i = 0; i < p->outline.edges.size(); ++i) {
+            const Segment s = contourSegment(p->outline, i);
+            for (int k = 0; k < SAMPLES; ++k) {
+                Vec2 q = pointAt(s, static_cast<double>(k) / SAMPLES);
+                if (p->side == PanelSide::Back) {
+                    q.x() = -q.x();
+                }
+                points.push_back(q);
+            }
+        }
+        Vec2 lo = points.front(), hi = points.front();
+        for (const Vec2& q : points) {
+            lo = lo.cwiseMin(q);
+            hi = hi.cwiseMax(q);
+        }
+        const Vec2 centre = 0.5 * (lo + hi);
+        const double c = std::cos(p->placement.rotation), s = std::sin(p->placement.rotation);
+        double left = std::numeric_limits<double>::infinity(), right = -left;
+        for (const Vec2& q : points) {
+            const double u = c * (q.x() - centre.x()) - s * (q.y() - centre.y());
+            left = std::min(left, u);
+            right = std::max(right, u);
+        }
+        Placement placement = p->placement;
+        placement.slot = slot;
+        out.emplace_back(id, placement);
+        extents.emplace_back(left, right);
+    }
+    // Left to right from 0, then the whole row moved so that its middle is the slot's.
+    double cursor = 0;
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        out[i].second.offset.x() = cursor - extents[i].first;
+        cursor += extents[i].second - extents[i].first + gap;
+    }
+    const double middle = 0.5 * (cursor - gap);
+    for (auto& [id, placement] : out) {
+        placement.offset.x() -= middle;
+    }
+    return out;
 }
 
 Result<Edit> setPanelParticleDistance(GarmentDocument& d, PanelId panel, double distance) {
@@ -622,7 +695,9 @@ Result<Edit> setMaterial(GarmentDocument& d, const GarmentMaterial& material) {
          {Rule{"density", m.density, true, ANY}, Rule{"weft stretch", m.stretchWeft, true, ANY},
           Rule{"warp stretch", m.stretchWarp, true, ANY}, Rule{"shear", m.shear, true, ANY},
           Rule{"Poisson's ratio", m.poisson, false, 1}, Rule{"bending", m.bending, false, ANY},
-          Rule{"damping", m.damping, false, ANY},
+          Rule{"weft bending", m.bendingWeft, false, ANY},
+          Rule{"warp bending", m.bendingWarp, false, ANY},
+          Rule{"bias bending", m.bendingBias, false, ANY}, Rule{"damping", m.damping, false, ANY},
           Rule{"static friction", m.staticFriction, false, ANY},
           Rule{"kinetic friction", m.kineticFriction, false, ANY},
           Rule{"plastic yield angle", m.plasticYieldAngle, false, ANY},
@@ -634,6 +709,9 @@ Result<Edit> setMaterial(GarmentDocument& d, const GarmentMaterial& material) {
                                         (r.below < ANY ? " and below 1" : "") + " (found " +
                                         std::to_string(r.value) + ")");
         }
+    }
+    if (sim::BendingRigidity rigidity; const auto why = sim::bendingRigidity(m, rigidity)) {
+        return editError(where, *why);
     }
     Edit edit;
     edit.description = where;

@@ -14,6 +14,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace atelier::patterns {
@@ -103,6 +104,21 @@ Result<Edit> renamePanel(GarmentDocument& document, PanelId panel, std::string n
 /// Places a panel on a body slot.
 Result<Edit> placePanel(GarmentDocument& document, PanelId panel, const Placement& placement);
 
+/// Places several panels at once, each as placePanel: one edit (one undo step). Refused, the
+/// document untouched, when any of them is.
+Result<Edit> placePanels(GarmentDocument& document,
+                         const std::vector<std::pair<PanelId, Placement>>& placements);
+
+/// Placements that lay `panels` side by side around slot `slot`, in the order given, `gap` [m]
+/// apart, the row centred on the slot's middle line (offset around 0): panel i's offset around
+/// is u_i − lo_i with u_0 = −W/2, u_{i+1} = u_i + (hi_i − lo_i) + gap and W the row's width,
+/// where [lo_i, hi_i] is the panel's extent around the slot as placementCoordinates lays it
+/// (mirrored for a Back panel, about the middle of its box, turned by its rotation). Each keeps
+/// its rotation, clearance and offset along the slot; panels not in the document are left out.
+std::vector<std::pair<PanelId, Placement>> sideBySide(const GarmentDocument& document,
+                                                      const std::vector<PanelId>& panels,
+                                                      const std::string& slot, double gap = 0.02);
+
 /// Meshes a panel at its own particle distance [m] (0: the drape's), 1 mm to 1 m.
 Result<Edit> setPanelParticleDistance(GarmentDocument& document, PanelId panel, double distance);
 
@@ -148,6 +164,24 @@ Result<Edit> setFoldAngle(GarmentDocument& document, PanelId panel, LineId line,
 /// `created` is the dart's id.
 Result<Edit> addDart(GarmentDocument& document, PanelId panel, EdgeId edge, double t, double width,
                      double depth);
+
+/// A dart's size: the distance between its legs' bases (width) and from the middle of the chord
+/// between them to its tip (depth) [m].
+struct DartSize {
+    double width = 0;
+    double depth = 0;
+};
+
+/// The size of dart `dart` of `panel`; nullopt when the panel has no such dart.
+std::optional<DartSize> dartSize(const doc::Panel& panel, DartId dart);
+
+/// Resizes a dart: its bases slide along the chord between them, `width` apart about its middle
+/// [m], and its tip moves along its direction from that middle to `depth` from it [m]. The
+/// outline edges beside the bases keep their other ends (and curve handles). Refused when a
+/// size is not positive, a base would pass the far end of its neighbouring edge ("wider than its
+/// edge allows") or the legs would leave the panel.
+Result<Edit> setDartSize(GarmentDocument& document, PanelId panel, DartId dart, double width,
+                         double depth);
 
 /// Removes a dart and its tip: the outline runs straight from one leg's base to the other's,
 /// through the edge of the first leg. Refused while a seam or notch is on a leg.

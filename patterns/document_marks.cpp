@@ -4,7 +4,9 @@
 #include "patterns/mesh.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -291,6 +293,90 @@ Result<Edit> addDart(GarmentDocument& d, PanelId panel, EdgeId edge, double t, d
                                  p->outline.edges[i + 1].id};
             p->darts.push_back(dart);
             return dart.id.value;
+        });
+}
+
+namespace {
+
+/// The outline indices of a dart's first base point (its first leg's start), tip and second
+/// base point; nullopt when its legs are not consecutive outline edges.
+std::optional<std::array<std::size_t, 3>> dartPoints(const doc::Panel& p, const doc::Dart& dart) {
+    const int k1 = outlineEdgeIndex(p, dart.leg1), k2 = outlineEdgeIndex(p, dart.leg2);
+    const auto n = static_cast<int>(p.outline.points.size());
+    if (k1 < 0 || k2 < 0 || n < 4 || k2 != (k1 + 1) % n) {
+        return std::nullopt;
+    }
+    return std::array<std::size_t, 3>{static_cast<std::size_t>(k1), static_cast<std::size_t>(k2),
+                                      static_cast<std::size_t>((k2 + 1) % n)};
+}
+
+} // namespace
+
+std::optional<DartSize> dartSize(const doc::Panel& panel, DartId dart) {
+    const auto it = std::find_if(panel.darts.begin(), panel.darts.end(),
+                                 [&](const doc::Dart& x) { return x.id == dart; });
+    const auto at = it == panel.darts.end() ? std::nullopt : dartPoints(panel, *it);
+    if (!at) {
+        return std::nullopt;
+    }
+    const Vec2 a = panel.outline.points[(*at)[0]].position;
+    const Vec2 tip = panel.outline.points[(*at)[1]].position;
+    const Vec2 b = panel.outline.points[(*at)[2]].position;
+    return DartSize{(b - a).norm(), (tip - 0.5 * (a + b)).norm()};
+}
+
+Result<Edit> setDartSize(GarmentDocument& d, PanelId panel, DartId dart, double width,
+                         double depth) {
+    return record(
+        d, "resize dart #" + std::to_string(dart.value), {panel}, {},
+        [&](GarmentDocument& doc) -> Result<std::uint32_t> {
+            doc::Panel* p = doc.panel(panel);
+            if (p == nullptr) {
+                return editError(panelWhere(panel), "no such panel");
+            }
+            const auto it = std::find_if(p->darts.begin(), p->darts.end(),
+                                         [&](const doc::Dart& x) { return x.id == dart; });
+            const auto at = it == p->darts.end() ? std::nullopt : dartPoints(*p, *it);
+            if (!at) {
+                return editError(panelWhere(panel), "no dart #" + std::to_string(dart.value));
+            }
+            if (!(width > 0) || !(depth > 0) || !std::isfinite(width) || !std::isfinite(depth)) {
+                return editError(panelWhere(panel), "a dart's width and depth must be positive");
+            }
+            auto& points = p->outline.points;
+            const std::size_t n = points.size();
+            const auto [ia, itip, ib] = *at;
+            const Vec2 a = points[ia].position, tip = points[itip].position;
+            const Vec2 b = points[ib].position;
+            const Vec2 middle = 0.5 * (a + b), along = (b - a).normalized();
+            // The bases slide along the chord about its middle; each must stay short of the far
+            // end of the outline edge it shares (which keeps its curve handles, as movePoint).
+            const Vec2 a2 = middle - 0.5 * width * along, b2 = middle + 0.5 * width * along;
+            const Vec2 before = points[(ia + n - 1) % n].position;
+            const Vec2 after = points[(ib + 1) % n].position;
+            if ((a2 - before).dot(a - before) < 1e-4 * (a - before).norm() ||
+                (b2 - after).dot(b - after) < 1e-4 * (b - after).norm()) {
+                return editError(panelWhere(panel), "the dart is wider than its edge allows");
+            }
+            // The tip keeps its direction from the chord's middle.
+            const Vec2 tip2 = middle + depth * (tip - middle).normalized();
+            // Inside the panel as it would be without the dart, as addDart checks.
+            doc::Panel closed = *p;
+            closed.darts.clear();
+            closed.outline.points.erase(closed.outline.points.begin() +
+                                        static_cast<std::ptrdiff_t>(itip));
+            closed.outline.edges.erase(closed.outline.edges.begin() +
+                                       static_cast<std::ptrdiff_t>(itip));
+            closed.outline.edges[(itip + n - 2) % (n - 1)].curve = doc::Curve{};
+            const Panel shape = garmentPanel(closed);
+            if (!lineInside(shape, a2 + 1e-3 * (tip2 - a2), tip2) ||
+                !lineInside(shape, tip2, b2 + 1e-3 * (tip2 - b2))) {
+                return editError(panelWhere(panel), "the dart's tip must lie inside the panel");
+            }
+            points[ia].position = a2;
+            points[itip].position = tip2;
+            points[ib].position = b2;
+            return 0U;
         });
 }
 

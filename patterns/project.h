@@ -34,6 +34,9 @@ struct BodySource {
 struct DrapeSettings {
     double particleDistance = 0.01; ///< target mesh edge length [m]
     sim::StretchModel model = sim::StretchModel::Fem;
+    /// Bending: the per-hinge coefficient (discrete shells, the default until the hard cases
+    /// pass with the continuum, decisions/020) or the continuum plate's rigidity on any mesh.
+    sim::BendingModel bendingModel = sim::BendingModel::Hinge;
     sim::IntegratorKind integrator = sim::IntegratorKind::ImplicitEuler;
     double dt = 1.0 / 300; ///< step (fixed, or first of rk45) [s]
     /// Implicit Euler: relative tolerance of the conjugate-gradient solve. Draping needs the

@@ -14,7 +14,19 @@ struct Material {
     double shear = 500;        ///< in-plane shear modulus [N/m]
     double poisson =
         0.3; ///< Poisson ratio ν_weft,warp (contraction along warp per weft strain) [-]
-    double bending = 1e-5; ///< bending stiffness [N·m]
+    /// Bending rigidity per unit width B [N·m]: moment per width = B × curvature, as a
+    /// cantilever tester (ASTM D1388) or KES-FB2 reports it, with the continuum bending model
+    /// (BendingModel::Continuum) on any mesh; with the hinge model (the default for now) it is
+    /// a per-hinge coefficient (sim/forces/bending.h). Isotropic unless the per-direction values
+    /// are set (the hinge model ignores them).
+    double bending = 1e-5;
+    /// B of a strip cut along the weft (curvature along x) [N·m]; 0 = `bending`.
+    double bendingWeft = 0;
+    /// B of a strip cut along the warp (curvature along y) [N·m]; 0 = `bending`.
+    double bendingWarp = 0;
+    /// B of a strip cut on the bias (45°) [N·m]; 0 = as an isotropic plate would be between
+    /// weft and warp (sim/forces/continuum_bending.h, BendingRigidity).
+    double bendingBias = 0;
     double damping =
         2e-4; ///< strain-rate damping: time constant of stiffness-proportional viscosity [s]
     double staticFriction = 0.4;  ///< Coulomb static friction coefficient [-]

@@ -18,6 +18,13 @@ enum class StretchModel {
     Fem,     ///< orthotropic St. Venant–Kirchhoff constant-strain triangles
 };
 
+/// Bending model of a cloth.
+enum class BendingModel {
+    Hinge,     ///< discrete shells, `material.bending` per hinge (sim/forces/bending.h)
+    Continuum, ///< plate bending with rigidity `material.bending` on any mesh, orthotropic
+               ///< (sim/forces/continuum_bending.h)
+};
+
 enum class IntegratorKind { Euler, Midpoint, Rk4, Rk45, ImplicitEuler };
 
 /// One piece of cloth. Vertex indices in constraints are global: cloths are concatenated in order.
@@ -29,8 +36,10 @@ struct ClothSpec {
     Material material;
     StretchModel model = StretchModel::Fem;
     bool crossSprings = false; ///< springs model only: add springs across each hinge
-    bool bending = true;       ///< dihedral-angle bending
-    bool plasticity = false;   ///< bending plasticity (material.plasticYieldAngle)
+    bool bending = true;       ///< bending (with `bendingModel`)
+    /// Hinge by default until the hard cases pass with Continuum (decisions/020).
+    BendingModel bendingModel = BendingModel::Hinge;
+    bool plasticity = false; ///< bending plasticity (material.plasticYieldAngle)
     /// (|H|) optional per-hinge rest fold angle [rad] (0 = flat); empty = flat pattern.
     VecX restAngles;
     /// Collision thickness: the distance this cloth keeps from obstacles and other cloth,

@@ -1,6 +1,7 @@
 #include "sim/scene_validation.h"
 
 #include "sim/collision/obstacle.h"
+#include "sim/forces/continuum_bending.h"
 
 #include <cmath>
 
@@ -44,6 +45,9 @@ std::optional<std::string> validateCloths(const SceneSpec& s) {
         }
         if (!(m.bending >= 0) || !(m.damping >= 0) || !std::isfinite(m.bending + m.damping)) {
             return who + ": bending and damping must be non-negative and finite";
+        }
+        if (BendingRigidity rigidity; const auto why = bendingRigidity(m, rigidity)) {
+            return who + ": " + *why;
         }
         const double nu21 = m.poisson * m.stretchWarp / m.stretchWeft;
         if (!(m.poisson >= 0) || !(m.poisson * nu21 < 1.0) ||

@@ -63,6 +63,25 @@ std::optional<StretchModel> stretchModelFromName(std::string_view name) {
     return std::nullopt;
 }
 
+std::string_view bendingModelName(BendingModel model) {
+    switch (model) {
+    case BendingModel::Hinge:
+        return "hinge";
+    case BendingModel::Continuum:
+        return "continuum";
+    }
+    return "?";
+}
+
+std::optional<BendingModel> bendingModelFromName(std::string_view name) {
+    for (auto m : {BendingModel::Hinge, BendingModel::Continuum}) {
+        if (bendingModelName(m) == name) {
+            return m;
+        }
+    }
+    return std::nullopt;
+}
+
 double maxEdgeStrain(const ClothMesh& mesh, const MatX3& x, int offset) {
     double worst = -1.0;
     for (int e = 0; e < mesh.edges.rows(); ++e) {

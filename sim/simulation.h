@@ -232,5 +232,7 @@ std::string_view integratorName(IntegratorKind kind);
 std::optional<IntegratorKind> integratorFromName(std::string_view name);
 std::string_view stretchModelName(StretchModel model);
 std::optional<StretchModel> stretchModelFromName(std::string_view name);
+std::string_view bendingModelName(BendingModel model);
+std::optional<BendingModel> bendingModelFromName(std::string_view name);
 
 } // namespace atelier::sim

@@ -4,6 +4,7 @@
 #include "sim/collision/obstacle.h"
 #include "sim/forces/air.h"
 #include "sim/forces/bending.h"
+#include "sim/forces/continuum_bending.h"
 #include "sim/forces/fem.h"
 #include "sim/forces/springs.h"
 #include "sim/forces/volino.h"
@@ -28,6 +29,13 @@ void Simulation::Impl::buildStateAndModels() {
     x.resize(n, 3);
     v.setZero(n, 3);
     mass.setZero(n);
+    // Pinned at build: the continuum bending treats fully pinned triangles as a clamp.
+    std::vector<char> held(static_cast<std::size_t>(n), 0);
+    for (int p : scene.pins) {
+        if (p >= 0 && p < n) {
+            held[static_cast<std::size_t>(p)] = 1;
+        }
+    }
     for (std::size_t ci = 0; ci < scene.cloths.size(); ++ci) {
         const ClothSpec& c = scene.cloths[ci];
         const int off = offsets[ci];
@@ -56,9 +64,16 @@ void Simulation::Impl::buildStateAndModels() {
             models.push_back(std::make_unique<FemStretch>(c.mesh, off, c.material));
             break;
         }
-        if (c.bending && c.material.bending > 0 && c.mesh.hinges.rows() > 0) {
-            models.push_back(std::make_unique<DihedralBending>(c.mesh, off, c.material,
-                                                               c.restAngles, c.plasticity));
+        const bool bends =
+            c.material.bending > 0 || c.material.bendingWeft > 0 || c.material.bendingWarp > 0;
+        if (c.bending && bends && c.mesh.hinges.rows() > 0) {
+            if (c.bendingModel == BendingModel::Continuum) {
+                models.push_back(std::make_unique<ContinuumBending>(
+                    c.mesh, off, c.material, c.restAngles, c.plasticity, held));
+            } else {
+                models.push_back(std::make_unique<DihedralBending>(c.mesh, off, c.material,
+                                                                   c.restAngles, c.plasticity));
+            }
         }
         if (scene.air.enabled) {
             models.push_back(std::make_unique<AirDrag>(c.mesh, off, scene.air));

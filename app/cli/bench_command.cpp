@@ -1,6 +1,7 @@
 /// `atelier-cli bench`: benchmarks of the engine as subcommands. Only the CLI11 parsing lives
 /// here; the work is in bench_work_precision.cpp and bench_material.cpp (plain C++).
 
+#include "app/cli/bench_cantilever.h"
 #include "app/cli/bench_cusick.h"
 #include "app/cli/bench_drape.h"
 #include "app/cli/bench_material.h"
@@ -61,6 +62,54 @@ void addWorkPrecision(CLI::App& bench) {
         ->check(CLI::PositiveNumber);
     cmd->callback([o] {
         if (const int code = runWorkPrecision(*o); code != EXIT_OK) {
+            throw CLI::RuntimeError(code);
+        }
+    });
+}
+
+void addCantilever(CLI::App& bench) {
+    auto o = std::make_shared<CantileverBenchOptions>();
+    CLI::App* cmd = bench.add_subcommand(
+        "cantilever",
+        "Peirce's heavy cantilever (ASTM D1388): a strip clamped along one short edge, settled "
+        "under gravity, tip-line angle and tip drop against the exact heavy elastica (CSV, SVG)");
+    cmd->add_option("--ratios", o->ratios, "Values of rho g L^3 / B")
+        ->delimiter(',')
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--particle-distance", o->particleDistancesMm, "Particle distances [mm]")
+        ->delimiter(',')
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--mesh", o->meshes, "Meshes: regular, irregular, rotated (45 deg to weft)")
+        ->delimiter(',')
+        ->capture_default_str()
+        ->check(CLI::IsMember({"regular", "irregular", "rotated"}));
+    auto bendingModel = std::make_shared<std::string>("continuum");
+    cmd->add_option("--bending-model", *bendingModel,
+                    "continuum (bending_n_m is the plate's rigidity) or hinge (per-hinge "
+                    "coefficient, discrete shells)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"continuum", "hinge"}));
+    cmd->add_option("--out,-o", o->out, "Output folder (cantilever.csv, cantilever.svg)")
+        ->required();
+    CantileverOptions& s = o->scene;
+    cmd->add_option("--length", s.length, "Overhang L [m]")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--width", s.width, "Strip width [m]")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    s.material.density = 0.12;
+    cmd->add_option("--density", s.material.density, "Areal density [kg/m^2]")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--dt", s.dt, "Implicit Euler step [s]")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    cmd->callback([o, bendingModel] {
+        o->scene.bendingModel = *sim::bendingModelFromName(*bendingModel);
+        if (const int code = runCantileverBench(*o); code != EXIT_OK) {
             throw CLI::RuntimeError(code);
         }
     });
@@ -193,10 +242,12 @@ void addCusick(CLI::App& bench) {
 void addBenchCommand(CLI::App& app) {
     CLI::App* bench =
         app.add_subcommand("bench", "Benchmarks: integrator work-precision, "
-                                    "material tension test, interactive drape, Cusick drape");
+                                    "material tension test, heavy cantilever, interactive drape, "
+                                    "Cusick drape");
     bench->require_subcommand(1);
     addWorkPrecision(*bench);
     addMaterial(*bench);
+    addCantilever(*bench);
     addDrape(*bench);
     addCusick(*bench);
 }

@@ -103,6 +103,32 @@ TEST(BenchMaterialCli, RejectsAnUnknownModel) {
     EXPECT_EQ(runCli("bench material --model cotton --out x.json", dir / "log"), 2);
 }
 
+TEST(BenchCantileverCli, WritesTheTableAndThePlot) {
+    // One coarse scene (20 mm, 5 × 3 cells): the accuracy is the slow tier's business.
+    const TempDir dir;
+    const auto out = dir / "cantilever";
+    ASSERT_EQ(runCli("bench cantilever --ratios 8 --particle-distance 20 --mesh regular --out \"" +
+                         out.string() + "\"",
+                     dir / "log"),
+              0)
+        << readText(dir / "log");
+    std::istringstream csv(readText(out / "cantilever.csv"));
+    std::string header;
+    std::string row;
+    std::getline(csv, header);
+    std::getline(csv, row);
+    EXPECT_EQ(header.rfind("mesh,particle_distance_mm,ratio,", 0), 0u) << header;
+    EXPECT_EQ(row.rfind("regular,20,8,", 0), 0u) << row;
+    EXPECT_NE(readText(out / "cantilever.svg").find("</svg>"), std::string::npos);
+}
+
+TEST(BenchCantileverCli, RejectsBadInput) {
+    const TempDir dir;
+    EXPECT_EQ(runCli("bench cantilever --mesh hexagonal --out x", dir / "log"), 2);
+    EXPECT_EQ(runCli("bench cantilever --ratios -1 --out x", dir / "log"), 2);
+    EXPECT_EQ(runCli("bench cantilever --particle-distance 0 --out x", dir / "log"), 2);
+}
+
 namespace {
 
 /// A small hanging sheet: 4×4 cells, two pins, gravity; a soft, lightly damped fabric so that

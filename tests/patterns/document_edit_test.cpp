@@ -16,7 +16,9 @@
 #include <filesystem>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <random>
+#include <tuple>
 
 namespace atelier::patterns {
 namespace {
@@ -87,6 +89,64 @@ TEST(DocumentEdits, SplitCurvedEdgesKeepsTheCurve) {
             EXPECT_LT((pointAt(second, 0.5) - pointAt(s, 0.65)).norm(), 1e-12);
         }
     }
+}
+
+/// A w × h rectangle [m] with its lower-left corner at (x, 0), counter-clockwise.
+Panel box(const std::string& name, double x, double w, double h) {
+    Panel p;
+    p.name = name;
+    const std::vector<Vec2> c{{x, 0}, {x + w, 0}, {x + w, h}, {x, h}};
+    for (std::size_t i = 0; i < c.size(); ++i) {
+        Segment s;
+        s.start = c[i];
+        s.end = c[(i + 1) % c.size()];
+        p.outline.push_back(s);
+    }
+    return p;
+}
+
+TEST(DocumentEdits, SideBySidePlacesSeveralPanelsInOneEdit) {
+    // Three rectangles 0.2, 0.3 (turned a quarter turn: 0.1 wide around) and 0.4 m wide.
+    GarmentDocument d;
+    std::vector<PanelId> ids;
+    for (const auto& [name, w, h] : std::vector<std::tuple<std::string, double, double>>{
+             {"a", 0.2, 0.5}, {"b", 0.3, 0.1}, {"c", 0.4, 0.5}}) {
+        ASSERT_TRUE(addPanel(d, box(name, 1.0, w, h)).ok());
+        ids.push_back(d.panels.back().id);
+    }
+    d.panels[1].placement.rotation = std::numbers::pi / 2;
+    d.panels[2].side = PanelSide::Back;
+    d.panels[2].placement.offset = Vec2(0.3, -0.15);
+    d.panels[2].placement.clearance = 0.07;
+    const std::string before = dumpDocument(d);
+    const auto placements = sideBySide(d, {ids[2], PanelId{999}, ids[0], ids[1]}, "waist_front");
+    ASSERT_EQ(placements.size(), 3U) << "the unknown panel is left out";
+    // In the order given, 2 cm apart, the row (0.4 + 0.2 + 0.1 + 2 gaps = 0.74 m) centred.
+    EXPECT_EQ(placements[0].first, ids[2]);
+    EXPECT_NEAR(placements[0].second.offset.x(), -0.37 + 0.2, 1e-12);
+    EXPECT_NEAR(placements[1].second.offset.x(), -0.37 + 0.42 + 0.1, 1e-12);
+    EXPECT_NEAR(placements[2].second.offset.x(), -0.37 + 0.64 + 0.05, 1e-12);
+    for (const auto& [id, placement] : placements) {
+        EXPECT_EQ(placement.slot, "waist_front");
+        EXPECT_EQ(placement.rotation, d.panel(id)->placement.rotation);
+        EXPECT_EQ(placement.clearance, d.panel(id)->placement.clearance);
+        EXPECT_EQ(placement.offset.y(), d.panel(id)->placement.offset.y());
+    }
+    auto edit = placePanels(d, placements);
+    ASSERT_TRUE(edit.ok()) << edit.error().toString();
+    EXPECT_EQ(edit.value().panels.size(), 3U);
+    for (const auto& [id, placement] : placements) {
+        EXPECT_EQ(d.panel(id)->placement.slot, "waist_front");
+        EXPECT_EQ(d.panel(id)->placement.offset, placement.offset);
+    }
+    undo(d, edit.value());
+    EXPECT_EQ(dumpDocument(d), before);
+    // One refused placement refuses them all.
+    auto bad = placements;
+    bad[1].second.clearance = -1;
+    EXPECT_FALSE(placePanels(d, bad).ok());
+    EXPECT_FALSE(placePanels(d, {}).ok());
+    EXPECT_EQ(dumpDocument(d), before);
 }
 
 TEST(DocumentEdits, RenameKeepsSeams) {
@@ -330,6 +390,48 @@ TEST(DocumentMarks, ADartCutsTheEdgeAndIsSewnWhenMeshed) {
     EXPECT_EQ(dumpDocument(d), cut);
     undo(d, dart.value());
     EXPECT_EQ(dumpDocument(d), start);
+}
+
+TEST(DocumentMarks, ADartsWidthAndDepthAreSetUndoably) {
+    GarmentDocument d = rectangle();
+    const PanelId id = d.panels.front().id;
+    auto dart = addDart(d, id, d.panels.front().outline.edges[0].id, 0.5, 0.04, 0.12);
+    ASSERT_TRUE(dart.ok()) << dart.error().toString();
+    const DartId dartId{dart.value().created};
+    const auto size = dartSize(d.panels.front(), dartId);
+    ASSERT_TRUE(size);
+    EXPECT_NEAR(size->width, 0.04, 1e-12);
+    EXPECT_NEAR(size->depth, 0.12, 1e-12);
+    EXPECT_FALSE(dartSize(d.panels.front(), DartId{999}));
+    const std::string cut = dumpDocument(d);
+
+    // 60 mm wide, 100 mm deep: the bases slide along the bottom edge about the same middle.
+    auto resized = setDartSize(d, id, dartId, 0.06, 0.10);
+    ASSERT_TRUE(resized.ok()) << resized.error().toString();
+    const doc::Panel& p = d.panels.front();
+    EXPECT_NEAR((p.outline.points[1].position - Vec2(0.12, 0)).norm(), 0, 1e-12);
+    EXPECT_NEAR((p.outline.points[2].position - Vec2(0.15, 0.10)).norm(), 0, 1e-12);
+    EXPECT_NEAR((p.outline.points[3].position - Vec2(0.18, 0)).norm(), 0, 1e-12);
+    EXPECT_NEAR(dartSize(p, dartId)->width, 0.06, 1e-12);
+    EXPECT_NEAR(dartSize(p, dartId)->depth, 0.10, 1e-12);
+    EXPECT_TRUE(checkDocument(d).ok());
+    const std::string wide = dumpDocument(d);
+    undo(d, resized.value());
+    EXPECT_EQ(dumpDocument(d), cut);
+    redo(d, resized.value());
+    EXPECT_EQ(dumpDocument(d), wide);
+
+    // Refused, nothing changed: not positive, past the bottom edge's ends (0.3 m wide), the
+    // tip out of the panel (0.4 m high), no such dart.
+    EXPECT_FALSE(setDartSize(d, id, dartId, 0, 0.1).ok());
+    EXPECT_FALSE(setDartSize(d, id, dartId, 0.05, -0.1).ok());
+    EXPECT_FALSE(setDartSize(d, id, dartId, std::nan(""), 0.1).ok());
+    const auto tooWide = setDartSize(d, id, dartId, 0.3, 0.1);
+    ASSERT_FALSE(tooWide.ok());
+    EXPECT_NE(tooWide.error().toString().find("wider than its edge"), std::string::npos);
+    EXPECT_FALSE(setDartSize(d, id, dartId, 0.05, 0.45).ok());
+    EXPECT_FALSE(setDartSize(d, id, DartId{999}, 0.05, 0.1).ok());
+    EXPECT_EQ(dumpDocument(d), wide);
 }
 
 TEST(DocumentMarks, RefusedMarksLeaveTheDocumentUntouched) {

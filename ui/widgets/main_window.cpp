@@ -36,10 +36,28 @@
 #include <QUndoCommand>
 
 #include <algorithm>
+#include <cerrno>
+#include <set>
+
+#ifdef Q_OS_UNIX
+#include <sys/types.h>
+
+#include <csignal>
+#endif
 
 namespace atelier::ui {
 
 namespace {
+
+/// The numbers of the windows open in this process (UI thread only), and the last one given.
+std::set<int>& liveWindows() {
+    static std::set<int> windows;
+    return windows;
+}
+int& lastWindowNumber() {
+    static int last = 0;
+    return last;
+}
 
 constexpr int MAX_RECENT = 8;
 constexpr int DEFAULT_AUTOSAVE_SECONDS = 60;
@@ -164,6 +182,8 @@ MainWindow::MainWindow(QString samplesDir, QWidget* parent)
         [this](const QString& message) { QMessageBox::warning(this, tr("Atelier"), message); }};
     m_recoveryDir =
         QStandardPaths::writableLocation(QStandardPaths::AppLocalDataLocation) + "/recovery";
+    m_windowNumber = ++lastWindowNumber();
+    liveWindows().insert(m_windowNumber);
     m_project = untitledProject();
     buildMenus();
     buildDocks();
@@ -249,7 +269,9 @@ MainWindow::MainWindow(QString samplesDir, QWidget* parent)
     m_splitter->restoreState(settings.value("window/splitter").toByteArray());
 }
 
-MainWindow::~MainWindow() = default;
+MainWindow::~MainWindow() {
+    liveWindows().erase(m_windowNumber);
+}
 
 void MainWindow::setPrompts(Prompts prompts) {
     if (prompts.saveChanges) {
@@ -658,15 +680,43 @@ void MainWindow::setAutosaveSeconds(int seconds) {
 }
 
 QString MainWindow::recoveryFile() const {
-    // One file per project file (unsaved projects share one), named by its path's hash.
+    // One file per project file and window, named by its path's hash (unsaved projects: the
+    // hash of "untitled"), the process id and the window's number in the process: two windows
+    // editing one project at once, in one program or two, write two files.
     const QString key =
         m_path.isEmpty() ? QStringLiteral("untitled") : QFileInfo(m_path).absoluteFilePath();
     const QString hash = QString::fromLatin1(
         QCryptographicHash::hash(key.toUtf8(), QCryptographicHash::Sha1).toHex().left(16));
-    return QDir(m_recoveryDir).filePath(hash + ".atelier");
+    return QDir(m_recoveryDir)
+        .filePath(QStringLiteral("%1-%2-%3.atelier")
+                      .arg(hash)
+                      .arg(QCoreApplication::applicationPid())
+                      .arg(m_windowNumber));
 }
 
 namespace {
+
+/// Whether recovery file `path` (HASH-PID-WINDOW.atelier) is being written by a window still
+/// open: one of this process's, or any of another running process (its id names a process).
+/// A file of a process that crashed, or of the older name without ids, is not.
+bool recoveryFileInUse(const QString& path) {
+    const QStringList parts = QFileInfo(path).completeBaseName().split('-');
+    bool pidOk = false, windowOk = false;
+    const qint64 pid = parts.size() == 3 ? parts[1].toLongLong(&pidOk) : 0;
+    const int window = parts.size() == 3 ? parts[2].toInt(&windowOk) : 0;
+    if (!pidOk || !windowOk || pid <= 0) {
+        return false;
+    }
+    if (pid == QCoreApplication::applicationPid()) {
+        return liveWindows().count(window) != 0;
+    }
+#ifdef Q_OS_UNIX
+    // Signal 0 checks that the process exists (EPERM: it does, another user's).
+    return ::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM;
+#else
+    return false;
+#endif
+}
 
 /// The file beside a recovery file that names its project's file (empty: unsaved).
 QString originOf(const QString& recovery) {
@@ -710,6 +760,9 @@ bool MainWindow::offerRecovery() {
     for (const QFileInfo& recovery :
          dir.entryInfoList({"*.atelier"}, QDir::Files, QDir::Time)) { // newest first
         const QString path = recovery.absoluteFilePath();
+        if (recoveryFileInUse(path)) {
+            continue; // another window's, open now: neither offered nor removed
+        }
         auto origin = io::readFile(originOf(path).toStdString(), 64 * 1024);
         const QString project = origin.ok() ? QString::fromStdString(origin.value()) : QString();
         const QFileInfo projectInfo(project);
@@ -734,7 +787,10 @@ bool MainWindow::offerRecovery() {
             continue;
         }
         adopt(std::move(restored.value()), project, true);
-        autosave(); // the recovery file now belongs to the restored project
+        // The restored file gives way to this window's own.
+        QFile::remove(path);
+        QFile::remove(originOf(path));
+        autosave();
         statusBar()->showMessage(tr("Restored the unsaved changes to %1")
                                      .arg(project.isEmpty() ? tr("an untitled project") : project),
                                  8000);

@@ -18,6 +18,7 @@
 #include <QUndoStack>
 
 #include <functional>
+#include <vector>
 
 class QAction;
 class QMenu;
@@ -93,7 +94,8 @@ class MainWindow : public QMainWindow {
     QString recoveryDirectory() const { return m_recoveryDir; }
     /// Autosave period [s] while modified (default 60, QSettings "autosave/seconds").
     void setAutosaveSeconds(int seconds);
-    /// The recovery file of the project being edited.
+    /// The recovery file of the project being edited by this window: HASH-PID-N.atelier, HASH
+    /// its project file's path's, PID the process's and N the window's number in it.
     QString recoveryFile() const;
     /// Writes the recovery file now if the project is modified (the autosave timer calls it).
     bool autosave();
@@ -132,6 +134,9 @@ class MainWindow : public QMainWindow {
     /// Places `panel` on the body's slot `slot` (placePanel, its offset, rotation and clearance
     /// kept): one undoable edit; the panel is placed again there.
     bool placePanelOnSlot(patterns::PanelId panel, const QString& slot);
+    /// Places `panels` side by side on slot `slot`, in that order (patterns::sideBySide, each
+    /// keeping its rotation, clearance and offset along the slot): one undoable edit.
+    bool placePanelsOnSlot(const std::vector<patterns::PanelId>& panels, const QString& slot);
     /// New drape settings for the project: an undoable change (a new particle distance
     /// re-meshes and places the garment again; other values continue the drape).
     bool setDrapeSettings(const patterns::DrapeSettings& settings);
@@ -240,6 +245,7 @@ class MainWindow : public QMainWindow {
     bool m_modifiedOutsideStack = false;
     Prompts m_prompts;
     QString m_recoveryDir;
+    int m_windowNumber = 0; ///< this window's number in the process (its recovery file's name)
     QTimer m_autosave;
 };
 

@@ -28,6 +28,7 @@
 #include <QStatusBar>
 #include <QUndoCommand>
 
+#include <algorithm>
 #include <cmath>
 #include <initializer_list>
 #include <map>
@@ -128,6 +129,8 @@ void MainWindow::buildDocks() {
     });
     // An internal line selected in the pattern: its fold angle in the Panel dock.
     connect(m_pattern, &PatternView::lineSelected, m_panelDock, &PanelDock::showLine);
+    // A dart's leg selected in the pattern: its width and depth in the Panel dock.
+    connect(m_pattern, &PatternView::dartSelected, m_panelDock, &PanelDock::showDart);
     // The placement handle dragged in 3D: the panel moves on its slot, one undoable step.
     connect(m_viewport, &Viewport::placementMoveRequested, this,
             [this](const QString& name, double around, double along) {
@@ -159,6 +162,18 @@ void MainWindow::buildDocks() {
                     }
                 }
             });
+    // With the Seam tool, a press on the cloth in 3D picks the edge nearest it, as a click on
+    // the pattern does (the pattern view's picks: one seam tool, two views).
+    connect(m_pattern, &PatternView::toolChanged, this, [this](PatternView::Tool tool) {
+        m_viewport->setSeamPicking(tool == PatternView::Tool::Seam);
+    });
+    connect(m_viewport, &Viewport::seamPointPicked, this,
+            [this](const QString& name, double x, double y, Qt::KeyboardModifiers modifiers) {
+                if (const patterns::doc::Panel* p =
+                        m_project.document.panelNamed(name.toStdString())) {
+                    m_pattern->pickSeamAt(p->id, patterns::Vec2(x, y), modifiers);
+                }
+            });
     // A press on the cloth in 3D selects its panel in the pattern (and so in the docks).
     connect(m_viewport, &Viewport::panelPicked, this, [this](const QString& name) {
         for (const patterns::doc::Panel& p : m_project.document.panels) {
@@ -181,6 +196,11 @@ void MainWindow::buildDocks() {
     connect(m_drape, &DrapeController::opened, this, slotNames);
     connect(m_drape, &DrapeController::rebuilt, this, slotNames);
     connect(m_viewport, &Viewport::slotClicked, this, [this](const QString& slot) {
+        if (const std::vector<patterns::PanelId> selected = m_pattern->selectedPanels();
+            selected.size() > 1) {
+            placePanelsOnSlot(selected, slot); // a copy: the edit redraws the selection
+            return;
+        }
         if (!m_panelDock->panel()) {
             statusBar()->showMessage(tr("Select a panel, then click a slot to place it"), 4000);
             return;
@@ -225,6 +245,16 @@ void MainWindow::buildDocks() {
         });
     connect(m_panelDock, &PanelDock::placeRequested, this,
             [this](quint32 panel, const patterns::Placement& placement, const QString& field) {
+                // A slot chosen for one of several panels selected: all go there.
+                const std::vector<patterns::PanelId> selected = m_pattern->selectedPanels();
+                if (field.isEmpty() && selected.size() > 1 &&
+                    std::find(selected.begin(), selected.end(), patterns::PanelId{panel}) !=
+                        selected.end()) {
+                    if (!placePanelsOnSlot(selected, QString::fromStdString(placement.slot))) {
+                        docksFollowDocument();
+                    }
+                    return;
+                }
                 const QString merge = field.isEmpty()
                                           ? QString()
                                           : QStringLiteral("place %1 %2").arg(panel).arg(field);
@@ -234,6 +264,17 @@ void MainWindow::buildDocks() {
                         },
                         merge)) {
                     docksFollowDocument();
+                }
+            });
+    connect(m_panelDock, &PanelDock::dartSizeRequested, this,
+            [this](quint32 panel, quint32 dart, double width, double depth, const QString& field) {
+                if (!edit(
+                        [&](patterns::GarmentDocument& d) {
+                            return patterns::setDartSize(d, patterns::PanelId{panel},
+                                                         patterns::DartId{dart}, width, depth);
+                        },
+                        QStringLiteral("dart %1 %2 %3").arg(panel).arg(dart).arg(field))) {
+                    docksFollowDocument(); // the fields show the dart as it is
                 }
             });
     connect(m_panelDock, &PanelDock::particleDistanceRequested, this,
@@ -350,6 +391,14 @@ bool MainWindow::placePanelOnSlot(patterns::PanelId panel, const QString& slot) 
     placement.slot = slot.toStdString();
     return edit(
         [&](patterns::GarmentDocument& d) { return patterns::placePanel(d, panel, placement); });
+}
+
+bool MainWindow::placePanelsOnSlot(const std::vector<patterns::PanelId>& panels,
+                                   const QString& slot) {
+    const std::string name = slot.toStdString();
+    return edit([&](patterns::GarmentDocument& d) {
+        return patterns::placePanels(d, patterns::sideBySide(d, panels, name));
+    });
 }
 
 bool MainWindow::setDrapeSettings(const patterns::DrapeSettings& settings) {

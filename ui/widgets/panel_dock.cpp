@@ -1,15 +1,19 @@
 #include "ui/widgets/panel_dock.h"
 
+#include "patterns/document_edit.h"
+
 #include <QComboBox>
 #include <QDoubleSpinBox>
 #include <QFormLayout>
 #include <QLabel>
 #include <QLineEdit>
+#include <QScrollArea>
 #include <QSignalBlocker>
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <utility>
 
 namespace atelier::ui {
@@ -62,7 +66,22 @@ PanelDock::PanelDock(QWidget* parent) : QDockWidget(tr("Panel"), parent) {
     form->addRow(tr("Fabric"), m_fabric);
     form->addRow(tr("Particle distance"), m_particleDistance);
     form->addRow(tr("Fold angle"), m_foldAngle);
-    setWidget(body);
+    // The dart whose leg is the edge selected in the pattern (patterns::setDartSize).
+    m_dartWidth = spinBox(0, 2000, 1, tr(" mm"));
+    m_dartDepth = spinBox(0, 2000, 1, tr(" mm"));
+    m_dartWidth->setToolTip(tr("The width of the dart selected in the pattern (click one of its "
+                               "legs): the distance between its legs' bases"));
+    m_dartDepth->setToolTip(tr("The depth of the dart selected in the pattern: from the middle "
+                               "between its legs' bases to its tip"));
+    form->addRow(tr("Dart width"), m_dartWidth);
+    form->addRow(tr("Dart depth"), m_dartDepth);
+    // In a scroll area: the dock's rows (the dart's among them) never set the window's
+    // smallest height.
+    auto* scroll = new QScrollArea;
+    scroll->setWidgetResizable(true);
+    scroll->setFrameShape(QFrame::NoFrame);
+    scroll->setWidget(body);
+    setWidget(scroll);
 
     connect(m_name, &QLineEdit::editingFinished, this, [this] {
         const patterns::doc::Panel* p = shown();
@@ -95,6 +114,27 @@ PanelDock::PanelDock(QWidget* parent) : QDockWidget(tr("Panel"), parent) {
             Q_EMIT foldAngleRequested(m_panel.value, m_line.value, degrees / DEG);
         }
     });
+    for (QDoubleSpinBox* box : {m_dartWidth, m_dartDepth}) {
+        connect(box, &QDoubleSpinBox::valueChanged, this, [this, box] {
+            const patterns::doc::Panel* p = shown();
+            const auto size = p == nullptr ? std::nullopt : patterns::dartSize(*p, m_dart);
+            if (!size) {
+                return;
+            }
+            // The fields round to 0.1 mm: a value the user left alone keeps its exact value.
+            const double width = std::abs(m_dartWidth->value() - size->width * MM) >= 0.05
+                                     ? m_dartWidth->value() / MM
+                                     : size->width;
+            const double depth = std::abs(m_dartDepth->value() - size->depth * MM) >= 0.05
+                                     ? m_dartDepth->value() / MM
+                                     : size->depth;
+            if (width != size->width || depth != size->depth) {
+                Q_EMIT dartSizeRequested(m_panel.value, m_dart.value, width, depth,
+                                         box == m_dartWidth ? QStringLiteral("width")
+                                                            : QStringLiteral("depth"));
+            }
+        });
+    }
     connect(m_fabric, &QComboBox::activated, this, [this](int index) {
         const patterns::doc::Panel* p = shown();
         if (p == nullptr || index < 0) {
@@ -130,6 +170,7 @@ void PanelDock::setPresetNames(const QStringList& names) {
 void PanelDock::showPanel(quint32 panel) {
     if (panel != m_panel.value) {
         m_line = {};
+        m_dart = {};
     }
     m_panel = patterns::PanelId{panel};
     if (m_document.panel(m_panel) == nullptr) {
@@ -143,6 +184,14 @@ void PanelDock::showLine(quint32 panel, quint32 line) {
         showPanel(panel);
     }
     m_line = patterns::LineId{line};
+    refresh();
+}
+
+void PanelDock::showDart(quint32 panel, quint32 dart) {
+    if (dart != 0 && panel != m_panel.value) {
+        showPanel(panel);
+    }
+    m_dart = patterns::DartId{dart};
     refresh();
 }
 
@@ -195,11 +244,12 @@ void PanelDock::emitPlacement(const QString& field) {
 
 void PanelDock::refresh() {
     const QSignalBlocker blockers[] = {
-        QSignalBlocker(m_name),     QSignalBlocker(m_slot),
-        QSignalBlocker(m_around),   QSignalBlocker(m_along),
-        QSignalBlocker(m_rotation), QSignalBlocker(m_clearance),
-        QSignalBlocker(m_fabric),   QSignalBlocker(m_particleDistance),
-        QSignalBlocker(m_foldAngle)};
+        QSignalBlocker(m_name),      QSignalBlocker(m_slot),
+        QSignalBlocker(m_around),    QSignalBlocker(m_along),
+        QSignalBlocker(m_rotation),  QSignalBlocker(m_clearance),
+        QSignalBlocker(m_fabric),    QSignalBlocker(m_particleDistance),
+        QSignalBlocker(m_foldAngle), QSignalBlocker(m_dartWidth),
+        QSignalBlocker(m_dartDepth)};
     const patterns::doc::Panel* p = shown();
     widget()->setEnabled(p != nullptr);
     m_title->setText(p == nullptr ? tr("Select a panel") : tr("Panel #%1").arg(m_panel.value));
@@ -225,6 +275,11 @@ void PanelDock::refresh() {
     const patterns::doc::InternalLine* line = shownLine();
     m_foldAngle->setEnabled(line != nullptr);
     m_foldAngle->setValue(line != nullptr ? line->foldAngle * DEG : 0.0);
+    const auto dart = patterns::dartSize(*p, m_dart);
+    m_dartWidth->setEnabled(dart.has_value());
+    m_dartDepth->setEnabled(dart.has_value());
+    m_dartWidth->setValue(dart ? dart->width * MM : 0.0);
+    m_dartDepth->setValue(dart ? dart->depth * MM : 0.0);
     for (const patterns::GarmentMaterial& m : m_document.materials) {
         const QString name = QString::fromStdString(m.name);
         m_fabric->addItem(name, name);

@@ -1,10 +1,10 @@
 #pragma once
 /// The Panel dock: the selected panel's name, its placement on the body (slot, offset around
 /// and along the slot, rotation, clearance), its fabric, its particle distance and the fold
-/// angle of the internal line selected in the pattern. Each change is a request the window turns
-/// into one undoable document edit (renamePanel, placePanel, setPanelMaterial,
-/// setPanelParticleDistance, setFoldAngle); the dock
-/// shows the document as it is after it.
+/// angle of the internal line and the width and depth of the dart selected in the pattern. Each
+/// change is a request the window turns into one undoable document edit (renamePanel, placePanel,
+/// setPanelMaterial, setPanelParticleDistance, setFoldAngle, setDartSize); the dock shows the
+/// document as it is after it.
 
 #include "patterns/document.h"
 
@@ -44,6 +44,9 @@ class PanelDock : public QDockWidget {
     QDoubleSpinBox* particleDistanceField() const { return m_particleDistance; }
     /// The fold angle of the internal line selected in the pattern [°]; disabled when none.
     QDoubleSpinBox* foldAngleField() const { return m_foldAngle; }
+    /// The width and depth of the dart selected in the pattern [mm]; disabled when none.
+    QDoubleSpinBox* dartWidthField() const { return m_dartWidth; }
+    QDoubleSpinBox* dartDepthField() const { return m_dartDepth; }
 
   public Q_SLOTS:
     /// Shows panel `panel` (0: none; the fields are disabled).
@@ -51,6 +54,9 @@ class PanelDock : public QDockWidget {
     /// Shows internal line `line` of panel `panel` (the one selected in the pattern; 0: none)
     /// in the fold angle field.
     void showLine(quint32 panel, quint32 line);
+    /// Shows dart `dart` of panel `panel` (the one selected in the pattern; 0: none) in the
+    /// dart fields.
+    void showDart(quint32 panel, quint32 dart);
 
   Q_SIGNALS:
     void renameRequested(quint32 panel, const QString& name);
@@ -64,6 +70,10 @@ class PanelDock : public QDockWidget {
     void particleDistanceRequested(quint32 panel, double distance);
     /// The rest angle of the hinges along internal line `line` [rad].
     void foldAngleRequested(quint32 panel, quint32 line, double angle);
+    /// A new size for dart `dart` [m] (patterns::setDartSize); `field` ("width", "depth") names
+    /// the field changed: consecutive changes of one field are one undo entry.
+    void dartSizeRequested(quint32 panel, quint32 dart, double width, double depth,
+                           const QString& field);
 
   private:
     void refresh();
@@ -87,6 +97,9 @@ class PanelDock : public QDockWidget {
     QDoubleSpinBox* m_particleDistance;
     QDoubleSpinBox* m_foldAngle;
     patterns::LineId m_line; ///< the internal line shown (of m_panel), or none
+    QDoubleSpinBox* m_dartWidth;
+    QDoubleSpinBox* m_dartDepth;
+    patterns::DartId m_dart; ///< the dart shown (of m_panel), or none
 };
 
 } // namespace atelier::ui

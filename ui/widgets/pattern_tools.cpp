@@ -153,4 +153,16 @@ std::string newSeamName(const patterns::GarmentDocument& document) {
     }
 }
 
+double bulgeThrough(const patterns::Vec2& start, const patterns::Vec2& end,
+                    const patterns::Vec2& through) {
+    const patterns::Vec2 chord = end - start;
+    const double c = chord.norm();
+    if (!(c > 0)) {
+        return 0;
+    }
+    const patterns::Vec2 left(-chord.y() / c, chord.x() / c);
+    const double h = (through - 0.5 * (start + end)).dot(left);
+    return std::clamp(-2 * h / c, -MAX_HANDLE_BULGE, MAX_HANDLE_BULGE);
+}
+
 } // namespace atelier::ui

@@ -58,6 +58,17 @@ double rangesLength(const patterns::GarmentDocument& document,
 std::pair<double, double> seamLengths(const patterns::GarmentDocument& document,
                                       const patterns::doc::Seam& seam);
 
+/// Largest |bulge| the arc handle sets: tan(θ/4) = 10, a sweep of 4·atan(10) ≈ 337° [-].
+inline constexpr double MAX_HANDLE_BULGE = 10.0;
+
+/// The bulge of the arc from `start` to `end` whose middle is the point of the chord's
+/// perpendicular bisector nearest `through` [m]: with c = |end − start| and h the signed
+/// distance of `through` from the chord (positive on its left), the sagitta is |h| and
+/// bulge = tan(θ/4) = −2h/c (a counter-clockwise arc, bulge > 0, bulges to the right of its
+/// chord), clamped to ±MAX_HANDLE_BULGE; 0 for a chord of zero length.
+double bulgeThrough(const patterns::Vec2& start, const patterns::Vec2& end,
+                    const patterns::Vec2& through);
+
 /// "seam N" with the first N no seam of the document is named.
 std::string newSeamName(const patterns::GarmentDocument& document);
 

@@ -17,6 +17,7 @@
 #include <QScrollBar>
 #include <QWheelEvent>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -114,9 +115,32 @@ PatternView::PatternView(QWidget* parent) : QGraphicsView(parent) {
         if (m_redrawing) {
             return;
         }
-        const QList<QGraphicsItem*> selected = m_scene.selectedItems();
-        const patterns::PanelId id{
-            selected.isEmpty() ? 0U : selected.front()->data(DATA_PANEL).value<quint32>()};
+        // The panels selected, in the order they were: those still selected, then the new
+        // ones (Ctrl+click adds one); the last one added is the selected panel, whose points
+        // and handles are shown and which the docks show.
+        std::vector<patterns::PanelId> now;
+        for (const QGraphicsItem* item : m_scene.selectedItems()) {
+            now.push_back(patterns::PanelId{item->data(DATA_PANEL).value<quint32>()});
+        }
+        const auto in = [](const std::vector<patterns::PanelId>& list, patterns::PanelId id) {
+            return std::find(list.begin(), list.end(), id) != list.end();
+        };
+        std::vector<patterns::PanelId> ordered;
+        for (const patterns::PanelId id : m_selectedPanels) {
+            if (in(now, id)) {
+                ordered.push_back(id);
+            }
+        }
+        patterns::PanelId id = in(ordered, m_selectedPanel) ? m_selectedPanel
+                               : ordered.empty()            ? patterns::PanelId{}
+                                                            : ordered.back();
+        for (const patterns::PanelId added : now) {
+            if (!in(ordered, added)) {
+                ordered.push_back(added);
+                id = added;
+            }
+        }
+        m_selectedPanels = std::move(ordered);
         if (id != m_selectedPanel) {
             m_selectedPanel = id;
             m_selectedPoint = {};
@@ -125,8 +149,13 @@ PatternView::PatternView(QWidget* parent) : QGraphicsView(parent) {
             m_selectedLine = {};
             drawHandles();
         }
-        Q_EMIT panelSelected(selected.isEmpty() ? QString()
-                                                : selected.front()->data(DATA_NAME).toString());
+        const patterns::doc::Panel* shown = panel(m_selectedPanel);
+        Q_EMIT panelSelected(shown != nullptr ? QString::fromStdString(shown->name) : QString());
+        if (m_selectedPanels.size() > 1) {
+            Q_EMIT message(tr("%1 panels selected: click a body slot in the 3D view to place "
+                              "them side by side")
+                               .arg(m_selectedPanels.size()));
+        }
     });
 
     m_toolGroup = new QActionGroup(this);
@@ -264,6 +293,7 @@ void PatternView::setDocument(const patterns::GarmentDocument& document, bool ke
         m_layouts.clear();
         m_freeLayouts.clear();
         m_selectedPanel = {};
+        m_selectedPanels.clear();
         m_selectedPoint = {};
         m_selectedEdge = {};
         m_selectedSeam = {};
@@ -307,8 +337,9 @@ void PatternView::setDocument(const patterns::GarmentDocument& document, bool ke
         m_freeLayouts[p.id.value] = m_layouts[p.id.value];
         x += maxX - minX + GAP_MM;
     }
+    std::erase_if(m_selectedPanels, [this](patterns::PanelId id) { return panel(id) == nullptr; });
     if (m_selectedPanel && panel(m_selectedPanel) == nullptr) {
-        m_selectedPanel = {};
+        m_selectedPanel = m_selectedPanels.empty() ? patterns::PanelId{} : m_selectedPanels.back();
     }
     patterns::doc::Panel* selected = m_document.panel(m_selectedPanel);
     int index = 0;
@@ -459,8 +490,10 @@ void PatternView::redraw() {
             }
         }
     }
-    if (const auto it = m_items.find(m_selectedPanel.value); it != m_items.end()) {
-        it->second->setSelected(true);
+    for (const patterns::PanelId id : m_selectedPanels) {
+        if (const auto it = m_items.find(id.value); it != m_items.end()) {
+            it->second->setSelected(true);
+        }
     }
     m_redrawing = false;
     drawHandles();
@@ -472,6 +505,18 @@ void PatternView::drawHandles() {
         m_announcedLine = m_selectedLine;
         Q_EMIT lineSelected(m_selectedPanel.value, m_selectedLine.value);
     }
+    patterns::DartId dart; // the dart whose leg is the selected edge
+    if (const patterns::doc::Panel* p = panel(m_selectedPanel); p != nullptr && m_selectedEdge) {
+        for (const patterns::doc::Dart& d : p->darts) {
+            if (d.leg1 == m_selectedEdge || d.leg2 == m_selectedEdge) {
+                dart = d.id;
+            }
+        }
+    }
+    if (dart.value != m_announcedDart.value) {
+        m_announcedDart = dart;
+        Q_EMIT dartSelected(m_selectedPanel.value, dart.value);
+    }
     for (QGraphicsItem* h : m_handles) {
         m_scene.removeItem(h);
         delete h;
@@ -482,6 +527,20 @@ void PatternView::drawHandles() {
         return;
     }
     const QTransform t = layout(selected->id);
+    // A curve's square handle at `at` [m]: control 1 or 2 of a Bézier edge, or an arc's bulge.
+    const auto addControl = [&](const patterns::Vec2& at, patterns::EdgeId edge, int control) {
+        auto* h = m_scene.addRect(-HANDLE_PX / 2, -HANDLE_PX / 2, HANDLE_PX, HANDLE_PX,
+                                  QPen(QColor(30, 30, 40), 1), QBrush(QColor(80, 160, 230)));
+        h->setFlag(QGraphicsItem::ItemIgnoresTransformations);
+        h->setPos(toScene(selected->id, at));
+        h->setZValue(10);
+        h->setData(DATA_ROLE, ROLE_CONTROL);
+        h->setData(DATA_PANEL, quint32(selected->id.value));
+        h->setData(DATA_EDGE, quint32(edge.value));
+        h->setData(DATA_CONTROL, control);
+        m_handles.push_back(h);
+        return h;
+    };
     const auto addHandles = [&](const patterns::doc::Contour& contour) {
         for (std::size_t e = 0; e < contour.edges.size(); ++e) {
             const patterns::doc::Edge& edge = contour.edges[e];
@@ -491,6 +550,17 @@ void PatternView::drawHandles() {
                     m_scene.addPath(t.map(segmentPath(s, 0, 1)), screenPen(QColor(20, 20, 30), 4));
                 line->setZValue(6);
                 m_handles.push_back(line);
+            }
+            if (s.kind == patterns::SegmentKind::Arc) {
+                // The bulge handle: a square on the arc's middle, on a line from the chord's.
+                const patterns::Vec2 middle = patterns::pointAt(s, 0.5);
+                auto* arm = m_scene.addLine(QLineF(toScene(selected->id, 0.5 * (s.start + s.end)),
+                                                   toScene(selected->id, middle)),
+                                            screenPen(QColor(90, 90, 110), 1));
+                arm->setZValue(9);
+                m_handles.push_back(arm);
+                addControl(middle, edge.id, CONTROL_BULGE)->setToolTip(tr("drag to bend the arc"));
+                continue;
             }
             if (s.kind != patterns::SegmentKind::Quadratic &&
                 s.kind != patterns::SegmentKind::Cubic) {
@@ -508,17 +578,7 @@ void PatternView::drawHandles() {
             armItem->setZValue(9);
             m_handles.push_back(armItem);
             for (int c = 1; c <= (cubic ? 2 : 1); ++c) {
-                auto* h =
-                    m_scene.addRect(-HANDLE_PX / 2, -HANDLE_PX / 2, HANDLE_PX, HANDLE_PX,
-                                    QPen(QColor(30, 30, 40), 1), QBrush(QColor(80, 160, 230)));
-                h->setFlag(QGraphicsItem::ItemIgnoresTransformations);
-                h->setPos(toScene(selected->id, c == 1 ? s.control1 : s.control2));
-                h->setZValue(10);
-                h->setData(DATA_ROLE, ROLE_CONTROL);
-                h->setData(DATA_PANEL, quint32(selected->id.value));
-                h->setData(DATA_EDGE, quint32(edge.id.value));
-                h->setData(DATA_CONTROL, c);
-                m_handles.push_back(h);
+                addControl(c == 1 ? s.control1 : s.control2, edge.id, c);
             }
         }
         for (const patterns::doc::Point& point : contour.points) {
@@ -720,16 +780,26 @@ void PatternView::showHandleDrag() {
     if (const auto it = m_items.find(m_handleDrag->panel.value); it != m_items.end()) {
         it->second->setPath(panelPath(curved, layout(m_handleDrag->panel)));
     }
-    const patterns::Vec2 at =
-        m_handleDrag->control == 1 ? m_handleDrag->curve.control1 : m_handleDrag->curve.control2;
+    const patterns::Segment segment =
+        patterns::contourSegment(*contour, static_cast<std::size_t>(index));
+    const bool arc = m_handleDrag->control == CONTROL_BULGE;
+    const patterns::Vec2 at = arc                          ? patterns::pointAt(segment, 0.5)
+                              : m_handleDrag->control == 1 ? m_handleDrag->curve.control1
+                                                           : m_handleDrag->curve.control2;
     for (QGraphicsItem* h : m_handles) {
         if (h->data(DATA_EDGE).value<quint32>() == m_handleDrag->edge.value &&
             h->data(DATA_CONTROL).toInt() == m_handleDrag->control) {
             h->setPos(toScene(m_handleDrag->panel, at));
         }
     }
-    const double length =
-        patterns::arcLength(patterns::contourSegment(*contour, static_cast<std::size_t>(index)));
+    const double length = patterns::arcLength(segment);
+    if (arc) {
+        const double sagitta = (at - 0.5 * (segment.start + segment.end)).norm();
+        setFeedback(
+            tr("edge %1 mm  height %2 mm").arg(length * MM, 0, 'f', 1).arg(sagitta * MM, 0, 'f', 1),
+            toScene(m_handleDrag->panel, at));
+        return;
+    }
     setFeedback(tr("edge %1 mm  (%2, %3)")
                     .arg(length * MM, 0, 'f', 1)
                     .arg(at.x() * MM, 0, 'f', 1)
@@ -958,6 +1028,36 @@ void PatternView::pickSeamEdge(const EdgePick& pick, Qt::KeyboardModifiers modif
     updateSeamPick();
 }
 
+bool PatternView::pickSeamAt(patterns::PanelId id, const patterns::Vec2& at,
+                             Qt::KeyboardModifiers modifiers) {
+    const patterns::doc::Panel* p = panel(id);
+    if (m_tool != Tool::Seam || p == nullptr) {
+        return false;
+    }
+    // The outline point nearest `at`, sampled as pickEdge samples (in pattern metres here).
+    double best = SEAM_PICK_3D_MM / MM;
+    std::optional<EdgePick> pick;
+    for (std::size_t e = 0; e < p->outline.edges.size(); ++e) {
+        const patterns::Segment s = patterns::contourSegment(p->outline, e);
+        constexpr int SAMPLES = 200;
+        for (int k = 1; k < SAMPLES; ++k) {
+            const double t = double(k) / SAMPLES;
+            const patterns::Vec2 q = patterns::pointAt(s, t);
+            if (const double d = (q - at).norm(); d < best) {
+                best = d;
+                pick = EdgePick{id, p->outline.edges[e].id, static_cast<int>(e), true, t, q};
+            }
+        }
+    }
+    if (!pick) {
+        Q_EMIT message(tr("Click the cloth within %1 mm of an edge of the panel to pick it")
+                           .arg(SEAM_PICK_3D_MM));
+        return false;
+    }
+    pickSeamEdge(*pick, modifiers);
+    return true;
+}
+
 void PatternView::updateSeamPick() {
     m_seamRanges[0] = m_sides[0] ? rangesOf(*m_sides[0]) : std::vector<patterns::doc::SeamRange>{};
     m_seamRanges[1].clear();
@@ -1099,8 +1199,15 @@ void PatternView::mousePressEvent(QMouseEvent* event) {
             patterns::doc::Panel copy = *panel(id);
             int index = 0;
             if (const patterns::doc::Contour* c = patterns::contourOfEdge(copy, edge, index)) {
-                m_handleDrag = HandleDrag{id, edge, item->data(DATA_CONTROL).toInt(),
-                                          c->edges[static_cast<std::size_t>(index)].curve, false};
+                const patterns::Segment s =
+                    patterns::contourSegment(*c, static_cast<std::size_t>(index));
+                m_handleDrag = HandleDrag{id,
+                                          edge,
+                                          item->data(DATA_CONTROL).toInt(),
+                                          c->edges[static_cast<std::size_t>(index)].curve,
+                                          false,
+                                          s.start,
+                                          s.end};
                 m_selectedEdge = edge;
                 event->accept();
                 return;
@@ -1209,8 +1316,12 @@ void PatternView::mouseMoveEvent(QMouseEvent* event) {
     if (m_handleDrag) {
         const patterns::Vec2 p = toPattern(
             m_handleDrag->panel, snap(scene, event->modifiers(), {}, m_handleDrag->panel));
-        (m_handleDrag->control == 1 ? m_handleDrag->curve.control1 : m_handleDrag->curve.control2) =
-            p;
+        if (m_handleDrag->control == CONTROL_BULGE) {
+            m_handleDrag->curve.bulge = bulgeThrough(m_handleDrag->start, m_handleDrag->end, p);
+        } else {
+            (m_handleDrag->control == 1 ? m_handleDrag->curve.control1
+                                        : m_handleDrag->curve.control2) = p;
+        }
         m_handleDrag->moved = true;
         showHandleDrag();
         event->accept();

@@ -3,8 +3,9 @@
 /// internal lines) and its seams, one colour per panel as in the 3D view and one per seam.
 /// Zoom with the wheel, pan by dragging the background (Select) or with the middle button
 /// (every tool). Tools (toolActions()):
-/// - Select (A): a click selects a panel and shows its outline and hole points, and the Bézier
-///   handles of its curved edges. Drag a point or a handle to move it (lengths shown; Shift
+/// - Select (A): a click selects a panel (Ctrl+click adds or removes one) and shows its outline
+///   and hole points, and the Bézier handles of its curved edges (an arc's: one on its middle,
+///   whose drag sets its bulge). Drag a point or a handle to move it (lengths shown; Shift
 ///   snaps to a 5 mm grid, Ctrl+Shift to 1 mm; points snap to other points within a few
 ///   pixels); click an edge to select it (V makes it a curve or straight again); double-click
 ///   an edge to add a point; Delete deletes the selected point, or the selected seam (click a
@@ -15,7 +16,7 @@
 ///   Backspace drops the last, Esc cancels.
 /// - Seam (N): click an outline edge, Shift+click to extend the range to another edge (Ctrl:
 ///   from or to the clicked point), then the same on the second side; R reverses the second
-///   side, Enter sews, Esc cancels.
+///   side, Enter sews, Esc cancels. Presses on the cloth in the 3D view pick too (pickSeamAt).
 /// - Curve (P): a free-form panel, pen-style: click for a corner, press and drag for a smooth
 ///   point (the drag pulls its Bézier handles); close as a polygon.
 /// - Internal line (L): click points inside a panel; double-click or Enter ends the line.
@@ -92,8 +93,12 @@ class PatternView : public QGraphicsView {
 
     // ---- Selection ----
 
-    /// The selected panel, or none.
+    /// The selected panel, or none: the last one selected.
     patterns::PanelId selectedPanel() const { return m_selectedPanel; }
+    /// Every selected panel (Ctrl+click adds or removes one), in the order they were selected;
+    /// the last is selectedPanel().
+    const std::vector<patterns::PanelId>& selectedPanels() const { return m_selectedPanels; }
+    /// Selects `panel` alone.
     void selectPanel(patterns::PanelId panel);
     /// The selected outline or hole point of the selected panel, or none.
     patterns::PointId selectedPoint() const { return m_selectedPoint; }
@@ -129,6 +134,12 @@ class PatternView : public QGraphicsView {
     /// Removes the selected notch or internal line, or the dart whose leg is the selected
     /// edge. False when none is selected or the edit is refused.
     bool deleteSelectedMark();
+    /// With the Seam tool, picks the outline edge of `panel` nearest its pattern point `at` [m]
+    /// (a press on the cloth in the 3D view), within 40 mm, as a click on that edge here with
+    /// `modifiers` picks it (the same sides, Shift and Ctrl). False, and a message, when none
+    /// is that near; false when another tool is active or there is no such panel.
+    bool pickSeamAt(patterns::PanelId panel, const patterns::Vec2& at,
+                    Qt::KeyboardModifiers modifiers);
     /// The ranges picked with the Seam tool: side 0 (a) or 1 (b).
     const std::vector<patterns::doc::SeamRange>& seamPick(int side) const;
 
@@ -137,6 +148,9 @@ class PatternView : public QGraphicsView {
     void panelSelected(const QString& name);
     /// The selected internal line changed: its panel and id (line 0: none selected).
     void lineSelected(quint32 panel, quint32 line);
+    /// The selected dart changed (the dart whose leg is the selected edge): its panel and id
+    /// (dart 0: none selected).
+    void dartSelected(quint32 panel, quint32 dart);
     /// A seam was picked with the mouse (its id's value).
     void seamSelected(quint32 seam);
     /// A point was dragged to (x, y) [m] and let go.
@@ -164,13 +178,15 @@ class PatternView : public QGraphicsView {
         patterns::Vec2 position = patterns::Vec2::Zero(); ///< where it is now [m]
         bool moved = false;
     };
-    /// A Bézier handle being dragged.
+    /// A Bézier handle, or an arc's bulge handle, being dragged.
     struct HandleDrag {
         patterns::PanelId panel;
         patterns::EdgeId edge;
-        int control = 1;            ///< 1 or 2
+        int control = 1;            ///< 1 or 2, or CONTROL_BULGE (an arc's middle)
         patterns::doc::Curve curve; ///< with the handle where it is now
         bool moved = false;
+        patterns::Vec2 start = patterns::Vec2::Zero(); ///< the edge's ends [m]
+        patterns::Vec2 end = patterns::Vec2::Zero();
     };
     /// A panel being moved or rotated in the layout.
     struct LayoutDrag {
@@ -315,6 +331,7 @@ class PatternView : public QGraphicsView {
     QString m_feedback;
     int m_panels = 0;
     patterns::PanelId m_selectedPanel;
+    std::vector<patterns::PanelId> m_selectedPanels; ///< in selection order, m_selectedPanel last
     patterns::PointId m_selectedPoint;
     patterns::EdgeId m_selectedEdge;
     patterns::SeamId m_selectedSeam;
@@ -329,6 +346,7 @@ class PatternView : public QGraphicsView {
     patterns::NotchId m_selectedNotch;
     patterns::LineId m_selectedLine;
     patterns::LineId m_announcedLine; ///< the last lineSelected() said
+    patterns::DartId m_announcedDart; ///< the last dartSelected() said
     /// The middle button is down: the view pans with the mouse (from here, viewport).
     std::optional<QPoint> m_pan;
     std::optional<SidePick> m_sides[2];

@@ -569,6 +569,30 @@ void Viewport::setSeamLinesShown(bool shown) {
     }
 }
 
+std::optional<std::pair<QString, Eigen::Vector2d>>
+Viewport::patternPointAt(const QPointF& at) const {
+    sim::ClothPoint point;
+    Eigen::Vector3f hit;
+    if (!pick(at, point, hit) || m_static->patternUvs.rows() != m_static->startPositions.rows()) {
+        return std::nullopt;
+    }
+    for (std::size_t p = 0; p < m_static->panelTriangles.size() && p < m_static->panelNames.size();
+         ++p) {
+        const auto [first, count] = m_static->panelTriangles[p];
+        if (point.triangle < first || point.triangle >= first + count) {
+            continue;
+        }
+        Eigen::Vector2d uv = Eigen::Vector2d::Zero();
+        for (int k = 0; k < 3; ++k) {
+            uv +=
+                point.barycentric[k] *
+                m_static->patternUvs.row(m_static->garmentTriangles(point.triangle, k)).transpose();
+        }
+        return std::make_pair(QString::fromStdString(m_static->panelNames[p]), uv);
+    }
+    return std::nullopt;
+}
+
 void Viewport::setSlotsShown(bool shown) {
     m_slotsShown = shown;
     requestFrame();
@@ -747,6 +771,12 @@ void Viewport::mousePressEvent(QMouseEvent* event) {
     if (event->button() == Qt::LeftButton && (event->modifiers() & Qt::AltModifier)) {
         togglePinAt(event->position());
         return;
+    }
+    if (event->button() == Qt::LeftButton && m_seamPicking) {
+        if (const auto at = patternPointAt(event->position())) {
+            Q_EMIT seamPointPicked(at->first, at->second.x(), at->second.y(), event->modifiers());
+        }
+        return; // the Seam tool grabs nothing
     }
     sim::ClothPoint point;
     Eigen::Vector3f hit;

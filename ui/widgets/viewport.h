@@ -25,6 +25,7 @@ class QPainter;
 
 #include <memory>
 #include <optional>
+#include <utility>
 #include <vector>
 
 namespace atelier::ui {
@@ -57,6 +58,13 @@ class Viewport : public QWidget {
     /// Where garment vertex `vertex` was drawn last, in widget coordinates; nullopt when it
     /// is not drawn.
     std::optional<QPointF> drawnAt(int vertex) const;
+    /// The panel and pattern point [m] of the cloth under `at` (widget coordinates), as drawn
+    /// last; nullopt when no cloth is there.
+    std::optional<std::pair<QString, Eigen::Vector2d>> patternPointAt(const QPointF& at) const;
+    /// While on (the pattern's Seam tool is active), a left press on the cloth picks for the
+    /// seam instead of grabbing: seamPointPicked() with the pattern point under the mouse.
+    void setSeamPicking(bool on) { m_seamPicking = on; }
+    bool seamPicking() const { return m_seamPicking; }
     /// The renderer's error, if it could not start (no OpenGL 3.3).
     QString rendererError() const { return m_error; }
 
@@ -124,6 +132,10 @@ class Viewport : public QWidget {
     /// The rotation knob of panel `name` was dragged: its placement's rotation is to change by
     /// `angle` [rad], counter-clockwise seen from outside the slot.
     void placementTurnRequested(const QString& name, double angle);
+    /// With seam picking on, a left press on panel `name`'s cloth at pattern point (x, y) [m],
+    /// with the keys held (the Seam tool's Shift and Ctrl): picking the outline edge nearest it
+    /// is the window's part.
+    void seamPointPicked(const QString& name, double x, double y, Qt::KeyboardModifiers modifiers);
 
   public Q_SLOTS:
     /// A new static scene (a new project, framed from three-quarter; or an edited garment,
@@ -213,6 +225,7 @@ class Viewport : public QWidget {
     std::vector<render::Colour> m_garmentColours;
     std::vector<render::DrawLines> m_seamLines;
     bool m_slotsShown = false;
+    bool m_seamPicking = false;
     QString m_highlightedSlot;
     QElapsedTimer m_fpsClock;
     int m_framesThisSecond = 0;

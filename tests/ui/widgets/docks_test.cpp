@@ -17,6 +17,7 @@
 
 #include "io/pattern_svg.h"
 
+#include "patterns/curve.h"
 #include "patterns/cusick.h"
 #include "patterns/document_edit.h"
 #include "patterns/mannequin.h"
@@ -33,6 +34,7 @@
 #include <QSettings>
 #include <QSignalSpy>
 #include <QTemporaryDir>
+#include <QTest>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -197,6 +199,57 @@ TEST(PanelDock, ConsecutiveChangesOfOneFieldAreOneUndoEntry) {
     EXPECT_TRUE(s.drapeFollows());
 }
 
+TEST(PanelDock, SetsTheSelectedDartsWidthAndDepthUndoably) {
+    SkirtWindow s;
+    ASSERT_TRUE(s.open());
+    // A dart 30 mm wide and 90 mm deep in the middle of the front's waist (edge 3).
+    const patterns::EdgeId waist = s.frontPanel().outline.edges.at(3).id;
+    ASSERT_TRUE(s.window.edit([&](patterns::GarmentDocument& d) {
+        return patterns::addDart(d, s.front, waist, 0.5, 0.03, 0.09);
+    }));
+    const patterns::doc::Dart dart = s.frontPanel().darts.at(0);
+    PanelDock& dock = s.window.panelDock();
+    EXPECT_FALSE(dock.dartWidthField()->isEnabled()) << "no dart selected";
+    // A click on the dart's first leg in the pattern selects it, and the dock shows its size.
+    const patterns::doc::Panel& p = s.frontPanel();
+    const auto leg = static_cast<std::size_t>(patterns::outlineEdgeIndex(p, dart.leg1));
+    const patterns::Vec2 onLeg = patterns::pointAt(patterns::contourSegment(p.outline, leg), 0.5);
+    PatternView& pattern = s.window.patternView();
+    QTest::mouseClick(pattern.viewport(), Qt::LeftButton, {}, pattern.viewPoint(s.front, onLeg));
+    ASSERT_EQ(pattern.selectedEdge(), dart.leg1);
+    ASSERT_TRUE(dock.dartWidthField()->isEnabled());
+    EXPECT_NEAR(dock.dartWidthField()->value(), 30, 0.05);
+    EXPECT_NEAR(dock.dartDepthField()->value(), 90, 0.05);
+    const std::string cut = patterns::dumpDocument(s.window.project().document);
+
+    // 40 then 41 mm wide (one undo entry), then 100 mm deep (another).
+    dock.dartWidthField()->setValue(40);
+    dock.dartWidthField()->setValue(41);
+    EXPECT_EQ(s.window.undoStack().count(), 2);
+    auto size = patterns::dartSize(s.frontPanel(), dart.id);
+    ASSERT_TRUE(size);
+    EXPECT_NEAR(size->width, 0.041, 1e-9);
+    EXPECT_NEAR(size->depth, 0.09, 1e-9);
+    dock.dartDepthField()->setValue(100);
+    EXPECT_EQ(s.window.undoStack().count(), 3);
+    EXPECT_NEAR(patterns::dartSize(s.frontPanel(), dart.id)->depth, 0.1, 1e-9);
+    EXPECT_TRUE(s.drapeFollows());
+
+    // Wider than the waist: refused with one message saying so; the field shows the dart as is.
+    const std::string resized = patterns::dumpDocument(s.window.project().document);
+    dock.dartWidthField()->setValue(1500);
+    ASSERT_EQ(s.prompts.errors.size(), 1);
+    EXPECT_TRUE(s.prompts.errors.front().contains("wider than its edge allows"))
+        << s.prompts.errors.front().toStdString();
+    EXPECT_NEAR(dock.dartWidthField()->value(), 41, 0.05);
+    EXPECT_EQ(patterns::dumpDocument(s.window.project().document), resized);
+    EXPECT_EQ(s.window.undoStack().count(), 3);
+    s.window.undoStack().undo();
+    s.window.undoStack().undo();
+    EXPECT_EQ(patterns::dumpDocument(s.window.project().document), cut);
+    EXPECT_NEAR(dock.dartWidthField()->value(), 30, 0.05);
+}
+
 TEST(BodyDock, AMeasurementIsPreviewedAndLandsAsOneUndoableBodyChange) {
     SkirtWindow s;
     ASSERT_TRUE(s.open());
@@ -291,7 +344,7 @@ TEST(PanelDock, APanelsOwnParticleDistanceRemeshesItUndoably) {
     EXPECT_TRUE(s.prompts.errors.isEmpty()) << s.prompts.errors.join("; ").toStdString();
 }
 
-TEST(Viewport, ASlotMarkerClickAndThePlacementHandlePlaceTheSelectedPanel) {
+TEST(Viewport, ASlotMarkerClickAndThePlacementHandlePlaceTheSelectedPanels) {
     SkirtWindow s;
     ASSERT_TRUE(s.open());
     Viewport& view = s.window.viewport();
@@ -358,6 +411,42 @@ TEST(Viewport, ASlotMarkerClickAndThePlacementHandlePlaceTheSelectedPanel) {
     EXPECT_NEAR(s.frontPanel().placement.rotation, placed.rotation + std::numbers::pi / 2, 1e-6);
     EXPECT_EQ(s.frontPanel().placement.offset, placed.offset);
     EXPECT_TRUE(s.drapeFollows());
+
+    // Ctrl+click on the back panel in the pattern adds it to the selection; a click on the
+    // torso_front marker then places both there side by side (patterns::sideBySide, the front,
+    // selected first, on the left), one undo entry that undo takes back whole.
+    const patterns::PanelId back = s.window.project().document.panels.at(1).id;
+    const patterns::doc::Panel& backPanel = *s.window.project().document.panel(back);
+    patterns::Vec2 inside = patterns::Vec2::Zero();
+    for (const patterns::doc::Point& p : backPanel.outline.points) {
+        inside += p.position / static_cast<double>(backPanel.outline.points.size());
+    }
+    inside = 0.7 * inside + 0.3 * backPanel.outline.points.front().position;
+    PatternView& pattern = s.window.patternView();
+    const QPoint onBack = pattern.viewPoint(back, inside);
+    QTest::mouseClick(pattern.viewport(), Qt::LeftButton, Qt::ControlModifier, onBack);
+    ASSERT_EQ(pattern.selectedPanels(), (std::vector<patterns::PanelId>{s.front, back}));
+    EXPECT_EQ(pattern.selectedPanel(), back) << "the last one selected is shown in the docks";
+    const patterns::GarmentDocument single = s.window.project().document;
+    const auto expected = patterns::sideBySide(single, {s.front, back}, "torso_front");
+    QCoreApplication::processEvents();
+    const auto front = view.slotMarker("torso_front");
+    ASSERT_TRUE(front);
+    QTest::mouseClick(&view, Qt::LeftButton, {}, front->toPoint());
+    EXPECT_EQ(s.window.undoStack().count(), 3);
+    for (const auto& [id, placement] : expected) {
+        EXPECT_EQ(s.window.project().document.panel(id)->placement.slot, "torso_front");
+        EXPECT_EQ(s.window.project().document.panel(id)->placement.offset, placement.offset);
+    }
+    EXPECT_LT(expected[0].second.offset.x(), expected[1].second.offset.x());
+    EXPECT_EQ(pattern.selectedPanels().size(), 2U) << "the selection survives the edit";
+    EXPECT_TRUE(s.drapeFollows());
+    s.window.undoStack().undo();
+    EXPECT_EQ(patterns::dumpDocument(s.window.project().document), patterns::dumpDocument(single));
+    EXPECT_TRUE(s.drapeFollows());
+    // Ctrl+click on it again takes it out of the selection.
+    QTest::mouseClick(pattern.viewport(), Qt::LeftButton, Qt::ControlModifier, onBack);
+    EXPECT_EQ(pattern.selectedPanels(), (std::vector<patterns::PanelId>{s.front}));
 
     // Another project: no panel shown, so a click on a marker places nothing.
     ASSERT_TRUE(openAndWait(s.window, GARMENTS + "/tshirt.atelier"));

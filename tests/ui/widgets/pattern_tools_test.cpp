@@ -511,6 +511,39 @@ TEST(PatternView, DraggingABezierHandleBendsTheEdge) {
     EXPECT_EQ(curveOf().control1, handle);
     f.window.undoStack().undo();
     EXPECT_EQ(curveOf().kind, patterns::SegmentKind::Line);
+
+    // An arc (as imported ones are) has one handle, on its middle: dragged 40 mm further out
+    // (and 10 mm aside), the arc's middle follows it along the chord's bisector; the edge's
+    // length and height are shown while dragging; one setCurve on release, undone whole.
+    patterns::doc::Curve arc;
+    arc.kind = patterns::SegmentKind::Arc;
+    arc.bulge = 0.2;
+    ASSERT_TRUE(f.window.edit(
+        [&](patterns::GarmentDocument& d) { return patterns::setCurve(d, panel.id, edge, arc); }));
+    const int entries = f.window.undoStack().count();
+    const auto bottomSegment = [&] {
+        return patterns::contourSegment(f.document().panel(panel.id)->outline,
+                                        static_cast<std::size_t>(bottom));
+    };
+    const patterns::Vec2 middle = patterns::pointAt(bottomSegment(), 0.5);
+    EXPECT_LT(middle.y(), straight.start.y() - 0.01) << "a positive bulge bends it outwards";
+    const patterns::Vec2 out = middle + patterns::Vec2(0.01, -0.04);
+    sendMouse(f.surface(), QEvent::MouseButtonPress, view.viewPoint(panel.id, middle),
+              Qt::LeftButton, Qt::LeftButton);
+    sendMouse(f.surface(), QEvent::MouseMove, view.viewPoint(panel.id, out), Qt::NoButton,
+              Qt::LeftButton);
+    EXPECT_TRUE(view.feedback().contains("edge") && view.feedback().contains("height"))
+        << view.feedback().toStdString();
+    sendMouse(f.surface(), QEvent::MouseButtonRelease, view.viewPoint(panel.id, out),
+              Qt::LeftButton, Qt::NoButton);
+    EXPECT_EQ(f.window.undoStack().count(), entries + 1);
+    EXPECT_EQ(curveOf().kind, patterns::SegmentKind::Arc);
+    const patterns::Vec2 moved = patterns::pointAt(bottomSegment(), 0.5);
+    EXPECT_NEAR(moved.y(), out.y(), 0.003) << "within a pixel and a half (0.5 px/mm)";
+    EXPECT_NEAR(moved.x(), 0.5 * (straight.start.x() + straight.end.x()), 1e-9);
+    EXPECT_NEAR(bulgeThrough(straight.start, straight.end, out), curveOf().bulge, 0.02);
+    f.window.undoStack().undo();
+    EXPECT_EQ(curveOf().bulge, 0.2);
     EXPECT_TRUE(f.errors.isEmpty()) << f.errors.join("; ").toStdString();
 }
 
@@ -823,7 +856,9 @@ TEST(EndToEnd, ASkirtFromScratch) {
     ASSERT_TRUE(scene);
     EXPECT_EQ(scene->panelNames.size(), 2U);
 
-    // Grab the cloth in the 3D view, pull it and let go: it moves and comes to rest again.
+    // Grab the cloth in the 3D view, pull it and let go: it moves and comes to rest again
+    // (in Select: with the Seam tool still active, a press on the cloth picks a seam's edge).
+    f.view().setTool(PatternView::Tool::Select);
     Viewport& view3d = f.window.viewport();
     view3d.setView(render::View::Front);
     waitFor([] { return false; }, 0.1);

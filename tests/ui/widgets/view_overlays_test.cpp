@@ -9,13 +9,18 @@
 #include "ui/widgets/viewport.h"
 #include "ui/widgets/widget_test_support.h"
 
+#include "patterns/curve.h"
+#include "patterns/document.h"
+
 #include <QAction>
 #include <QImage>
+#include <QSignalSpy>
 #include <QTemporaryDir>
 #include <QTest>
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 namespace atelier::ui {
@@ -274,6 +279,67 @@ TEST(Viewport, TheSelectionIsMirroredBetweenThePatternAndTheCloth) {
     ASSERT_TRUE(s.draw());
     EXPECT_EQ(colourOf(0).g, render::panelColour(0).g) << "the front is no longer selected";
     EXPECT_EQ(colourOf(1).g, Viewport::selectedColour(denim).g);
+
+    // With the Seam tool, a press on the cloth picks the outline edge nearest it, as a click on
+    // that edge in the pattern would, and grabs nothing: here in a triangle at the back panel's
+    // lowest vertex in the pattern (on its hem).
+    PatternView& pattern = s.window.patternView();
+    pattern.setTool(PatternView::Tool::Seam);
+    EXPECT_TRUE(view.seamPicking());
+    const auto [first, count] = scene->panelTriangles.at(1);
+    int lowest = -1;
+    for (int t = first; t < first + count; ++t) {
+        for (int k = 0; k < 3; ++k) {
+            const int v = scene->garmentTriangles(t, k);
+            if (lowest < 0 || scene->patternUvs(v, 1) < scene->patternUvs(lowest, 1)) {
+                lowest = v;
+            }
+        }
+    }
+    int atHem = -1;
+    for (int t = first; t < first + count && atHem < 0; ++t) {
+        for (int k = 0; k < 3; ++k) {
+            atHem = scene->garmentTriangles(t, k) == lowest ? t : atHem;
+        }
+    }
+    ASSERT_GE(atHem, 0);
+    QPointF inside(0, 0);
+    for (int k = 0; k < 3; ++k) {
+        const auto drawn = view.drawnAt(scene->garmentTriangles(atHem, k));
+        ASSERT_TRUE(drawn);
+        inside += *drawn / 3;
+    }
+    const auto under = view.patternPointAt(inside);
+    ASSERT_TRUE(under);
+    EXPECT_EQ(under->first, "back");
+    const patterns::doc::Panel& backPanel = *s.window.project().document.panel(back);
+    QSignalSpy picked(&view, &Viewport::panelPicked); // emitted with every grab
+    QTest::mousePress(&view, Qt::LeftButton, {}, inside.toPoint());
+    QTest::mouseRelease(&view, Qt::LeftButton, {}, inside.toPoint());
+    EXPECT_EQ(picked.count(), 0) << "nothing grabbed";
+    const auto& side = pattern.seamPick(0);
+    ASSERT_EQ(side.size(), 1U);
+    EXPECT_EQ(side.front().panel, back);
+    // The edge through the lowest vertex's pattern point: the one nearest it.
+    const patterns::Vec2 low = scene->patternUvs.row(lowest).transpose();
+    double nearest = INFINITY;
+    patterns::EdgeId expected;
+    for (std::size_t e = 0; e < backPanel.outline.edges.size(); ++e) {
+        const patterns::Segment seg = patterns::contourSegment(backPanel.outline, e);
+        for (int k = 0; k <= 100; ++k) {
+            if (const double d = (patterns::pointAt(seg, k / 100.0) - low).norm(); d < nearest) {
+                nearest = d;
+                expected = backPanel.outline.edges[e].id;
+            }
+        }
+    }
+    EXPECT_LT(nearest, 0.005) << "the lowest vertex is on the outline (as the mesher flattens it)";
+    EXPECT_EQ(side.front().edge, expected);
+    EXPECT_EQ(side.front().t0, 0.0) << "the whole edge, as a plain click picks it";
+    EXPECT_EQ(side.front().t1, 1.0);
+    // Another tool: the press grabs again.
+    pattern.setTool(PatternView::Tool::Select);
+    EXPECT_FALSE(view.seamPicking());
 }
 
 } // namespace

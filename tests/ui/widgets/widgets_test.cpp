@@ -37,6 +37,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <memory>
 #include <sstream>
 
 namespace atelier::ui {
@@ -789,6 +790,52 @@ TEST(MainWindow, AutosaveRecoversTheEditsOfAKilledProcess) {
     later.setRecoveryDirectory(recovery);
     EXPECT_FALSE(later.offerRecovery());
     EXPECT_TRUE(laterPrompts.restoreOffers.isEmpty());
+}
+
+TEST(MainWindow, TwoWindowsOnOneProjectAutosaveToTwoFilesAndALostOneIsRecovered) {
+    QTemporaryDir dir;
+    const QString project = dir.filePath("skirt.atelier");
+    ASSERT_TRUE(QFile::copy(GARMENTS + "/skirt.atelier", project));
+    const QString recovery = dir.filePath("recovery");
+    // Two windows on the same file, each renaming the front panel its own way.
+    QuietPrompts prompts[2];
+    std::unique_ptr<MainWindow> windows[2];
+    const char* names[2] = {"front of the first", "front of the second"};
+    for (int k = 0; k < 2; ++k) {
+        windows[k] = std::make_unique<MainWindow>(GARMENTS);
+        prompts[k].install(*windows[k]);
+        windows[k]->setRecoveryDirectory(recovery);
+        ASSERT_TRUE(windows[k]->openProject(project));
+        const patterns::PanelId front = windows[k]->project().document.panels.front().id;
+        ASSERT_TRUE(windows[k]->edit([&](patterns::GarmentDocument& d) {
+            return patterns::renamePanel(d, front, names[k]);
+        }));
+        ASSERT_TRUE(windows[k]->autosave());
+    }
+    const QString files[2] = {windows[0]->recoveryFile(), windows[1]->recoveryFile()};
+    EXPECT_NE(files[0], files[1]);
+    EXPECT_EQ(QDir(recovery).entryList({"*.atelier"}, QDir::Files).size(), 2);
+    for (int k = 0; k < 2; ++k) {
+        auto saved = io::loadProject(files[k].toStdString());
+        ASSERT_TRUE(saved.ok()) << saved.error().toString();
+        EXPECT_EQ(saved.value().document.panels.front().name, names[k]);
+    }
+
+    // The second window is gone without a clean close (as when its program is killed): a new
+    // window is offered its file alone (the first window's is in use) and restores it.
+    windows[1].reset();
+    MainWindow next(GARMENTS);
+    QuietPrompts nextPrompts;
+    nextPrompts.install(next);
+    next.setRecoveryDirectory(recovery);
+    ASSERT_TRUE(next.offerRecovery());
+    ASSERT_EQ(nextPrompts.restoreOffers.size(), 1);
+    EXPECT_EQ(QFileInfo(nextPrompts.restoreOffers.front()).fileName(),
+              QFileInfo(files[1]).fileName());
+    EXPECT_EQ(next.project().document.panels.front().name, names[1]);
+    EXPECT_TRUE(QFileInfo::exists(files[0])) << "the open window's file is left alone";
+    EXPECT_FALSE(QFileInfo::exists(files[1])) << "the restored file gives way to the new window's";
+    EXPECT_TRUE(QFileInfo::exists(next.recoveryFile()));
 }
 
 TEST(MainWindow, TheProgramKilledAfterAnImportLeavesARecoveryFileThatRestoresIt) {
