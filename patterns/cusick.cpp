@@ -2,6 +2,7 @@
 
 #include "patterns/garment.h"
 #include "patterns/mesh.h"
+#include "patterns/settle.h"
 
 #include "sim/mesh/cloth_mesh.h"
 #include "sim/scene.h"
@@ -237,24 +238,15 @@ CusickResult runCusick(const CusickOptions& o) {
         r.error = simulation.error();
         return r;
     }
-    sim::MatX3 last = simulation.positions();
-    for (double t = 0.25; t <= o.maxTime + 1e-9; t += 0.25) {
-        const sim::RunStatus status = simulation.run(t, {}, o.cancel);
-        if (status == sim::RunStatus::Cancelled) {
-            r.error = "cancelled";
-            return r;
-        }
-        if (status != sim::RunStatus::Finished) {
-            r.error = "simulation: " + simulation.error();
-            return r;
-        }
-        const sim::MatX3& x = simulation.positions();
-        r.settledTime = t;
-        if (t >= 1.0 && (x - last).rowwise().norm().maxCoeff() < o.restMotion) {
-            r.atRest = true;
-            break;
-        }
-        last = x;
+    SettleOptions settling;
+    settling.maxTime = o.maxTime;
+    settling.cancel = o.cancel;
+    const SettleResult settled = settle(simulation, settling, noVertexMovedMoreThan(o.restMotion));
+    r.settledTime = settled.time;
+    r.atRest = settled.atRest;
+    if (!settled.error.empty()) {
+        r.error = settled.error;
+        return r;
     }
     r.positions = simulation.positions();
     r.triangles = pm.triangles;

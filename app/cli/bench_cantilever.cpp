@@ -4,6 +4,7 @@
 
 #include "io/atomic_file.h"
 
+#include "patterns/settle.h"
 #include "patterns/triangulate.h"
 
 #include "sim/analysis/heavy_elastica.h"
@@ -255,24 +256,25 @@ CantileverResult runCantilever(const CantileverOptions& o) {
     const sim::HeavyElastica exact = sim::solveHeavyElastica(o.ratio);
     r.exactAngleDeg = exact.tipLineAngle * DEG;
     r.exactDeflection = exact.tipDrop * o.length;
-    double last = 0;
-    double t = 0;
-    while (t < o.maxTime) {
-        t += 0.25;
-        if (simulation.run(t) != sim::RunStatus::Finished) {
-            r.error = "simulation: " + simulation.error();
-            return r;
-        }
-        const TipMeasure m = measureTip(simulation.positions(), tip, o.width);
-        r.angleDeg = m.angle * DEG;
-        r.deflection = m.deflection;
-        r.settledTime = t;
-        if (t > 1.0 && std::abs(r.angleDeg - last) < o.restAngleDeg) {
-            r.atRest = true;
-            break;
-        }
-        last = r.angleDeg;
+    const auto tipAngle = [&](const sim::MatX3& x) {
+        return measureTip(x, tip, o.width).angle * DEG;
+    };
+    patterns::SettleOptions settling;
+    settling.minTime = 1.25;
+    settling.maxTime = o.maxTime;
+    const patterns::SettleResult settled = patterns::settle(
+        simulation, settling, [&](const sim::MatX3& now, const sim::MatX3& before) {
+            return std::abs(tipAngle(now) - tipAngle(before)) < o.restAngleDeg;
+        });
+    if (!settled.error.empty()) {
+        r.error = settled.error;
+        return r;
     }
+    const TipMeasure m = measureTip(simulation.positions(), tip, o.width);
+    r.angleDeg = m.angle * DEG;
+    r.deflection = m.deflection;
+    r.settledTime = settled.time;
+    r.atRest = settled.atRest;
     return r;
 }
 

@@ -290,17 +290,24 @@ void DihedralBending::addJacobian(const MatX3& x, const MatX3& v, double kx, dou
 }
 
 void DihedralBending::acceptStep(const MatX3& x, double dt) {
-    if (!m_plasticity || !(dt > 0)) {
+    if (m_plasticity) {
+        flowRestAngles(m_restAngle, m_yieldAngle, m_plasticRate, dt,
+                       [&](int h) { return angle(x, h); });
+    }
+}
+
+void flowRestAngles(VecX& restAngle, double yieldAngle, double rate, double dt,
+                    const std::function<double(int)>& foldOf) {
+    if (!(dt > 0)) {
         return;
     }
-    const double fraction = std::min(1.0, m_plasticRate * dt);
-    const std::int64_t nh = m_hinges.rows();
-    parallelFor(nh, [&](std::int64_t hh) {
+    const double fraction = std::min(1.0, rate * dt);
+    parallelFor(restAngle.size(), [&](std::int64_t hh) {
         const int h = static_cast<int>(hh);
-        const double d = angle(x, h) - m_restAngle[h];
-        const double excess = std::abs(d) - m_yieldAngle;
+        const double d = foldOf(h) - restAngle[h];
+        const double excess = std::abs(d) - yieldAngle;
         if (excess > 0 && std::isfinite(d)) {
-            m_restAngle[h] += fraction * std::copysign(excess, d);
+            restAngle[h] += fraction * std::copysign(excess, d);
         }
     });
 }

@@ -7,6 +7,7 @@
 #include "sim/mesh/cloth_mesh.h"
 
 #include <array>
+#include <functional>
 #include <vector>
 
 namespace atelier::sim {
@@ -118,5 +119,12 @@ class DihedralBending : public ForceModel {
     double m_plasticRate; ///< [1/s]
     ElementGather m_gather;
 };
+
+/// Plastic flow of hinge rest angles, shared by both bending models: where a hinge's fold θ
+/// departs from its rest angle θ̄ by more than `yieldAngle` [rad], θ̄ moves towards θ by
+/// min(1, rate·dt) of the excess (`rate` [1/s], `dt` [s]). `foldOf(h)` is hinge h's current fold
+/// [rad]; a non-finite fold leaves its rest angle alone.
+void flowRestAngles(VecX& restAngle, double yieldAngle, double rate, double dt,
+                    const std::function<double(int)>& foldOf);
 
 } // namespace atelier::sim

@@ -354,7 +354,7 @@ void ContinuumBending::addJacobian(const MatX3& x, const MatX3& v, double kx, do
     const std::int64_t nf = m_triHinges.rows();
 
     // Per hinge (Exact): −μ_h (c_h ∇²θ_h − ½ s_h ∇θ_h∇θ_hᵀ), and ∇²θ_h·v for the triangles.
-    std::vector<Vec12> hessianV;
+    std::vector<Vec12>& hessianV = m_hessianV;
     if (exact) {
         hessianV.assign(static_cast<std::size_t>(nh), Vec12::Zero());
         m_hingeBlocks.resize(static_cast<std::size_t>(nh) * 16);
@@ -447,20 +447,12 @@ void ContinuumBending::addJacobian(const MatX3& x, const MatX3& v, double kx, do
 }
 
 void ContinuumBending::acceptStep(const MatX3& x, double dt) {
-    if (!m_plasticity || !(dt > 0)) {
-        return;
+    if (m_plasticity) {
+        flowRestAngles(m_restAngle, m_yieldAngle, m_plasticRate, dt, [&](int h) {
+            const auto c = corners(x, h);
+            return dihedralAngle(c[0], c[1], c[2], c[3]);
+        });
     }
-    const double fraction = std::min(1.0, m_plasticRate * dt);
-    const std::int64_t nh = m_hinges.rows();
-    parallelFor(nh, [&](std::int64_t hh) {
-        const int h = static_cast<int>(hh);
-        const auto c = corners(x, h);
-        const double d = dihedralAngle(c[0], c[1], c[2], c[3]) - m_restAngle[h];
-        const double excess = std::abs(d) - m_yieldAngle;
-        if (excess > 0 && std::isfinite(d)) {
-            m_restAngle[h] += fraction * std::copysign(excess, d);
-        }
-    });
 }
 
 } // namespace atelier::sim

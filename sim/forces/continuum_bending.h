@@ -142,6 +142,7 @@ class ContinuumBending : public ForceModel {
     mutable MatX3 m_buffer;                  ///< (|H|·4 × 3) per-corner forces
     mutable std::vector<Mat3> m_hingeBlocks; ///< (|H|·16)
     mutable std::vector<Mat3> m_triBlocks;   ///< (|F|·36)
+    mutable std::vector<Eigen::Matrix<double, 12, 1>> m_hessianV; ///< (|H|) ∇²θ_h·v (Exact)
 };
 
 } // namespace atelier::sim
