@@ -51,4 +51,7 @@ Result<AssimpScene> readAssimpScene(const std::filesystem::path& path, std::uint
 Result<void> appendTriangles(const aiMesh& mesh, int base, const std::string& file,
                              std::vector<std::array<int, 3>>& triangles);
 
+/// A figure of a mesh file for messages, 4 significant digits ("%.4g").
+std::string figure(double value);
+
 } // namespace atelier::io::detail

@@ -21,14 +21,8 @@ using Mat4 = Eigen::Matrix4d;
 /// Ticks per second where an animation gives none (assimp's viewer assumes the same).
 constexpr double DEFAULT_TICKS_PER_SECOND = 25.0;
 
-std::string figure(double value) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.4g", value);
-    return text;
-}
-
 std::string seconds(double value) {
-    return figure(value) + " s";
+    return detail::figure(value) + " s";
 }
 
 Mat4 toEigen(const aiMatrix4x4& m) {
@@ -399,11 +393,11 @@ Result<BodyMotion> importBodyAnimation(const std::filesystem::path& path,
     }
     const double frameCount = std::floor(window * options.fps + 1e-9) + 1;
     if (frameCount < 2) {
-        return failIn("at " + figure(options.fps) + " frames per second the window of " +
+        return failIn("at " + detail::figure(options.fps) + " frames per second the window of " +
                       seconds(window) + " holds one frame; a motion needs at least two");
     }
     if (frameCount > static_cast<double>(limits.maxFrames)) {
-        return failIn(figure(frameCount) + " frames are more than " +
+        return failIn(detail::figure(frameCount) + " frames are more than " +
                       std::to_string(limits.maxFrames) + " (the limit frames)");
     }
     if (frameCount * static_cast<double>(vertexCount) >

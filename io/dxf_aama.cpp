@@ -48,14 +48,10 @@ struct ParseError {
 
 // ---- Geometry ----
 
-double cross(const Vec2& a, const Vec2& b) {
-    return a.x() * b.y() - a.y() * b.x();
-}
-
 double signedArea(const std::vector<Vec2>& p) {
     double a = 0;
     for (std::size_t i = 0; i < p.size(); ++i) {
-        a += cross(p[i], p[(i + 1) % p.size()]);
+        a += sim::cross2d(p[i], p[(i + 1) % p.size()]);
     }
     return 0.5 * a;
 }
@@ -125,7 +121,7 @@ Loop outlineOf(const Chain& cut, const std::vector<Vec2>& turnPoints, double tol
         for (std::size_t i = 0; i < n; ++i) {
             const Vec2 in = cut.points[i] - cut.points[(i + n - 1) % n];
             const Vec2 out = cut.points[(i + 1) % n] - cut.points[i];
-            const double turn = std::atan2(std::abs(cross(in, out)), in.dot(out));
+            const double turn = std::atan2(std::abs(sim::cross2d(in, out)), in.dot(out));
             if (turn > CORNER_TURN) {
                 corner[i] = 1;
             }
@@ -304,9 +300,9 @@ struct PieceResult {
 };
 
 /// Builds one piece from a block, step by step; warnings name the piece.
-class PieceBuilder {
+class AamaPieceBuilder {
   public:
-    PieceBuilder(const DxfBlock& block, double scale, std::vector<std::string>& warnings)
+    AamaPieceBuilder(const DxfBlock& block, double scale, std::vector<std::string>& warnings)
         : m_block(block), m_scale(scale), m_warnings(warnings) {}
 
     std::optional<PieceResult> build(const DxfImportOptions& options, const Limits& limits) {
@@ -618,7 +614,7 @@ Result<DxfImport> parseDxfAama(std::string_view text, const std::string& file,
         std::set<std::string> names;
         for (const DxfBlock& block : raw.blocks) {
             std::optional<PieceResult> piece =
-                PieceBuilder(block, units.scale, out.warnings).build(options, limits);
+                AamaPieceBuilder(block, units.scale, out.warnings).build(options, limits);
             if (!piece) {
                 continue;
             }

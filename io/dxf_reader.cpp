@@ -11,13 +11,13 @@ namespace {
 
 using sim::Vec2;
 
-struct ParseError {
+struct DxfSyntaxError {
     int line;
     std::string message;
 };
 
 [[noreturn]] void fail(int line, std::string message) {
-    throw ParseError{line, std::move(message)};
+    throw DxfSyntaxError{line, std::move(message)};
 }
 
 /// One group of the file: a code and its value, with the code's line.
@@ -463,7 +463,7 @@ std::string dxfShown(std::string_view s) {
 Result<DxfDrawing> readDxfDrawing(std::string_view text, const std::string& file) {
     try {
         return FileReader(text).read();
-    } catch (const ParseError& e) {
+    } catch (const DxfSyntaxError& e) {
         return Error{file, e.line > 0 ? "line " + std::to_string(e.line) : "", e.message};
     }
 }

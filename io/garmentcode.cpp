@@ -35,8 +35,6 @@ using patterns::SegmentKind;
 using sim::Vec2;
 using sim::Vec3;
 
-constexpr double PI = std::numbers::pi;
-
 /// Sleeves: panels whose centre is farther than this from the garment's middle in x [m].
 constexpr double ARM_OFFSET = 0.3;
 /// Sleeves start this far down the arm from the shoulder joint [m]: with their top at the
@@ -250,7 +248,7 @@ Segment readCurvature(const json& curvature, const std::string& pointer, const V
             half = 1;
         }
         const double small = 2 * std::asin(half);
-        const double sweep = largeArc ? 2 * PI - small : small;
+        const double sweep = largeArc ? 2 * std::numbers::pi - small : small;
         s.kind = SegmentKind::Arc;
         // Positive bulge: counter-clockwise from start to end, i.e. bulging to the right.
         s.bulge = (right ? 1.0 : -1.0) * std::tan(sweep / 4);
@@ -354,7 +352,7 @@ SpecPanel readPanel(const std::string& name, const json& value, const std::strin
     if (!(deg.cwiseAbs().maxCoeff() <= 1e6)) {
         fail(rp, "rotation angles must be within ±1e6 degrees");
     }
-    const Vec3 rad = deg * PI / 180;
+    const Vec3 rad = deg * std::numbers::pi / 180;
     // XYZ Euler angles: about x first, then y, then z (fixed axes).
     panel.rotation =
         (Eigen::AngleAxisd(rad.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(rad.y(), Vec3::UnitY()) *
@@ -595,7 +593,7 @@ void placePanels(
         f.vShift = slot.alongMax - SLEEVE_DROP - aHi;
         // Panels facing away from the top of the arm (front and back halves of a sleeve) are
         // laid side by side around it: the radius at which their widths tile the circle.
-        f.rho = std::max(slot.radius + options.clearance, (fHi - fLo) / PI);
+        f.rho = std::max(slot.radius + options.clearance, (fHi - fLo) / std::numbers::pi);
         for (std::size_t i = 0; i < spec.size(); ++i) {
             if (group[i] == g) {
                 place(spec[i], f, options.clearance, panels[i], ctx);

@@ -24,12 +24,6 @@ namespace atelier::io {
 
 namespace {
 
-std::string figure(double value) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.4g", value);
-    return text;
-}
-
 std::string lowerExtension(const std::filesystem::path& path) {
     std::string ext = path.extension().string();
     for (char& c : ext) {
@@ -397,8 +391,9 @@ Result<ImportedBody> normaliseBody(const RawMesh& raw, const std::string& file,
     const sim::Vec3 hi = raw.positions.colwise().maxCoeff();
     const sim::Vec3 extent = hi - lo;
     if (!(extent.minCoeff() > 1e-6 * extent.maxCoeff())) {
-        return fail("the mesh is flat (" + figure(extent.x()) + " × " + figure(extent.y()) + " × " +
-                    figure(extent.z()) + " file units): it cannot be a body");
+        return fail("the mesh is flat (" + detail::figure(extent.x()) + " × " +
+                    detail::figure(extent.y()) + " × " + detail::figure(extent.z()) +
+                    " file units): it cannot be a body");
     }
     if (options.up != UpAxis::Auto) {
         report.up = options.up;
@@ -440,9 +435,10 @@ Result<ImportedBody> normaliseBody(const RawMesh& raw, const std::string& file,
             }
         }
         if (!found) {
-            return fail("the mesh is " + figure(report.fileHeight) +
+            return fail("the mesh is " + detail::figure(report.fileHeight) +
                         " file units tall: in no unit (mm, cm, m) is that a body " +
-                        figure(MIN_DETECTED_HEIGHT) + " to " + figure(MAX_DETECTED_HEIGHT) +
+                        detail::figure(MIN_DETECTED_HEIGHT) + " to " +
+                        detail::figure(MAX_DETECTED_HEIGHT) +
                         " m tall (give the unit if it is one)");
         }
         report.unitsFrom = "the height";
@@ -466,7 +462,7 @@ Result<ImportedBody> normaliseBody(const RawMesh& raw, const std::string& file,
     sim::MatX3i triangles = raw.triangles;
     weldByPosition(x, triangles, options.weldDistance, report.droppedTriangles, &out.fromSource);
     if (triangles.rows() < 4) {
-        return fail("once vertices closer than " + figure(options.weldDistance) +
+        return fail("once vertices closer than " + detail::figure(options.weldDistance) +
                     " m are welded, " + std::to_string(triangles.rows()) +
                     " triangles are left: it cannot be a body");
     }
@@ -529,6 +525,12 @@ AssimpScene::AssimpScene() = default;
 AssimpScene::AssimpScene(AssimpScene&&) noexcept = default;
 AssimpScene& AssimpScene::operator=(AssimpScene&&) noexcept = default;
 AssimpScene::~AssimpScene() = default;
+
+std::string figure(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.4g", value);
+    return text;
+}
 
 Result<AssimpScene> readAssimpScene(const std::filesystem::path& path, std::uint64_t maxBytes,
                                     int maxJsonDepth) {

@@ -251,8 +251,8 @@ class DocumentReader {
         ObjectReader r(value, ptr);
         doc::SheetPlace place;
         place.at = point(r, "at_mm");
-        constexpr double FAR = 1000; // [m], as patterns::setSheetPlace
-        if (place.at.cwiseAbs().maxCoeff() > FAR) {
+        constexpr double FAR_LIMIT = 1000; // [m], as patterns::setSheetPlace
+        if (place.at.cwiseAbs().maxCoeff() > FAR_LIMIT) {
             r.fail("at_mm", "must be within 1 km of the sheet's origin");
         }
         place.angle = angleDeg(r, "angle_deg", 0.0);

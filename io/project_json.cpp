@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 
 namespace atelier::io::detail {
 
@@ -20,7 +21,6 @@ using nlohmann::ordered_json;
 using patterns::SegmentKind;
 using patterns::Vec2;
 
-constexpr double PI = 3.14159265358979323846;
 /// Body measurements above this are taken for a unit mistake (millimetres or centimetres).
 constexpr double MAX_MEASUREMENT_M = 3.0;
 /// Millimetre and degree values are rounded to 1 / STEPS_PER_UNIT on save.
@@ -35,13 +35,6 @@ constexpr std::array<std::pair<SegmentKind, std::string_view>, 4> SEGMENT_KINDS 
     {SegmentKind::Cubic, "cubic"},
     {SegmentKind::Arc, "arc"},
 }};
-constexpr std::array<sim::IntegratorKind, 5> INTEGRATORS = {
-    sim::IntegratorKind::Euler, sim::IntegratorKind::Midpoint, sim::IntegratorKind::Rk4,
-    sim::IntegratorKind::Rk45, sim::IntegratorKind::ImplicitEuler};
-constexpr std::array<sim::LinearSolver, 2> LINEAR_SOLVERS = {
-    sim::LinearSolver::BlockJacobi, sim::LinearSolver::BlockIncompleteCholesky};
-constexpr std::array<sim::StretchModel, 3> MODELS = {
-    sim::StretchModel::Springs, sim::StretchModel::Volino, sim::StretchModel::Fem};
 
 bool sameParameters(const sim::Material& a, const sim::Material& b) {
     return a.density == b.density && a.stretchWeft == b.stretchWeft &&
@@ -58,7 +51,7 @@ double metresFromMm(double mm) {
     return mm / 1000.0;
 }
 double radiansFromDeg(double deg) {
-    return deg / 180.0 * PI;
+    return deg / 180.0 * std::numbers::pi;
 }
 
 /// A millimetre or degree value rounded to 1e-6: reading it back (÷ 1000, × π/180)
@@ -317,7 +310,7 @@ patterns::DrapeSettings readSimulation(const json& value, const std::string& poi
         const auto m = sim::stretchModelFromName(*model);
         if (!m) {
             r.fail("model", "unknown model " + inQuotes(*model) + " (expected one of " +
-                                nameList(MODELS, &sim::stretchModelName) + ")");
+                                nameList(sim::STRETCH_MODELS, &sim::stretchModelName) + ")");
         }
         d.model = *m;
     }
@@ -334,7 +327,7 @@ patterns::DrapeSettings readSimulation(const json& value, const std::string& poi
         if (!kind) {
             r.fail("integrator", "unknown integrator " + inQuotes(*integrator) +
                                      " (expected one of " +
-                                     nameList(INTEGRATORS, &sim::integratorName) + ")");
+                                     nameList(sim::INTEGRATOR_KINDS, &sim::integratorName) + ")");
         }
         d.integrator = *kind;
     }
@@ -343,9 +336,9 @@ patterns::DrapeSettings readSimulation(const json& value, const std::string& poi
     if (const auto solver = r.optionalString("linear_solver")) {
         const auto kind = sim::linearSolverFromName(*solver);
         if (!kind) {
-            r.fail("linear_solver", "unknown linear solver " + inQuotes(*solver) +
-                                        " (expected one of " +
-                                        nameList(LINEAR_SOLVERS, &sim::linearSolverName) + ")");
+            r.fail("linear_solver",
+                   "unknown linear solver " + inQuotes(*solver) + " (expected one of " +
+                       nameList(sim::LINEAR_SOLVERS, &sim::linearSolverName) + ")");
         }
         d.linearSolver = kind.value_or(d.linearSolver);
     }
@@ -388,7 +381,7 @@ ordered_json mm(double metres) {
     return rounded(metres * 1000.0);
 }
 ordered_json deg(double radians) {
-    return rounded(radians / PI * 180.0);
+    return rounded(radians / std::numbers::pi * 180.0);
 }
 ordered_json pointMm(const Vec2& p) {
     return ordered_json::array({mm(p.x()), mm(p.y())});

@@ -15,7 +15,7 @@ namespace atelier::io {
 namespace {
 
 /// A number, or null when it is not finite (JSON has no NaN or infinity).
-nlohmann::json number(double value) {
+nlohmann::json finiteOrNull(double value) {
     return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
 }
 
@@ -42,20 +42,20 @@ std::string formatReport(const sim::Simulation& simulation, const ReportFields& 
     j["linear_solves"] = stats.linearSolves;
     j["linear_solves_unconverged"] = stats.unconvergedSolves;
     j["linear_solves_capped"] = stats.cappedSolves;
-    j["linear_solve_worst_residual"] = number(stats.worstRelativeResidual);
-    j["sim_time_s"] = number(stats.simTime);
-    j["wall_time_s"] = number(stats.wallTime);
-    j["min_dt_s"] = number(stats.minDt);
-    j["max_dt_s"] = number(stats.maxDt);
+    j["linear_solve_worst_residual"] = finiteOrNull(stats.worstRelativeResidual);
+    j["sim_time_s"] = finiteOrNull(stats.simTime);
+    j["wall_time_s"] = finiteOrNull(stats.wallTime);
+    j["min_dt_s"] = finiteOrNull(stats.minDt);
+    j["max_dt_s"] = finiteOrNull(stats.maxDt);
     j["finite"] = stats.finite && simulation.positions().allFinite();
-    j["max_edge_strain"] = number(simulation.maxEdgeStrain());
-    j["kinetic_energy_j"] = number(simulation.kineticEnergy());
-    j["potential_energy_j"] = number(simulation.potentialEnergy());
-    j["energy_input_j"] = number(stats.energyInput);
+    j["max_edge_strain"] = finiteOrNull(simulation.maxEdgeStrain());
+    j["kinetic_energy_j"] = finiteOrNull(simulation.kineticEnergy());
+    j["potential_energy_j"] = finiteOrNull(simulation.potentialEnergy());
+    j["energy_input_j"] = finiteOrNull(stats.energyInput);
     j["active_stages"] = simulation.activeStages();
     nlohmann::json stages = nlohmann::json::object();
     for (const auto& [name, seconds] : stats.stageSeconds) {
-        stages[name] = number(seconds);
+        stages[name] = finiteOrNull(seconds);
     }
     j["stage_seconds"] = std::move(stages);
     j["integrator"] = std::string(sim::integratorName(scene.integrator.kind));
@@ -74,8 +74,8 @@ std::string formatReport(const sim::Simulation& simulation, const ReportFields& 
     j["triangles"] = triangles;
     j["cloths"] = std::move(cloths);
     // Collision figures (0 and [] without a collision stage).
-    j["max_penetration_m"] = number(stats.maxPenetration);
-    j["contact_layer_crush_m"] = number(simulation.contactLayerCrush());
+    j["max_penetration_m"] = finiteOrNull(stats.maxPenetration);
+    j["contact_layer_crush_m"] = finiteOrNull(simulation.contactLayerCrush());
     long withObstacles = 0;
     j["intersecting_triangle_pairs"] = simulation.intersectingTrianglePairs(&withObstacles);
     j["intersecting_pairs_with_obstacles"] = withObstacles; // of which cloth–obstacle
@@ -84,7 +84,7 @@ std::string formatReport(const sim::Simulation& simulation, const ReportFields& 
         it != stats.stageSeconds.end() && stats.wallTime > 0) {
         collisionFraction = std::clamp(it->second / stats.wallTime, 0.0, 1.0);
     }
-    j["collision_time_fraction"] = number(collisionFraction);
+    j["collision_time_fraction"] = finiteOrNull(collisionFraction);
     j["contacts"] = stats.contacts;
     nlohmann::json obstacles = nlohmann::json::array();
     for (const sim::ObstacleSpec& obstacle : scene.obstacles) {
@@ -96,7 +96,7 @@ std::string formatReport(const sim::Simulation& simulation, const ReportFields& 
             [&](const auto& v) {
                 using V = std::decay_t<decltype(v)>;
                 if constexpr (std::is_same_v<V, double>) {
-                    j[key] = number(v);
+                    j[key] = finiteOrNull(v);
                 } else {
                     j[key] = v;
                 }

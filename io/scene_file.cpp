@@ -44,14 +44,6 @@ struct ClothInfo {
 constexpr long long MAX_COLLISION_ITERATIONS = 1000;
 constexpr long long MAX_CG_ITERATIONS = 100'000;
 
-constexpr std::array<sim::IntegratorKind, 5> INTEGRATORS = {
-    sim::IntegratorKind::Euler, sim::IntegratorKind::Midpoint, sim::IntegratorKind::Rk4,
-    sim::IntegratorKind::Rk45, sim::IntegratorKind::ImplicitEuler};
-constexpr std::array<sim::LinearSolver, 2> LINEAR_SOLVERS = {
-    sim::LinearSolver::BlockJacobi, sim::LinearSolver::BlockIncompleteCholesky};
-constexpr std::array<sim::StretchModel, 3> MODELS = {
-    sim::StretchModel::Springs, sim::StretchModel::Volino, sim::StretchModel::Fem};
-
 class SceneParser {
   public:
     SceneParser(std::string file, std::filesystem::path baseDir, const SceneLoadOptions& options)
@@ -380,7 +372,7 @@ class SceneParser {
             const auto kind = sim::stretchModelFromName(model);
             if (!kind) {
                 r.fail("model", "unknown model " + inQuotes(model) + " (expected one of " +
-                                    nameList(MODELS, &sim::stretchModelName) + ")");
+                                    nameList(sim::STRETCH_MODELS, &sim::stretchModelName) + ")");
             }
             cloth.model = *kind;
         }
@@ -681,7 +673,7 @@ class SceneParser {
         const auto kind = sim::integratorFromName(type);
         if (!kind) {
             r.fail("type", "unknown integrator " + inQuotes(type) + " (expected one of " +
-                               nameList(INTEGRATORS, &sim::integratorName) + ")");
+                               nameList(sim::INTEGRATOR_KINDS, &sim::integratorName) + ")");
         }
         o.kind = *kind;
         o.dt = r.positive("dt", o.dt);
@@ -699,9 +691,9 @@ class SceneParser {
         if (const auto solver = r.optionalString("linear_solver")) {
             const auto kind = sim::linearSolverFromName(*solver);
             if (!kind) {
-                r.fail("linear_solver", "unknown linear solver " + inQuotes(*solver) +
-                                            " (expected one of " +
-                                            nameList(LINEAR_SOLVERS, &sim::linearSolverName) + ")");
+                r.fail("linear_solver",
+                       "unknown linear solver " + inQuotes(*solver) + " (expected one of " +
+                           nameList(sim::LINEAR_SOLVERS, &sim::linearSolverName) + ")");
             }
             o.linearSolver = kind.value_or(o.linearSolver);
         }

@@ -10,10 +10,6 @@ namespace atelier::patterns {
 
 namespace {
 
-double cross(const Vec2& a, const Vec2& b) {
-    return a.x() * b.y() - a.y() * b.x();
-}
-
 Vec2 bezier(const std::array<Vec2, 4>& c, double t) {
     const double u = 1 - t;
     return u * u * u * c[0] + 3 * u * u * t * c[1] + 3 * u * t * t * c[2] + t * t * t * c[3];
@@ -39,8 +35,8 @@ void fitPolyline(const std::vector<Vec2>& p, std::size_t first, std::size_t last
     double lineError = 0;
     std::size_t worst = first;
     for (std::size_t i = first + 1; i < last; ++i) {
-        const double d =
-            chordLength > 0 ? std::abs(cross(chord, p[i] - a)) / chordLength : (p[i] - a).norm();
+        const double d = chordLength > 0 ? std::abs(sim::cross2d(chord, p[i] - a)) / chordLength
+                                         : (p[i] - a).norm();
         if (d > lineError) {
             lineError = d;
             worst = i;

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <numbers>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -16,8 +17,6 @@ using sim::parallelFor;
 using sim::Vec3;
 
 namespace {
-
-constexpr double PI = 3.14159265358979323846;
 
 /// The six Kuhn tetrahedra of a cube (corner index = x + 2y + 4z): every path from corner 0 to
 /// corner 7 along the axes. Neighbouring cubes split their shared face along the same diagonal,
@@ -94,7 +93,7 @@ int flipPass(const std::vector<Vec3>& x, std::vector<std::array<int, 3>>& tris) 
     }
     std::vector<char> touched(tris.size(), 0);
     int flips = 0;
-    const double flatCos = std::cos(20.0 * PI / 180.0);
+    const double flatCos = std::cos(20.0 * std::numbers::pi / 180.0);
     for (const auto& [key, pair] : edgeTris) {
         const int t1 = pair[0];
         const int t2 = pair[1];
@@ -121,7 +120,7 @@ int flipPass(const std::vector<Vec3>& x, std::vector<std::array<int, 3>>& tris) 
             continue;
         }
         const double opposite = angleAt(x[c], x[p], x[q]) + angleAt(x[d], x[q], x[p]);
-        if (opposite <= PI + 1e-9) {
+        if (opposite <= std::numbers::pi + 1e-9) {
             continue;
         }
         const Vec3 n1 = (x[q] - x[p]).cross(x[c] - x[p]);

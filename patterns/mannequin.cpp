@@ -11,6 +11,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <variant>
@@ -21,9 +22,8 @@ using sim::Vec3;
 
 namespace {
 
-constexpr double PI = 3.14159265358979323846;
 /// A-pose: arms at least this far from the vertical, more when the bust needs the room.
-constexpr double MIN_ARM_ANGLE = 45.0 * PI / 180.0;
+constexpr double MIN_ARM_ANGLE = 45.0 * std::numbers::pi / 180.0;
 
 /// Girths the mannequin is fitted to, in this order.
 enum Girth { Bust, UnderBust, Waist, Hip, Neck, UpperArm, Thigh, GIRTHS };
@@ -84,7 +84,7 @@ double superellipsePerimeter(double k, double p) {
     double perimeter = 0;
     Vec3 prev;
     for (int i = 0; i <= N; ++i) {
-        const double t = 2 * PI * i / N;
+        const double t = 2 * std::numbers::pi * i / N;
         const double c = std::cos(t);
         const double s = std::sin(t);
         const Vec3 q(std::copysign(std::pow(std::abs(c), 2.0 / p), c), 0,
@@ -157,9 +157,9 @@ class Shape {
         L.thighY = m.inseam - 0.06 * s;
         L.torsoZ = 0;
 
-        const double rNeck = m.neck / (2 * PI) * scale[Neck];
-        const double rUpperArm = m.upperArm / (2 * PI) * scale[UpperArm];
-        const double rThigh = m.thigh / (2 * PI) * scale[Thigh];
+        const double rNeck = m.neck / (2 * std::numbers::pi) * scale[Neck];
+        const double rUpperArm = m.upperArm / (2 * std::numbers::pi) * scale[UpperArm];
+        const double rThigh = m.thigh / (2 * std::numbers::pi) * scale[Thigh];
         const double rShoulder = 1.08 * rUpperArm;
         const double halfShoulder = m.shoulderWidth / 2;
 
@@ -234,7 +234,7 @@ class Shape {
             bustHalfWidth = std::max(bustHalfWidth, m_breastCentre[0].x() + m_breastRadii.x());
         }
         double angle = MIN_ARM_ANGLE;
-        for (; angle < 70.0 * PI / 180.0; angle += 0.5 * PI / 180.0) {
+        for (; angle < 70.0 * std::numbers::pi / 180.0; angle += 0.5 * std::numbers::pi / 180.0) {
             const double drop = L.shoulderY - 0.95 * rShoulder - L.bustY;
             const double centre = halfShoulder - rShoulder + drop * std::tan(angle);
             if (centre - rShoulder / std::cos(angle) >= bustHalfWidth + 0.03 * s) {
@@ -641,7 +641,7 @@ std::vector<ArrangementSlot> computeSlots(const sim::MatX3& x, const std::vector
             slot.profile[static_cast<std::size_t>(k)] = m > 0 ? m : r;
         }
         slot.profileStep = 0.01;
-        slot.maxAngle = paired ? 0.49 * PI : 0.97 * PI;
+        slot.maxAngle = paired ? 0.49 * std::numbers::pi : 0.97 * std::numbers::pi;
         slots.push_back(slot);
     };
     const double waistY = f.torsoOrigin.y();

@@ -51,14 +51,10 @@ Flat flatten(const Loop& loop, int pieces) {
     return f;
 }
 
-double cross2(const Vec2& a, const Vec2& b) {
-    return a.x() * b.y() - a.y() * b.x();
-}
-
 /// Proper or touching intersection of segments pq and rs (not counting shared endpoints).
 bool segmentsCross(const Vec2& p, const Vec2& q, const Vec2& r, const Vec2& s) {
-    const double d1 = cross2(q - p, r - p), d2 = cross2(q - p, s - p);
-    const double d3 = cross2(s - r, p - r), d4 = cross2(s - r, q - r);
+    const double d1 = sim::cross2d(q - p, r - p), d2 = sim::cross2d(q - p, s - p);
+    const double d3 = sim::cross2d(s - r, p - r), d4 = sim::cross2d(s - r, q - r);
     return ((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0));
 }
 
@@ -391,7 +387,7 @@ double minTriangleAngleDeg(const sim::MatX2& points, const sim::MatX3i& triangle
             const Vec2 b = points.row(triangles(t, (k + 1) % 3)).transpose();
             const Vec2 c = points.row(triangles(t, (k + 2) % 3)).transpose();
             const Vec2 u = b - a, v = c - a;
-            const double angle = std::atan2(std::abs(cross2(u, v)), u.dot(v));
+            const double angle = std::atan2(std::abs(sim::cross2d(u, v)), u.dot(v));
             worst = std::min(worst, angle * 180.0 / M_PI);
         }
     }
@@ -563,7 +559,7 @@ bool chordsFine(const Garment& garment, const MeasuredSide& a, const MeasuredSid
             const Vec2 pA = pos(p0.back()), pB = pos(p1.front()), m = pos(pa.front());
             const Vec2 ab = pB - pA;
             const double len = ab.norm();
-            if (len > 0 && std::abs(cross2(ab, m - pA)) / len > sagitta) {
+            if (len > 0 && std::abs(sim::cross2d(ab, m - pA)) / len > sagitta) {
                 fine = false;
             }
         }

@@ -13,10 +13,6 @@ namespace atelier::patterns {
 
 namespace {
 
-double cross(const Vec2& a, const Vec2& b) {
-    return a.x() * b.y() - a.y() * b.x();
-}
-
 double distanceToSegment(const Vec2& p, const Vec2& a, const Vec2& b) {
     const Vec2 ab = b - a;
     const double len2 = ab.squaredNorm();
@@ -60,7 +56,7 @@ std::vector<Vec2> rawOffset(const std::vector<Vec2>& loop, double distance, doub
         const Vec2& n1 = normals[i];
         // Turning left (counter-clockwise), the right-hand offsets of the two edges part: fill
         // the gap with the arc around the corner.
-        const double turn = std::atan2(cross(n0, n1), n0.dot(n1));
+        const double turn = std::atan2(sim::cross2d(n0, n1), n0.dot(n1));
         raw.push_back(p + distance * n0);
         if (turn > 0) {
             const int pieces = std::max(1, static_cast<int>(std::ceil(turn / maxStep)));
@@ -204,13 +200,13 @@ trimOffset(const std::vector<Vec2>& loop, const std::vector<Vec2>& raw, double m
             }
             const Vec2 d1 = raw[(j + 1) % m] - raw[j];
             const Vec2 d2 = raw[(k + 1) % m] - raw[k];
-            const double denom = cross(d1, d2);
+            const double denom = sim::cross2d(d1, d2);
             if (denom == 0) {
                 continue;
             }
             const Vec2 w = raw[k] - raw[j];
-            const double s = cross(w, d2) / denom;
-            const double t = cross(w, d1) / denom;
+            const double s = sim::cross2d(w, d2) / denom;
+            const double t = sim::cross2d(w, d1) / denom;
             if (s > 0 && s < 1 && t > 0 && t < 1) {
                 cuts[j].push_back({s, nextNode});
                 cuts[k].push_back({t, nextNode});
@@ -314,7 +310,7 @@ std::vector<Vec2> loopPolyline(const Loop& loop, double tolerance) {
 double polylineArea(const std::vector<Vec2>& loop) {
     double area = 0;
     for (std::size_t i = 0; i < loop.size(); ++i) {
-        area += 0.5 * cross(loop[i], loop[(i + 1) % loop.size()]);
+        area += 0.5 * sim::cross2d(loop[i], loop[(i + 1) % loop.size()]);
     }
     return area;
 }

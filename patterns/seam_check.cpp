@@ -9,7 +9,7 @@ namespace atelier::patterns {
 
 namespace {
 
-constexpr double T_EPS = 1e-9; ///< ranges sharing less than this in parameter only touch [-]
+constexpr double TOUCH_EPS = 1e-9; ///< ranges sharing less than this in parameter only touch [-]
 
 /// One sewn range of an outline segment: a seam's range or a dart's leg.
 struct SewnRange {
@@ -100,7 +100,7 @@ void checkSewnRanges(const Garment& garment, std::vector<GarmentIssue>& issues) 
         // end so far.
         const SewnRange* reach = nullptr;
         for (const SewnRange& r : ranges) {
-            if (reach != nullptr && r.lo < reach->hi - T_EPS) {
+            if (reach != nullptr && r.lo < reach->hi - TOUCH_EPS) {
                 const bool rLater = r.order > reach->order;
                 GarmentIssue issue =
                     overlapIssue(garment, rLater ? *reach : r, rLater ? r : *reach);

@@ -6,6 +6,7 @@
 #include "sim/material.h"
 #include "sim/mesh/cloth_mesh.h"
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,13 @@ enum class BendingModel {
 };
 
 enum class IntegratorKind { Euler, Midpoint, Rk4, Rk45, ImplicitEuler };
+
+/// Every stretch model and integrator, in the order messages list them.
+inline constexpr std::array<StretchModel, 3> STRETCH_MODELS = {
+    StretchModel::Springs, StretchModel::Volino, StretchModel::Fem};
+inline constexpr std::array<IntegratorKind, 5> INTEGRATOR_KINDS = {
+    IntegratorKind::Euler, IntegratorKind::Midpoint, IntegratorKind::Rk4, IntegratorKind::Rk45,
+    IntegratorKind::ImplicitEuler};
 
 /// One piece of cloth. Vertex indices in constraints are global: cloths are concatenated in order.
 struct ClothSpec {

@@ -25,7 +25,8 @@ namespace atelier::app {
 
 namespace {
 
-constexpr double NaN = std::numeric_limits<double>::quiet_NaN();
+/// A figure a run could not measure.
+constexpr double NOT_MEASURED = std::numeric_limits<double>::quiet_NaN();
 constexpr double FIRST_DT = 1.0 / 30;    ///< largest fixed step of the sweep [s]
 constexpr double FIRST_TOLERANCE = 1e-2; ///< loosest rk45 tolerance of the sweep [m]
 
@@ -436,8 +437,8 @@ int runWorkPrecision(const WorkPrecisionOptions& o) {
                 run.row.rmsError = std::sqrt(d.squaredNorm() / static_cast<double>(d.size()));
                 run.row.maxError = d.maxCoeff();
             } else {
-                run.row.rmsError = NaN;
-                run.row.maxError = NaN;
+                run.row.rmsError = NOT_MEASURED;
+                run.row.maxError = NOT_MEASURED;
             }
             char line[256];
             std::snprintf(

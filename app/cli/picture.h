@@ -59,6 +59,10 @@ std::optional<DrapedGarment> readDrapedObj(const std::filesystem::path& path,
                                            std::string* error = nullptr);
 
 /// What to draw and where.
+/// Largest picture side [pixels] of `render` and `render-batch`: 4096² with 4× MSAA already
+/// takes 512 MiB of buffers.
+inline constexpr int MAX_SIDE = 4096;
+
 struct PictureOptions {
     render::RenderOptions render;
     bool allViews = false; ///< one picture per view, OUT-VIEW.png

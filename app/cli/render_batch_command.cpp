@@ -30,10 +30,9 @@ namespace atelier::app {
 
 namespace {
 
-constexpr int MAX_SIDE = 4096;         ///< of a picture, as for `render` [pixels]
 constexpr long MAX_SHEET_SIDE = 16384; ///< of the contact sheet (1 GiB of RGBA at most) [pixels]
 
-struct BatchOptions {
+struct RenderBatchOptions {
     std::string input;
     std::string out;
     std::string views = "front,back,left,three-quarter";
@@ -134,7 +133,7 @@ std::optional<std::string> parseViews(const std::string& text, std::vector<rende
     return std::nullopt;
 }
 
-std::optional<std::string> parseOptions(const BatchOptions& o, PictureOptions& pictures,
+std::optional<std::string> parseOptions(const RenderBatchOptions& o, PictureOptions& pictures,
                                         std::vector<render::View>& views) {
     int width = 0;
     int height = 0;
@@ -175,7 +174,7 @@ std::filesystem::path picturePath(const std::filesystem::path& dir, const Item& 
 }
 
 /// The garment of an item: the OBJ read, or the project draped. The message on failure.
-std::optional<DrapedGarment> loadItem(const Item& item, const BatchOptions& o,
+std::optional<DrapedGarment> loadItem(const Item& item, const RenderBatchOptions& o,
                                       const io::Limits& limits, PictureOptions& pictures,
                                       std::string& problem) {
     if (item.path.extension() != ".atelier") {
@@ -204,7 +203,7 @@ std::optional<DrapedGarment> loadItem(const Item& item, const BatchOptions& o,
     return garment;
 }
 
-int runRenderBatch(const BatchOptions& o) {
+int runRenderBatch(const RenderBatchOptions& o) {
     const auto start = std::chrono::steady_clock::now();
     PictureOptions pictures;
     std::vector<render::View> views;
@@ -343,7 +342,7 @@ int runRenderBatch(const BatchOptions& o) {
 } // namespace
 
 void addRenderBatchCommand(CLI::App& app) {
-    auto options = std::make_shared<BatchOptions>();
+    auto options = std::make_shared<RenderBatchOptions>();
     CLI::App* cmd = app.add_subcommand(
         "render-batch",
         "Draw pictures of many draped garments or projects and a contact sheet of them all");

@@ -28,9 +28,6 @@ namespace atelier::app {
 
 namespace {
 
-/// Largest picture side [pixels]: 4096² with 4× MSAA already takes 512 MiB of buffers.
-constexpr int MAX_SIDE = 4096;
-
 struct RenderCommandOptions {
     std::string input;
     std::string out;

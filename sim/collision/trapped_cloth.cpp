@@ -2,6 +2,7 @@
 
 #include "sim/collision/distance/obstacle_distance.h"
 #include "sim/collision/indexing.h"
+#include "sim/collision/triangle_normal.h"
 #include "sim/core/parallel.h"
 
 #include <queue>
@@ -18,17 +19,15 @@ namespace atelier::sim {
 
 namespace {
 
-constexpr double INF = std::numeric_limits<double>::infinity();
-/// Below this length [m] a direction is taken as undefined.
-constexpr double TINY = 1e-12;
+constexpr double UNBOUNDED = std::numeric_limits<double>::infinity();
 
 /// Fits o.hullLo/hullHi, the obstacle's extent along `directions` (a static obstacle's once).
 void fitHull(CollisionObstacle& o, const std::array<Vec3, 13>& directions) {
     std::array<double, 13>& lo = o.hullLo;
     std::array<double, 13>& hi = o.hullHi;
     if (o.moves || !o.hullFitted) { // a static obstacle's once
-        lo.fill(INF);
-        hi.fill(-INF);
+        lo.fill(UNBOUNDED);
+        hi.fill(-UNBOUNDED);
         for (Eigen::Index v = 0; v < o.x1.rows(); ++v) {
             const Vec3 q = row(o.x1, static_cast<int>(v));
             for (std::size_t d = 0; d < directions.size(); ++d) {
@@ -107,7 +106,7 @@ std::vector<int> TrappedCloth::releaseOutside(std::size_t k, const CollisionObst
         // neighbours headed for the entry, and the triangles across the surface got contacts
         // whose sides were taken where they crossed it: through-body ended with its sheet
         // stretched 4.5 times and 24 cloth–body pairs pierced.
-        if (signedDistance(o, o.x1, row(xe, p), INF) >= 0) {
+        if (signedDistance(o, o.x1, row(xe, p), UNBOUNDED) >= 0) {
             m_obstacleOf[static_cast<std::size_t>(p)] = -1;
         } else {
             trapped.push_back(p);
@@ -125,7 +124,7 @@ std::vector<Vec3> TrappedCloth::nearestEntries(std::size_t k, const CollisionObs
     std::vector<Vec3> entries;
     std::vector<double>& dist = m_distance;
     std::vector<int>& source = m_source;
-    dist.assign(n, INF);
+    dist.assign(n, UNBOUNDED);
     source.assign(n, -1);
     m_slot.assign(n, -1);
     using Item = std::pair<double, int>;
@@ -136,7 +135,7 @@ std::vector<Vec3> TrappedCloth::nearestEntries(std::size_t k, const CollisionObs
                 continue;
             }
             Vec3 closest, outward;
-            if (std::isfinite(signedDistance(o, o.x1, row(xe, f), INF, &closest, &outward))) {
+            if (std::isfinite(signedDistance(o, o.x1, row(xe, f), UNBOUNDED, &closest, &outward))) {
                 const double d0 = mesh.thickness[f] + o.spec->thickness;
                 source[static_cast<std::size_t>(f)] = static_cast<int>(entries.size());
                 entries.push_back(closest + 1.5 * d0 * outward);
@@ -180,11 +179,11 @@ void TrappedCloth::headings(const CollisionObstacle& o, const CollisionMesh& mes
             target[i] = entries[static_cast<std::size_t>(s)];
         } else {
             Vec3 closest, outward;
-            signedDistance(o, o.x1, row(xe, p), INF, &closest, &outward);
+            signedDistance(o, o.x1, row(xe, p), UNBOUNDED, &closest, &outward);
             target[i] = closest + 1.5 * (mesh.thickness[p] + o.spec->thickness) * outward;
         }
         const Vec3 to = target[i] - row(xe, p);
-        heading[i] = to.norm() > TINY ? Vec3(to.normalized()) : Vec3::Zero();
+        heading[i] = to.norm() > TINY_LENGTH ? Vec3(to.normalized()) : Vec3::Zero();
     }
     constexpr int SMOOTHING_PASSES = 8;
     std::vector<Vec3> next(trapped.size());
@@ -197,7 +196,7 @@ void TrappedCloth::headings(const CollisionObstacle& o, const CollisionMesh& mes
                     sum += heading[static_cast<std::size_t>(j)];
                 }
             }
-            next[i] = sum.norm() > TINY ? Vec3(sum.normalized()) : heading[i];
+            next[i] = sum.norm() > TINY_LENGTH ? Vec3(sum.normalized()) : heading[i];
         }
         heading.swap(next);
     }
@@ -223,7 +222,7 @@ void TrappedCloth::extract(std::size_t k, const CollisionObstacle& o, const Coll
     for (std::size_t i = 0; i < trapped.size(); ++i) {
         const int p = trapped[i];
         const Vec3 to = target[i] - row(xe, p);
-        if (to.norm() <= TINY) {
+        if (to.norm() <= TINY_LENGTH) {
             continue;
         }
         // Headings that the average turned away from the vertex's own entry go straight there.

@@ -7,6 +7,9 @@
 
 namespace atelier::sim {
 
+/// Below this length [m] a direction is taken as undefined.
+inline constexpr double TINY_LENGTH = 1e-12;
+
 /// Unit normal of triangle (a, b, c) by the right-hand rule, or zero for a degenerate one.
 inline Vec3 triangleNormal(const Vec3& a, const Vec3& b, const Vec3& c) {
     const Vec3 n = (b - a).cross(c - a);

@@ -27,4 +27,10 @@ using VecXi = Eigen::VectorXi;
 /// Standard gravity [m/s²].
 inline constexpr double STANDARD_GRAVITY = 9.80665;
 
+/// The z component of the cross product of two plane vectors: a.x·b.y − a.y·b.x (twice the
+/// signed area of the triangle they span; > 0 when b turns counter-clockwise from a).
+inline double cross2d(const Vec2& a, const Vec2& b) {
+    return a.x() * b.y() - a.y() * b.x();
+}
+
 } // namespace atelier::sim

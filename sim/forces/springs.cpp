@@ -8,18 +8,11 @@
 
 namespace atelier::sim {
 
-namespace {
-constexpr double LENGTH_EPS = 1e-12;
-
 double directionalModulus(const Material& m, const Vec2& d) {
     const double len2 = d.squaredNorm();
-    if (len2 <= 0) {
-        return 0.5 * (m.stretchWeft + m.stretchWarp);
-    }
-    const double c2 = d.x() * d.x() / len2;
+    const double c2 = len2 > 0 ? d.x() * d.x() / len2 : 0.5;
     return m.stretchWeft * c2 + m.stretchWarp * (1.0 - c2);
 }
-} // namespace
 
 SpringStretch::SpringStretch(const ClothMesh& mesh, int offset, const Material& material,
                              bool crossSprings)

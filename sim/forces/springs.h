@@ -10,6 +10,14 @@
 
 namespace atelier::sim {
 
+/// Below this length [m] an edge's direction is taken as undefined.
+inline constexpr double LENGTH_EPS = 1e-12;
+
+/// Young's modulus [N/m] of the fabric along the in-plane direction d (material frame, any
+/// length): E_weft·cos²φ + E_warp·sin²φ, the mean of the two for d = 0. The stretch models'
+/// (springs', Volino's) stiffness of one edge.
+double directionalModulus(const Material& m, const Vec2& d);
+
 /// Linear edge springs with strain-rate damping.
 ///
 /// Each edge e of rest length L_e is a spring of stiffness

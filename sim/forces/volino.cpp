@@ -1,6 +1,7 @@
 #include "sim/forces/volino.h"
 
 #include "sim/core/parallel.h"
+#include "sim/forces/springs.h"
 
 #include <Eigen/Dense>
 
@@ -8,16 +9,6 @@
 #include <cmath>
 
 namespace atelier::sim {
-
-namespace {
-constexpr double LENGTH_EPS = 1e-12;
-
-double directionalModulus(const Material& m, const Vec2& d) {
-    const double len2 = d.squaredNorm();
-    const double c2 = len2 > 0 ? d.x() * d.x() / len2 : 0.5;
-    return m.stretchWeft * c2 + m.stretchWarp * (1.0 - c2);
-}
-} // namespace
 
 VolinoStretch::VolinoStretch(const ClothMesh& mesh, int offset, const Material& material,
                              const VecX& localMasses)

@@ -1,6 +1,7 @@
 #pragma once
 /// Choice of the implicit solve's preconditioner (sim::IntegratorOptions, sim::FilteredCg).
 
+#include <array>
 #include <optional>
 #include <string_view>
 
@@ -17,6 +18,10 @@ enum class LinearSolver {
     /// the solve 5× faster, converged where block-Jacobi stopped at its cap).
     BlockIncompleteCholesky,
 };
+
+/// Every linear solver, in the order messages list them.
+inline constexpr std::array<LinearSolver, 2> LINEAR_SOLVERS = {
+    LinearSolver::BlockJacobi, LinearSolver::BlockIncompleteCholesky};
 
 /// "block-jacobi", "block-ic0".
 std::string_view linearSolverName(LinearSolver kind);

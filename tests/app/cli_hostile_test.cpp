@@ -7,6 +7,8 @@
 #include "io/obj.h"
 #include "io/temp_dir.h"
 
+#include "source_paths.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -25,8 +27,6 @@ using test::CliRun;
 using test::inQuotes;
 using test::runCli;
 using test::TINY_SCENE;
-
-const std::string SKIRT = std::string(ATELIER_SOURCE_DIR) + "/assets/garments/skirt.atelier";
 
 /// `timeout` sending `signal` after `seconds`.
 std::string after(double seconds, const char* signal) {
@@ -75,11 +75,12 @@ TEST(CliInterrupts, SigintAtARandomMomentOfADrape) {
     std::printf("seed %u: SIGINT after %.3f s\n", seed, seconds);
     SCOPED_TRACE("seed " + std::to_string(seed) + ", SIGINT after " + std::to_string(seconds));
     test::TempDir dir;
-    const CliRun run = runCli(
-        dir,
-        "drape " + inQuotes(SKIRT) + " --particle-distance 20 --time-limit 60 --threads 1 --out " +
-            inQuotes(dir / "out.obj") + " --report " + inQuotes(dir / "r.json"),
-        after(seconds, "INT"));
+    const CliRun run =
+        runCli(dir,
+               "drape " + inQuotes(test::SKIRT_PROJECT) +
+                   " --particle-distance 20 --time-limit 60 --threads 1 --out " +
+                   inQuotes(dir / "out.obj") + " --report " + inQuotes(dir / "r.json"),
+               after(seconds, "INT"));
     const auto r = expectInterrupted(dir, run, "SIGINT");
     if (!r.empty()) {
         EXPECT_TRUE(r["time_to_rest_s"].is_null());
@@ -94,11 +95,11 @@ TEST(CliInterrupts, TheSameSignalTwiceAtOnceIsOneRequest) {
     // `timeout` sends its signal to the command and then to the command's process group: the
     // command gets it twice within microseconds, and must still stop cleanly, not die.
     test::TempDir dir;
-    const std::string command = std::string("\"") + ATELIER_CLI + "\" drape " + inQuotes(SKIRT) +
-                                " --particle-distance 20 --time-limit 60 --threads 1 --out " +
-                                inQuotes(dir / "out.obj") + " --report " +
-                                inQuotes(dir / "r.json") + " 2> " + inQuotes(dir / "stderr.txt") +
-                                " & pid=$!; sleep 0.6; kill -TERM $pid; kill -TERM $pid; wait $pid";
+    const std::string command =
+        std::string("\"") + ATELIER_CLI + "\" drape " + inQuotes(test::SKIRT_PROJECT) +
+        " --particle-distance 20 --time-limit 60 --threads 1 --out " + inQuotes(dir / "out.obj") +
+        " --report " + inQuotes(dir / "r.json") + " 2> " + inQuotes(dir / "stderr.txt") +
+        " & pid=$!; sleep 0.6; kill -TERM $pid; kill -TERM $pid; wait $pid";
     const int status = std::system(command.c_str());
     CliRun run;
     run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -124,7 +125,7 @@ TEST(CliInterrupts, SigtermStopsASimulationWithinAStep) {
 TEST(CliInterrupts, SigtermStopsABenchDrape) {
     test::TempDir dir;
     const CliRun run = runCli(dir,
-                              "bench drape " + inQuotes(SKIRT) +
+                              "bench drape " + inQuotes(test::SKIRT_PROJECT) +
                                   " --particle-distance 20 --time-limit 60 --threads 1 --out " +
                                   inQuotes(dir / "b.json"),
                               after(0.8, "TERM"));
@@ -155,7 +156,8 @@ TEST(CliOutputs, AnOutputOverAnInputIsRefusedBeforeAnyWork) {
     EXPECT_NE(run.stderrText.find("--report: "), std::string::npos) << run.stderrText;
     EXPECT_NE(run.stderrText.find("is also the output of --out"), std::string::npos);
 
-    run = runCli(dir, "drape " + inQuotes(SKIRT) + " --out " + inQuotes(SKIRT));
+    run = runCli(dir, "drape " + inQuotes(test::SKIRT_PROJECT) + " --out " +
+                          inQuotes(test::SKIRT_PROJECT));
     EXPECT_EQ(run.exitCode, 2);
     EXPECT_NE(run.stderrText.find("is the input project"), std::string::npos) << run.stderrText;
     EXPECT_FALSE(std::filesystem::exists(dir / "r.json"));
@@ -164,8 +166,8 @@ TEST(CliOutputs, AnOutputOverAnInputIsRefusedBeforeAnyWork) {
 TEST(CliOutputs, AMissingOrReadOnlyFolderIsNoticedAtOnce) {
     test::TempDir dir;
     const auto missing = dir / "no-such-folder" / "out.obj";
-    CliRun run = runCli(dir, "drape " + inQuotes(SKIRT) + " --particle-distance 20 --out " +
-                                 inQuotes(missing));
+    CliRun run = runCli(dir, "drape " + inQuotes(test::SKIRT_PROJECT) +
+                                 " --particle-distance 20 --out " + inQuotes(missing));
     EXPECT_EQ(run.exitCode, 2);
     EXPECT_NE(run.stderrText.find("--out: " + missing.string() + ": the folder "),
               std::string::npos)
@@ -179,7 +181,8 @@ TEST(CliOutputs, AMissingOrReadOnlyFolderIsNoticedAtOnce) {
     std::filesystem::create_directory(dir / "ro");
     std::filesystem::permissions(dir / "ro", std::filesystem::perms::owner_read |
                                                  std::filesystem::perms::owner_exec);
-    run = runCli(dir, "drape " + inQuotes(SKIRT) + " --report " + inQuotes(dir / "ro" / "r.json"));
+    run = runCli(dir, "drape " + inQuotes(test::SKIRT_PROJECT) + " --report " +
+                          inQuotes(dir / "ro" / "r.json"));
     EXPECT_EQ(run.exitCode, 2);
     EXPECT_NE(run.stderrText.find("is not writable"), std::string::npos) << run.stderrText;
     std::filesystem::permissions(dir / "ro", std::filesystem::perms::owner_all);
@@ -187,14 +190,14 @@ TEST(CliOutputs, AMissingOrReadOnlyFolderIsNoticedAtOnce) {
 
 TEST(CliLimits, AMeshTooLargeIsRefusedBeforeMeshing) {
     test::TempDir dir;
-    CliRun run = runCli(dir, "drape " + inQuotes(SKIRT) + " --particle-distance 0.01 --out " +
-                                 inQuotes(dir / "out.obj"));
+    CliRun run = runCli(dir, "drape " + inQuotes(test::SKIRT_PROJECT) +
+                                 " --particle-distance 0.01 --out " + inQuotes(dir / "out.obj"));
     EXPECT_EQ(run.exitCode, 2);
     EXPECT_NE(run.stderrText.find("above the limit of 200000 (--max-vertices N raises it)"),
               std::string::npos)
         << run.stderrText;
     EXPECT_FALSE(std::filesystem::exists(dir / "out.obj"));
-    run = runCli(dir, "bench drape " + inQuotes(SKIRT) + " --particle-distance 0.01");
+    run = runCli(dir, "bench drape " + inQuotes(test::SKIRT_PROJECT) + " --particle-distance 0.01");
     EXPECT_EQ(run.exitCode, 2);
     const auto scene = dir.write("tiny.json", TINY_SCENE); // 16 vertices
     run = runCli(dir, "simulate " + inQuotes(scene) + " --max-vertices 15");
@@ -245,7 +248,7 @@ TEST(CliReports, ANameThatIsNotUtf8KeepsItsReport) {
 
 TEST(CliAnimate, ABodyAnimationThatIsNotTheProjectsBodyIsRefusedBeforeAnyWork) {
     test::TempDir dir;
-    nlohmann::json project = nlohmann::json::parse(test::readText(SKIRT));
+    nlohmann::json project = nlohmann::json::parse(test::readText(test::SKIRT_PROJECT));
     project["body"] = {{"mesh", "body.glb"}};
     const auto file = dir.write("skirt.atelier", project.dump());
     // Never read: the refusals come first.

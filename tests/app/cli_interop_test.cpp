@@ -7,6 +7,8 @@
 #include "io/obj.h"
 #include "io/temp_dir.h"
 
+#include "source_paths.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -22,8 +24,6 @@ namespace {
 using test::CliRun;
 using test::inQuotes;
 using test::runCli;
-
-const std::string SKIRT = std::string(ATELIER_SOURCE_DIR) + "/assets/garments/skirt.atelier";
 
 /// A closed box 400 × 1700 × 250 mm standing on z = 0 (Z up) as ASCII STL, in millimetres.
 std::string boxStlZUpMm() {
@@ -172,7 +172,7 @@ long duplicatedPositions(const sim::MatX3& x) {
 TEST(CliInterop, TheDrapedGarmentIsOneSurface) {
     const test::TempDir dir;
     const CliRun run =
-        runCli(dir, "drape " + inQuotes(SKIRT) +
+        runCli(dir, "drape " + inQuotes(test::SKIRT_PROJECT) +
                         " --particle-distance 40 --time-limit 0.6 --threads 1 --out " +
                         inQuotes(dir / "skirt.obj") + " --frames-dir " + inQuotes(dir / "frames") +
                         " --report " + inQuotes(dir / "r.json"));
@@ -206,11 +206,13 @@ TEST(CliInterop, TheDrapedGarmentIsOneSurface) {
 
 TEST(CliInterop, DrapeOutputFormatFollowsTheExtensionOrFormat) {
     const test::TempDir dir;
-    CliRun run = runCli(dir, "drape " + inQuotes(SKIRT) + " --out " + inQuotes(dir / "s.stl"));
+    CliRun run =
+        runCli(dir, "drape " + inQuotes(test::SKIRT_PROJECT) + " --out " + inQuotes(dir / "s.stl"));
     EXPECT_EQ(run.exitCode, 2);
     EXPECT_NE(run.stderrText.find("unknown mesh format extension"), std::string::npos)
         << run.stderrText;
-    run = runCli(dir, "drape " + inQuotes(SKIRT) + " --format ply --particle-distance 20 " +
+    run = runCli(dir, "drape " + inQuotes(test::SKIRT_PROJECT) +
+                          " --format ply --particle-distance 20 " +
                           "--time-limit 0.02 --threads 1 --out " + inQuotes(dir / "s.mesh"));
     ASSERT_EQ(run.exitCode, 0) << run.stderrText;
     auto back = io::readMesh(dir / "s.ply");

@@ -3,6 +3,8 @@
 // leaves no file behind.
 #include "app/cli_run.h"
 
+#include "source_paths.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -11,12 +13,10 @@
 namespace atelier::test {
 namespace {
 
-const std::filesystem::path SAMPLES = std::filesystem::path(ATELIER_SOURCE_DIR) / "assets/garments";
-
 TEST(CliExportPattern, EverySampleExports) {
     const TempDir dir;
     int count = 0;
-    for (const auto& entry : std::filesystem::directory_iterator(SAMPLES)) {
+    for (const auto& entry : std::filesystem::directory_iterator(test::GARMENTS_DIR)) {
         if (entry.path().extension() != ".atelier") {
             continue;
         }
@@ -36,7 +36,7 @@ TEST(CliExportPattern, EverySampleExports) {
 
 TEST(CliExportPattern, BadInputExitsWithTwoAndSaysWhy) {
     const TempDir dir;
-    const std::string skirt = inQuotes(SAMPLES / "skirt.atelier");
+    const std::string skirt = inQuotes(test::GARMENTS_DIR / "skirt.atelier");
     const auto out = dir / "pattern.svg";
     struct Case {
         std::string args;

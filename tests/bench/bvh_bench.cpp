@@ -24,7 +24,7 @@ namespace atelier::bench {
 
 namespace {
 
-/// Sheet sizes (cells per side): about 1k, 10k, 100k and 200k triangles.
+/// Sheet bvhSizes (cells per side): about 1k, 10k, 100k and 200k triangles.
 constexpr std::array<int, 4> BVH_CELLS = {22, 71, 224, 316};
 /// Collision margin of the queries [m].
 constexpr double MARGIN = 0.002;
@@ -172,7 +172,7 @@ void bvhOverlapsSphere(benchmark::State& state) {
     state.counters["pairs"] = static_cast<double>(out.size());
 }
 
-void sizes(benchmark::internal::Benchmark* b) {
+void bvhSizes(benchmark::internal::Benchmark* b) {
     b->ArgNames({"cells"});
     for (const int cells : BVH_CELLS) {
         b->Arg(cells);
@@ -182,13 +182,13 @@ void sizes(benchmark::internal::Benchmark* b) {
 
 } // namespace
 
-BENCHMARK(bvhBuild)->Name("bvh/build")->Apply(sizes);
-BENCHMARK(bvhRefit<false, 1>)->Name("bvh/refit/threads:1")->Apply(sizes);
-BENCHMARK(bvhRefit<false, 0>)->Name("bvh/refit/threads:all")->Apply(sizes);
-BENCHMARK(bvhRefit<true, 1>)->Name("bvh/refit_swept/threads:1")->Apply(sizes);
-BENCHMARK(bvhRefit<true, 0>)->Name("bvh/refit_swept/threads:all")->Apply(sizes);
-BENCHMARK(bvhSelf<false>)->Name("bvh/self_flat")->Apply(sizes);
-BENCHMARK(bvhSelf<true>)->Name("bvh/self_crumpled")->Apply(sizes);
-BENCHMARK(bvhOverlapsSphere)->Name("bvh/overlaps_sheet_sphere")->Apply(sizes);
+BENCHMARK(bvhBuild)->Name("bvh/build")->Apply(bvhSizes);
+BENCHMARK(bvhRefit<false, 1>)->Name("bvh/refit/threads:1")->Apply(bvhSizes);
+BENCHMARK(bvhRefit<false, 0>)->Name("bvh/refit/threads:all")->Apply(bvhSizes);
+BENCHMARK(bvhRefit<true, 1>)->Name("bvh/refit_swept/threads:1")->Apply(bvhSizes);
+BENCHMARK(bvhRefit<true, 0>)->Name("bvh/refit_swept/threads:all")->Apply(bvhSizes);
+BENCHMARK(bvhSelf<false>)->Name("bvh/self_flat")->Apply(bvhSizes);
+BENCHMARK(bvhSelf<true>)->Name("bvh/self_crumpled")->Apply(bvhSizes);
+BENCHMARK(bvhOverlapsSphere)->Name("bvh/overlaps_sheet_sphere")->Apply(bvhSizes);
 
 } // namespace atelier::bench

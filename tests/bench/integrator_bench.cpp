@@ -50,7 +50,7 @@ template <sim::IntegratorKind K> void integratorStep(benchmark::State& state) {
     state.counters["ns_per_triangle"] = nsPerItem(elapsed, state.iterations(), triangles);
 }
 
-void sizes(benchmark::internal::Benchmark* b) {
+void integratorSizes(benchmark::internal::Benchmark* b) {
     b->ArgNames({"cells", "threads"});
     for (int cells : BENCH_CELLS) {
         for (int threads : {1, 2}) {
@@ -62,12 +62,14 @@ void sizes(benchmark::internal::Benchmark* b) {
 
 } // namespace
 
-BENCHMARK(integratorStep<sim::IntegratorKind::Euler>)->Name("step/euler")->Apply(sizes);
-BENCHMARK(integratorStep<sim::IntegratorKind::Midpoint>)->Name("step/midpoint")->Apply(sizes);
-BENCHMARK(integratorStep<sim::IntegratorKind::Rk4>)->Name("step/rk4")->Apply(sizes);
-BENCHMARK(integratorStep<sim::IntegratorKind::Rk45>)->Name("step/rk45")->Apply(sizes);
+BENCHMARK(integratorStep<sim::IntegratorKind::Euler>)->Name("step/euler")->Apply(integratorSizes);
+BENCHMARK(integratorStep<sim::IntegratorKind::Midpoint>)
+    ->Name("step/midpoint")
+    ->Apply(integratorSizes);
+BENCHMARK(integratorStep<sim::IntegratorKind::Rk4>)->Name("step/rk4")->Apply(integratorSizes);
+BENCHMARK(integratorStep<sim::IntegratorKind::Rk45>)->Name("step/rk45")->Apply(integratorSizes);
 BENCHMARK(integratorStep<sim::IntegratorKind::ImplicitEuler>)
     ->Name("step/implicit-euler")
-    ->Apply(sizes);
+    ->Apply(integratorSizes);
 
 } // namespace atelier::bench

@@ -1,6 +1,8 @@
 #include "io/batch_manifest.h"
 #include "io/temp_dir.h"
 
+#include "source_paths.h"
+
 #include <gtest/gtest.h>
 
 #include <set>
@@ -8,11 +10,8 @@
 namespace atelier::io {
 namespace {
 
-const std::filesystem::path GARMENTS =
-    std::filesystem::path(ATELIER_SOURCE_DIR) / "assets/garments";
-
-Result<BatchManifest> parse(const std::string& text) {
-    return parseBatchManifest(text, "m.json", GARMENTS);
+Result<BatchManifest> parseManifest(const std::string& text) {
+    return parseBatchManifest(text, "m.json", test::GARMENTS_DIR);
 }
 
 std::string manifest(const std::string& body) {
@@ -20,7 +19,7 @@ std::string manifest(const std::string& body) {
 }
 
 TEST(BatchManifest, JobsTakeTheDefaultsAndOverrideThem) {
-    const auto m = parse(manifest(R"(
+    const auto m = parseManifest(manifest(R"(
       "bodies": {"M": {"base": "male", "measurements": {"waist": 0.84, "hip": 0.98}}},
       "defaults": {"views": ["front", "back"], "size": [256, 128], "particle_distance_mm": 20,
                    "fabric": "denim", "threads": 2},
@@ -31,7 +30,7 @@ TEST(BatchManifest, JobsTakeTheDefaultsAndOverrideThem) {
     const auto& jobs = m.value().jobs;
     ASSERT_EQ(jobs.size(), 2U);
     EXPECT_EQ(jobs[0].name, "a");
-    EXPECT_EQ(jobs[0].project, std::filesystem::absolute(GARMENTS / "skirt.atelier"));
+    EXPECT_EQ(jobs[0].project, std::filesystem::absolute(test::GARMENTS_DIR / "skirt.atelier"));
     EXPECT_EQ(jobs[0].views, (std::vector<std::string>{"front", "back"}));
     EXPECT_EQ(jobs[0].width, 256);
     EXPECT_EQ(jobs[0].height, 128);
@@ -55,7 +54,7 @@ TEST(BatchManifest, JobsTakeTheDefaultsAndOverrideThem) {
 }
 
 TEST(BatchManifest, TheMatrixIsEveryProjectBodyAndFabric) {
-    const auto m = parse(manifest(R"(
+    const auto m = parseManifest(manifest(R"(
       "bodies": {"S": {"base": "female"}, "L": {"base": "male"}},
       "matrix": {"projects": ["skirt.atelier", "dress.atelier"], "bodies": ["S", "L"],
                  "fabrics": ["cotton", "denim", "silk"], "views": ["front"]})"));
@@ -122,16 +121,16 @@ TEST(BatchManifest, ErrorsNameTheJsonPointer) {
     };
     for (const Case& c : cases) {
         SCOPED_TRACE(c.body);
-        const auto m = parse(manifest(c.body));
+        const auto m = parseManifest(manifest(c.body));
         ASSERT_FALSE(m.ok());
         EXPECT_EQ(m.error().file, "m.json");
         EXPECT_EQ(m.error().where, c.where);
         EXPECT_NE(m.error().message.find(c.words), std::string::npos) << m.error().message;
     }
-    const auto version = parse(R"({"format": "atelier-batch", "version": 2, "jobs": []})");
+    const auto version = parseManifest(R"({"format": "atelier-batch", "version": 2, "jobs": []})");
     ASSERT_FALSE(version.ok());
     EXPECT_EQ(version.error().where, "/version");
-    const auto syntax = parse(R"({"format": "atelier-batch", )");
+    const auto syntax = parseManifest(R"({"format": "atelier-batch", )");
     ASSERT_FALSE(syntax.ok());
     EXPECT_NE(syntax.error().where.find("line 1"), std::string::npos);
 }
@@ -139,7 +138,7 @@ TEST(BatchManifest, ErrorsNameTheJsonPointer) {
 TEST(BatchManifest, LoadResolvesPathsAgainstTheManifestsFolder) {
     test::TempDir dir;
     const auto path = dir.write("m.json", manifest(R"(
-      "jobs": [{"name": "a", "project": ")" + (GARMENTS / "skirt.atelier").string() +
+      "jobs": [{"name": "a", "project": ")" + (test::GARMENTS_DIR / "skirt.atelier").string() +
                                                    R"("},
                {"name": "b", "project": "missing.atelier"}])"));
     const auto m = loadBatchManifest(path);

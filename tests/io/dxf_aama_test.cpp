@@ -24,8 +24,6 @@ namespace {
 using patterns::SegmentKind;
 using patterns::Vec2;
 
-constexpr double PI = std::numbers::pi;
-
 /// Writes DXF group pairs the way pattern CAD exports do (code and value on their own lines).
 class DxfWriter {
   public:
@@ -82,7 +80,7 @@ class DxfWriter {
 void writeFront(DxfWriter& w, double s) {
     std::vector<Vec2> cut = {Vec2(0, 0), Vec2(400, 0), Vec2(400, 600), Vec2(280, 600)};
     for (int k = 1; k < 40; ++k) { // from (280, 600) down round to (120, 600)
-        const double a = -PI * k / 40;
+        const double a = -std::numbers::pi * k / 40;
         cut.emplace_back(200 + 80 * std::cos(a), 600 + 80 * std::sin(a));
     }
     cut.emplace_back(120, 600);
@@ -98,7 +96,7 @@ void writeFront(DxfWriter& w, double s) {
         w.point(2, c * s);
     }
     for (int k = 1; k < 40; ++k) {
-        const double a = -PI * k / 40;
+        const double a = -std::numbers::pi * k / 40;
         w.point(3, Vec2(200 + 80 * std::cos(a), 600 + 80 * std::sin(a)) * s);
     }
     w.line(4, Vec2(100, 0) * s, Vec2(100, 6) * s);
@@ -145,7 +143,7 @@ std::string twoPieces(const std::string& units, double s, const std::string& ins
 
 /// The front's cut line length, exactly: the rectangle less the neckline's chord plus its
 /// half circle [file units].
-const double FRONT_CUT = 400 + 600 + 120 + 120 + 600 + PI * 80;
+const double FRONT_CUT = 400 + 600 + 120 + 120 + 600 + std::numbers::pi * 80;
 
 double signedArea(const patterns::Loop& loop) {
     double a = 0;
@@ -184,7 +182,7 @@ TEST(DxfAama, TwoPiecesImportWithTheirOutlinesNotchesGrainAndHoles) {
     // FRONT: the digitised line (40 chords of the half circle) and the imported outline, whose
     // fitted curve follows the circle itself, both near the exact length.
     const DxfPiece& front = r.pieces[0];
-    const double chords = 1840 + 2 * 40 * 80 * std::sin(PI / 80);
+    const double chords = 1840 + 2 * 40 * 80 * std::sin(std::numbers::pi / 80);
     EXPECT_NEAR(front.cutLength * 1000, chords, 1e-6);
     EXPECT_NEAR(front.outlineLength * 1000, FRONT_CUT, 0.3);
     EXPECT_LE(front.fitError, 0.0002);
@@ -209,7 +207,7 @@ TEST(DxfAama, TwoPiecesImportWithTheirOutlinesNotchesGrainAndHoles) {
     EXPECT_GE(cubics, 1);
     // Counter-clockwise, the area of the rectangle less the half disc [m²], within the band
     // the fit tolerance allows along the neckline (0.2 mm × 251 mm).
-    EXPECT_NEAR(signedArea(panels[0].outline), 0.24 - PI * 0.08 * 0.08 / 2, 5e-5);
+    EXPECT_NEAR(signedArea(panels[0].outline), 0.24 - std::numbers::pi * 0.08 * 0.08 / 2, 5e-5);
     // Notches on the hem at x = 100 and 300 (the piece is centred on its box: y = -300).
     ASSERT_EQ(panels[0].notches.size(), 2u);
     std::vector<double> xs;
@@ -222,7 +220,7 @@ TEST(DxfAama, TwoPiecesImportWithTheirOutlinesNotchesGrainAndHoles) {
     std::sort(xs.begin(), xs.end());
     EXPECT_NEAR(xs[0], -100, 1e-6);
     EXPECT_NEAR(xs[1], 100, 1e-6);
-    EXPECT_NEAR(panels[0].grainAngle, PI / 2, 1e-12);
+    EXPECT_NEAR(panels[0].grainAngle, std::numbers::pi / 2, 1e-12);
     EXPECT_TRUE(front.grainLine);
     ASSERT_EQ(panels[0].internalLines.size(), 1u);
     EXPECT_NEAR(patterns::arcLength(panels[0].internalLines[0].path[0]), 0.28, 1e-12);
@@ -287,9 +285,10 @@ TEST(DxfAama, BulgesBecomeArcs) {
         arcs += s.kind == SegmentKind::Arc;
     }
     EXPECT_EQ(arcs, 1);
-    EXPECT_NEAR(imported.value().pieces[0].outlineLength, 0.2 + 0.1 + 0.1 + PI * 0.1, 1e-9);
+    EXPECT_NEAR(imported.value().pieces[0].outlineLength, 0.2 + 0.1 + 0.1 + std::numbers::pi * 0.1,
+                1e-9);
     // The area with the half disc above (64 chords per segment: 6e-6 m² short of the circle).
-    EXPECT_NEAR(signedArea(outline), 0.02 + PI * 0.01 / 2, 1e-5);
+    EXPECT_NEAR(signedArea(outline), 0.02 + std::numbers::pi * 0.01 / 2, 1e-5);
     EXPECT_EQ(imported.value().project.garment.panels[0].name, "CAP");
 }
 

@@ -50,7 +50,7 @@ patterns::Body slotBody() {
     return body;
 }
 
-Result<GarmentCodeImport> parse(const std::string& text) {
+Result<GarmentCodeImport> parseSpec(const std::string& text) {
     static const patterns::Body body = slotBody();
     return parseGarmentCode(text, "spec.json", body);
 }
@@ -73,7 +73,7 @@ std::string squareSpec(const std::string& edge0 = "", const std::string& units =
 TEST(GarmentCode, OldDatasetCurvatureIsAQuadraticInTheEdgeFrame) {
     // Edge (-0.3, -0.3) → (0.3, -0.3) m: control at 0.5 along and 0.1 chord lengths to its
     // left (a quarter turn counter-clockwise from the edge, here +y).
-    auto r = parse(squareSpec(R"(, "curvature": [0.5, 0.1])"));
+    auto r = parseSpec(squareSpec(R"(, "curvature": [0.5, 0.1])"));
     ASSERT_TRUE(r.ok()) << r.error().toString();
     const patterns::Segment& s = r.value().project.garment.panels[0].outline[0];
     EXPECT_EQ(s.kind, SegmentKind::Quadratic);
@@ -83,13 +83,14 @@ TEST(GarmentCode, OldDatasetCurvatureIsAQuadraticInTheEdgeFrame) {
 }
 
 TEST(GarmentCode, QuadraticAndCubicCurvatureObjects) {
-    auto q = parse(squareSpec(R"(, "curvature": {"type": "quadratic", "params": [[0.25, -0.2]]})"));
+    auto q =
+        parseSpec(squareSpec(R"(, "curvature": {"type": "quadratic", "params": [[0.25, -0.2]]})"));
     ASSERT_TRUE(q.ok()) << q.error().toString();
     const patterns::Segment& sq = q.value().project.garment.panels[0].outline[0];
     EXPECT_EQ(sq.kind, SegmentKind::Quadratic);
     EXPECT_NEAR((sq.control1 - Vec2(-0.3 + 0.15, -0.3 - 0.12)).norm(), 0, 1e-12);
 
-    auto c = parse(
+    auto c = parseSpec(
         squareSpec(R"(, "curvature": {"type": "cubic", "params": [[0.3, 0.2], [0.7, -0.1]]})"));
     ASSERT_TRUE(c.ok()) << c.error().toString();
     const patterns::Segment& sc = c.value().project.garment.panels[0].outline[0];
@@ -105,13 +106,13 @@ TEST(GarmentCode, QuadraticAndCubicCurvatureObjects) {
 TEST(GarmentCode, CircleArcBulgesToTheRightWhenAsked) {
     // Radius 30 cm on a 60 cm chord: a half circle; `right` puts its middle below the bottom
     // edge (the edge runs +x, its right is −y).
-    auto r = parse(squareSpec(R"(, "curvature": {"type": "circle", "params": [30, 0, 1]})"));
+    auto r = parseSpec(squareSpec(R"(, "curvature": {"type": "circle", "params": [30, 0, 1]})"));
     ASSERT_TRUE(r.ok()) << r.error().toString();
     const patterns::Segment& s = r.value().project.garment.panels[0].outline[0];
     EXPECT_EQ(s.kind, SegmentKind::Arc);
     EXPECT_NEAR((patterns::pointAt(s, 0.5) - Vec2(0, -0.6)).norm(), 0, 1e-9);
 
-    auto left = parse(squareSpec(R"(, "curvature": {"type": "circle", "params": [50, 0, 0]})"));
+    auto left = parseSpec(squareSpec(R"(, "curvature": {"type": "circle", "params": [50, 0, 0]})"));
     ASSERT_TRUE(left.ok()) << left.error().toString();
     // Sagitta of a 60 cm chord on a 50 cm radius: 50 − 40 = 10 cm, to the left (+y).
     const patterns::Segment& sl = left.value().project.garment.panels[0].outline[0];
@@ -119,8 +120,8 @@ TEST(GarmentCode, CircleArcBulgesToTheRightWhenAsked) {
 }
 
 TEST(GarmentCode, UnitsInMeterScaleEverything) {
-    auto cm = parse(squareSpec("", "100"));
-    auto third = parse(squareSpec("", "300"));
+    auto cm = parseSpec(squareSpec("", "100"));
+    auto third = parseSpec(squareSpec("", "300"));
     ASSERT_TRUE(cm.ok() && third.ok());
     const patterns::Segment& a = cm.value().project.garment.panels[0].outline[0];
     const patterns::Segment& b = third.value().project.garment.panels[0].outline[0];
@@ -143,7 +144,7 @@ TEST(GarmentCode, ClockwiseLoopsBecomeCounterClockwiseAndSeamsFollow) {
                  "translation": [0, -40, -15], "rotation": [0, 0, 0]}},
       "stitches": [[{"panel": "front", "edge": 1}, {"panel": "back", "edge": 2}],
                    [{"panel": "front", "edge": 3}, {"panel": "back", "edge": 0}]]}})";
-    auto r = parse(spec);
+    auto r = parseSpec(spec);
     ASSERT_TRUE(r.ok()) << r.error().toString();
     const patterns::Garment& g = r.value().project.garment;
     ASSERT_EQ(g.panels.size(), 2u);
@@ -189,7 +190,7 @@ TEST(GarmentCode, RotatedBackPanelStaysFrontSide) {
                  "edges": [{"endpoints": [0, 1]}, {"endpoints": [1, 2]},
                            {"endpoints": [2, 3]}, {"endpoints": [3, 0]}],
                  "translation": [5, -40, -15], "rotation": [180, 0, 180]}}}})";
-    auto r = parse(spec);
+    auto r = parseSpec(spec);
     ASSERT_TRUE(r.ok()) << r.error().toString();
     const patterns::Panel& p = r.value().project.garment.panels[0];
     EXPECT_EQ(p.placement.slot, "waist_back");
@@ -212,7 +213,7 @@ TEST(GarmentCode, StitchesBecomeSeamsOnTheRightEdges) {
               "translation": [-30, 0, 15], "rotation": [0, 0, 0]}},
       "panel_order": ["b", "a"],
       "stitches": [[{"panel": "a", "edge": 3}, {"panel": "b", "edge": 1}]]}})";
-    auto r = parse(spec);
+    auto r = parseSpec(spec);
     ASSERT_TRUE(r.ok()) << r.error().toString();
     const patterns::Garment& g = r.value().project.garment;
     EXPECT_EQ(g.panels[0].name, "b"); // panel_order
@@ -233,7 +234,7 @@ TEST(GarmentCode, StitchesBecomeSeamsOnTheRightEdges) {
 }
 
 TEST(GarmentCode, WarningsNameThePanelAndEdge) {
-    auto r = parse(squareSpec(R"(, "curvature": {"type": "spline", "params": []})"));
+    auto r = parseSpec(squareSpec(R"(, "curvature": {"type": "spline", "params": []})"));
     ASSERT_TRUE(r.ok()) << r.error().toString();
     EXPECT_EQ(r.value().project.garment.panels[0].outline[0].kind, SegmentKind::Line);
     ASSERT_EQ(r.value().warnings.size(), 1u);
@@ -249,7 +250,7 @@ TEST(GarmentCode, WarningsNameThePanelAndEdge) {
     const std::string empty = R"("stitches": [])";
     spec.replace(spec.find(empty), empty.size(),
                  R"("stitches": [[{"panel": "front", "edge": 1}, {"panel": "small", "edge": 3}]])");
-    auto s = parse(spec);
+    auto s = parseSpec(spec);
     ASSERT_TRUE(s.ok()) << s.error().toString();
     ASSERT_EQ(s.value().warnings.size(), 1u);
     const std::string& w = s.value().warnings[0];
@@ -258,7 +259,7 @@ TEST(GarmentCode, WarningsNameThePanelAndEdge) {
     EXPECT_NE(w.find("differ"), std::string::npos) << w;
 }
 
-struct BadCase {
+struct BadGarmentCode {
     const char* name;
     std::string text;
     std::string where;
@@ -273,7 +274,7 @@ TEST(GarmentCode, BadInputNamesTheJsonPointer) {
         EXPECT_NE(at, std::string::npos) << from;
         return s.replace(at, from.size(), to);
     };
-    const BadCase cases[] = {
+    const BadGarmentCode cases[] = {
         {"not json", "{\"pattern\": ", "line 1, column 13", "invalid JSON"},
         {"no pattern", R"({"properties": {}})", "/", "missing \"pattern\""},
         {"vertex out of range", replaced("[3, 0]", "[3, 9]"),
@@ -303,8 +304,8 @@ TEST(GarmentCode, BadInputNamesTheJsonPointer) {
          "/pattern/panels/front/edges/0/curvature/params", "needs 2 control points"},
         {"no panels", R"({"pattern": {"panels": {}}})", "/pattern/panels", "no panels"},
     };
-    for (const BadCase& c : cases) {
-        auto r = parse(c.text);
+    for (const BadGarmentCode& c : cases) {
+        auto r = parseSpec(c.text);
         ASSERT_FALSE(r.ok()) << c.name;
         EXPECT_EQ(r.error().file, "spec.json") << c.name;
         EXPECT_EQ(r.error().where, c.where) << c.name << ": " << r.error().toString();
@@ -315,7 +316,7 @@ TEST(GarmentCode, BadInputNamesTheJsonPointer) {
 
 TEST(GarmentCode, CommentsAreAllowed) {
     const std::string spec = "// a comment\n" + squareSpec() + "\n/* and a block */\n";
-    auto r = parse(spec);
+    auto r = parseSpec(spec);
     ASSERT_TRUE(r.ok()) << r.error().toString();
     EXPECT_EQ(r.value().project.garment.panels.size(), 1u);
 }

@@ -22,8 +22,8 @@ const std::string GRID = R"({"type": "rectangle", "width": 0.2, "height": 0.2, "
 
 /// A valid scene with `top` spliced into the top-level object, the cloth's `mesh` and
 /// `moreCloths` after it.
-std::string sceneText(const std::string& top = "", const std::string& mesh = GRID,
-                      const std::string& moreCloths = "") {
+std::string hostileSceneText(const std::string& top = "", const std::string& mesh = GRID,
+                             const std::string& moreCloths = "") {
     return R"({"format": "atelier-scene", "version": 1,
   "cloths": [{"name": "sheet", "material": "cotton",
     "mesh": )" +
@@ -57,8 +57,8 @@ TEST(HostileJson, DuplicateKeysNameBothPlacesAndTheObject) {
                                  "s.json", ".")),
               "s.json: line 2, column 16: duplicate key \"format\" in the object at / (first at "
               "line 1, column 2)");
-    EXPECT_EQ(errorOf(parseScene(sceneText("", R"({"type": "rectangle", "type": "obj"})"), "s.json",
-                                 ".")),
+    EXPECT_EQ(errorOf(parseScene(hostileSceneText("", R"({"type": "rectangle", "type": "obj"})"),
+                                 "s.json", ".")),
               "s.json: line 3, column 35: duplicate key \"type\" in the object at "
               "/cloths/0/mesh (first at line 3, column 14)");
     // Escapes are decoded before keys are compared; keys of other objects and strings that
@@ -92,20 +92,21 @@ TEST(HostileJson, ProjectsAndPresetFilesRefuseDuplicateKeys) {
 
 TEST(HostileScene, HugeCellCountsAreRefusedWithTheirSize) {
     // (n + 1)² overflowed 64 bits and passed as a tiny grid.
-    EXPECT_EQ(errorOf(parseScene(
-                  sceneText("", R"({"type": "rectangle", "cells": [3037000499, 3037000499]})"),
-                  "s.json", ".")),
-              "s.json: /cloths/0/mesh/cells: a grid of 3037000499 × 3037000499 cells has "
-              "9.22337203700025e+18 vertices, more than the limit of 4000000");
+    EXPECT_EQ(
+        errorOf(parseScene(
+            hostileSceneText("", R"({"type": "rectangle", "cells": [3037000499, 3037000499]})"),
+            "s.json", ".")),
+        "s.json: /cloths/0/mesh/cells: a grid of 3037000499 × 3037000499 cells has "
+        "9.22337203700025e+18 vertices, more than the limit of 4000000");
 }
 
 TEST(HostileScene, FrameRateFramesAndStepsAreBounded) {
-    EXPECT_EQ(errorOf(parseScene(sceneText(R"(, "frame_rate": 1e300)"), "s.json", ".")),
+    EXPECT_EQ(errorOf(parseScene(hostileSceneText(R"(, "frame_rate": 1e300)"), "s.json", ".")),
               "s.json: /frame_rate: must be at most 1000.0 frames per second (found 1e+300)");
-    EXPECT_EQ(errorOf(parseScene(sceneText(R"(, "duration": 1e6)"), "s.json", ".")),
+    EXPECT_EQ(errorOf(parseScene(hostileSceneText(R"(, "duration": 1e6)"), "s.json", ".")),
               "s.json: /duration: duration × frame_rate is 30000000.0 frames, more than the "
               "limit of 100000");
-    EXPECT_EQ(errorOf(parseScene(sceneText(R"(, "duration": 3000, "integrator": {"dt": 1e-9,
+    EXPECT_EQ(errorOf(parseScene(hostileSceneText(R"(, "duration": 3000, "integrator": {"dt": 1e-9,
             "min_dt": 1e-10})"),
                                  "s.json", ".")),
               "s.json: /duration: duration / integrator dt is 3000000000000.0 steps, more than the "
@@ -115,19 +116,22 @@ TEST(HostileScene, FrameRateFramesAndStepsAreBounded) {
 TEST(HostileScene, ContactThicknessIsBounded) {
     // Metres of contact layer made every primitive a contact candidate of every other: found by
     // the fuzzer as a hang (cloth) and bad_alloc (obstacle).
-    EXPECT_EQ(errorOf(parseScene(sceneText("", GRID + R"(, "thickness": 1e9)"), "s.json", ".")),
-              "s.json: /cloths/0/thickness: must be at most 0.05 (the limit thickness-m; found "
-              "1000000000.0)");
-    EXPECT_EQ(errorOf(parseScene(sceneText(R"(, "obstacles": [{"name": "floor",
+    EXPECT_EQ(
+        errorOf(parseScene(hostileSceneText("", GRID + R"(, "thickness": 1e9)"), "s.json", ".")),
+        "s.json: /cloths/0/thickness: must be at most 0.05 (the limit thickness-m; found "
+        "1000000000.0)");
+    EXPECT_EQ(errorOf(parseScene(hostileSceneText(R"(, "obstacles": [{"name": "floor",
             "shape": {"type": "plane", "size": 4}, "thickness": 1.003}])"),
                                  "s.json", ".")),
               "s.json: /obstacles/0/thickness: must be at most 0.05 (the limit thickness-m; found "
               "1.003)");
-    EXPECT_TRUE(parseScene(sceneText("", GRID + R"(, "thickness": 0.05)"), "s.json", ".").ok());
+    EXPECT_TRUE(
+        parseScene(hostileSceneText("", GRID + R"(, "thickness": 0.05)"), "s.json", ".").ok());
     SceneLoadOptions raised;
     raised.limits.maxThickness = 2.0;
     EXPECT_TRUE(
-        parseScene(sceneText("", GRID + R"(, "thickness": 1.5)"), "s.json", ".", raised).ok());
+        parseScene(hostileSceneText("", GRID + R"(, "thickness": 1.5)"), "s.json", ".", raised)
+            .ok());
 }
 
 TEST(HostileScene, ClothCountAndSceneSizeAreBounded) {
@@ -143,7 +147,7 @@ TEST(HostileScene, ClothCountAndSceneSizeAreBounded) {
     // Each cloth under the per-cloth size, together over the scene's (a lowered limit).
     SceneLoadOptions options;
     options.limits.maxSceneVertices = 50;
-    const std::string two = sceneText("", GRID, R"(, {"name": "b", "material": "cotton",
+    const std::string two = hostileSceneText("", GRID, R"(, {"name": "b", "material": "cotton",
           "mesh": {"type": "rectangle", "cells": [6, 6]}})");
     EXPECT_EQ(errorOf(parseScene(two, "s.json", ".", options)),
               "s.json: /cloths/1/mesh: the scene reaches 58 vertices here, more than the limit "
@@ -151,7 +155,7 @@ TEST(HostileScene, ClothCountAndSceneSizeAreBounded) {
 }
 
 TEST(HostileScene, CoordinatesAndBodyMeshesAreBounded) {
-    EXPECT_EQ(errorOf(parseScene(sceneText(R"(, "obstacles": [{"shape": {"type": "sphere",
+    EXPECT_EQ(errorOf(parseScene(hostileSceneText(R"(, "obstacles": [{"shape": {"type": "sphere",
                                     "radius": 1e300}}])"),
                                  "s.json", ".")),
               "s.json: /obstacles/0/shape: the shape's vertices reach 1e+300 m from the origin, "
@@ -159,7 +163,7 @@ TEST(HostileScene, CoordinatesAndBodyMeshesAreBounded) {
     const test::TempDir dir;
     dir.write("big.obj", "v 0 0 0\nv 5 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n"
                          "f 2 3 4\n");
-    EXPECT_EQ(errorOf(parseScene(sceneText(R"(, "obstacles": [{"shape": {"type": "obj",
+    EXPECT_EQ(errorOf(parseScene(hostileSceneText(R"(, "obstacles": [{"shape": {"type": "obj",
                                     "path": "big.obj"}}])"),
                                  "s.json", dir.path())),
               "s.json: /obstacles/0/shape/path: big.obj: the mesh is 5.0 m along x, more than "
@@ -176,7 +180,7 @@ TEST(HostileScene, CoordinatesAndBodyMeshesAreBounded) {
 // Paths: special files, size limits
 
 TEST(HostilePaths, SpecialFilesAreRefusedWithoutReading) {
-    const std::string zero = sceneText("", R"({"type": "obj", "path": "/dev/zero"})");
+    const std::string zero = hostileSceneText("", R"({"type": "obj", "path": "/dev/zero"})");
     EXPECT_EQ(errorOf(parseScene(zero, "s.json", ".")),
               "s.json: /cloths/0/mesh/path: /dev/zero: not a regular file (a character device)");
     const test::TempDir dir;
@@ -199,7 +203,7 @@ TEST(HostilePaths, SymlinksToRegularFilesAndAbsolutePathsAreRead) {
     std::filesystem::create_symlink(dir / "tri.obj", dir / "link.obj");
     EXPECT_TRUE(readObj(dir / "link.obj").ok());
     const std::string absolute =
-        sceneText("", R"({"type": "obj", "path": ")" + (dir / "link.obj").string() + "\"}");
+        hostileSceneText("", R"({"type": "obj", "path": ")" + (dir / "link.obj").string() + "\"}");
     EXPECT_TRUE(parseScene(absolute, "s.json", "/nonexistent").ok())
         << errorOf(parseScene(absolute, "s.json", "/nonexistent"));
 }
@@ -209,7 +213,7 @@ TEST(HostilePaths, FilesOverTheSizeLimitAreRefusedBeforeReading) {
     dir.write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     EXPECT_EQ(errorOf(readObj(dir / "tri.obj", 10)),
               (dir / "tri.obj").string() + ": file too large: 32 bytes (the limit is 10 bytes)");
-    dir.write("s.json", sceneText());
+    dir.write("s.json", hostileSceneText());
     SceneLoadOptions options;
     options.limits.maxJsonBytes = 100;
     EXPECT_NE(errorOf(loadScene(dir / "s.json", options)).find("file too large"),

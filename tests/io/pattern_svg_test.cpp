@@ -9,6 +9,7 @@
 #include "io/xml_text.h"
 
 #include "patterns/curve.h"
+#include "patterns/loops.h"
 #include "patterns/sample_garments.h"
 #include "patterns/seam_allowance.h"
 
@@ -24,19 +25,14 @@
 namespace atelier::io {
 namespace {
 
+using test::line;
+
 using patterns::Segment;
 using patterns::SegmentKind;
 using sim::Vec2;
 using test::SampledSubpath;
 using test::samplePath;
 using test::XmlNode;
-
-Segment line(Vec2 a, Vec2 b) {
-    Segment s;
-    s.start = a;
-    s.end = b;
-    return s;
-}
 
 Segment curve(SegmentKind kind, Vec2 a, Vec2 b, Vec2 c1, Vec2 c2 = Vec2::Zero(), double bulge = 0) {
     Segment s = line(a, b);

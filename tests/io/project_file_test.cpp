@@ -2,10 +2,13 @@
 #include "io/project_file.h"
 #include "io/temp_dir.h"
 
+#include "source_paths.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <numbers>
 #include <random>
 
 namespace atelier::io {
@@ -15,11 +18,7 @@ using nlohmann::json;
 using patterns::Segment;
 using patterns::SegmentKind;
 
-constexpr double PI = 3.14159265358979323846;
-constexpr double RAD_PER_DEG = PI / 180.0;
-
-const std::filesystem::path GARMENTS =
-    std::filesystem::path(ATELIER_SOURCE_DIR) / "assets/garments";
+constexpr double RAD_PER_DEG = std::numbers::pi / 180.0;
 
 /// A project using every feature of the format (millimetres and degrees, as in files).
 const char* const FULL = R"({
@@ -192,11 +191,11 @@ const char* const MINIMAL_CANONICAL = R"({
 }
 )";
 
-Result<patterns::Project> parse(const std::string& text) {
+Result<patterns::Project> parseShirt(const std::string& text) {
     return parseProject(text, "shirt.atelier");
 }
 
-/// FULL with the value at `pointer` replaced (or removed when `value` is discarded).
+/// FULL with the value at `pointer` replaced (or removedKeys when `value` is discarded).
 std::string fullWith(const std::string& pointer, const json& value) {
     json doc = json::parse(FULL);
     if (value.is_discarded()) {
@@ -208,7 +207,7 @@ std::string fullWith(const std::string& pointer, const json& value) {
     return doc.dump();
 }
 
-json removed() {
+json removedKeys() {
     return json(json::value_t::discarded);
 }
 
@@ -229,8 +228,8 @@ void expectPoint(const sim::Vec2& actual, double xMm, double yMm) {
 
 /// format → parse → format gives the same text; returns the parsed project.
 patterns::Project expectStableText(const std::string& text) {
-    const std::string second = formatProject(parse(text).value());
-    const auto reparsed = parse(second);
+    const std::string second = formatProject(parseShirt(text).value());
+    const auto reparsed = parseShirt(second);
     EXPECT_TRUE(reparsed.ok()) << reparsed.error().toString();
     if (!reparsed.ok()) {
         return {};
@@ -240,7 +239,7 @@ patterns::Project expectStableText(const std::string& text) {
 }
 
 TEST(ProjectFile, FullProjectValues) {
-    const auto parsed = parse(FULL);
+    const auto parsed = parseShirt(FULL);
     ASSERT_TRUE(parsed.ok()) << parsed.error().toString();
     const patterns::Project& p = parsed.value();
     EXPECT_EQ(p.version, 1);
@@ -367,7 +366,7 @@ TEST(ProjectFile, FullProjectValues) {
 }
 
 TEST(ProjectFile, MinimalProjectGetsDefaultsAndCanonicalText) {
-    const auto parsed = parse(MINIMAL);
+    const auto parsed = parseShirt(MINIMAL);
     ASSERT_TRUE(parsed.ok()) << parsed.error().toString();
     // Absent keys take the defaults exactly.
     const patterns::DrapeSettings defaults;
@@ -395,7 +394,7 @@ TEST(ProjectFile, MinimalProjectGetsDefaultsAndCanonicalText) {
 
     // The canonical text reads back to the same values: whole millimetres and degrees
     // convert exactly.
-    const auto canonical = parse(MINIMAL_CANONICAL);
+    const auto canonical = parseShirt(MINIMAL_CANONICAL);
     ASSERT_TRUE(canonical.ok()) << canonical.error().toString();
     EXPECT_EQ(canonical.value().drape.particleDistance, defaults.particleDistance);
     EXPECT_EQ(canonical.value().drape.seamWeldDistance, defaults.seamWeldDistance);
@@ -408,7 +407,7 @@ TEST(ProjectFile, MinimalProjectGetsDefaultsAndCanonicalText) {
 }
 
 TEST(ProjectFile, FormatParseFormatIsByteIdentical) {
-    const patterns::Project first = parse(FULL).value();
+    const patterns::Project first = parseShirt(FULL).value();
     const std::string text = formatProject(first);
     EXPECT_EQ(text.rfind("{\n  \"format\": \"atelier-project\",\n  \"version\": 2,\n", 0), 0U);
     EXPECT_EQ(text.back(), '\n');
@@ -440,7 +439,7 @@ TEST(ProjectFile, FormatParseFormatIsByteIdentical) {
 
 TEST(ProjectFile, SaveLoadSaveOnDiskIsByteIdentical) {
     const test::TempDir dir;
-    const auto first = parse(FULL);
+    const auto first = parseShirt(FULL);
     ASSERT_TRUE(first.ok()) << first.error().toString();
     const auto saved = saveProject(dir / "a.atelier", first.value());
     ASSERT_TRUE(saved.ok()) << saved.error().toString();
@@ -478,11 +477,11 @@ TEST(ProjectFile, BodyMeshResolvedAgainstTheProjectDirectory) {
     EXPECT_EQ(formatProject(reloaded.value()), again);
 
     // parseProject has no directory and does not look for the mesh.
-    EXPECT_TRUE(parse(text).ok());
+    EXPECT_TRUE(parseShirt(text).ok());
 
     // Another format with its unit and up axis given: kept, and written back.
-    const auto given =
-        parse(fullWith("/body", json::parse(R"({"mesh": "body.fbx", "units": "cm", "up": "z"})")));
+    const auto given = parseShirt(
+        fullWith("/body", json::parse(R"({"mesh": "body.fbx", "units": "cm", "up": "z"})")));
     ASSERT_TRUE(given.ok()) << given.error().toString();
     EXPECT_EQ(given.value().body.meshUnits, "cm");
     EXPECT_EQ(given.value().body.meshUp, "z");
@@ -492,7 +491,7 @@ TEST(ProjectFile, BodyMeshResolvedAgainstTheProjectDirectory) {
 
 TEST(ProjectFile, SaveIntoAMissingDirectoryFails) {
     const test::TempDir dir;
-    const auto saved = saveProject(dir / "no/such/dir/a.atelier", parse(MINIMAL).value());
+    const auto saved = saveProject(dir / "no/such/dir/a.atelier", parseShirt(MINIMAL).value());
     ASSERT_FALSE(saved.ok());
     EXPECT_NE(saved.error().toString().find("a.atelier"), std::string::npos)
         << saved.error().toString();
@@ -509,25 +508,25 @@ TEST(ProjectFile, MissingFile) {
 TEST(ProjectFile, InvalidJsonGivesLineAndColumn) {
     const std::string full = FULL;
     // Truncated in the middle of the panels.
-    const auto truncated = parse(full.substr(0, full.find("\"darts\"")));
+    const auto truncated = parseShirt(full.substr(0, full.find("\"darts\"")));
     ASSERT_FALSE(truncated.ok());
     EXPECT_EQ(truncated.error().file, "shirt.atelier");
     EXPECT_EQ(truncated.error().where.rfind("line ", 0), 0U) << truncated.error().toString();
     EXPECT_NE(truncated.error().where.find(", column "), std::string::npos);
     EXPECT_NE(truncated.error().message.find("invalid JSON"), std::string::npos);
 
-    const auto syntax = parse("{\n  \"format\": \"atelier-project\",\n  \"version\": 1,,\n}");
+    const auto syntax = parseShirt("{\n  \"format\": \"atelier-project\",\n  \"version\": 1,,\n}");
     expectError(syntax, "line 3, column 16", "invalid JSON");
 
     // A number beyond double range is refused, not turned into infinity (or a crash).
     const std::string overflow = "{\n  \"format\": \"atelier-project\",\n  \"version\": 1e999\n}";
-    expectError(parse(overflow), "line 3, column 14", "number overflow");
+    expectError(parseShirt(overflow), "line 3, column 14", "number overflow");
 
-    expectError(parse(""), "line 1, column 1", "invalid JSON");
-    expectError(parse("[]"), "/", "expected an object");
+    expectError(parseShirt(""), "line 1, column 1", "invalid JSON");
+    expectError(parseShirt("[]"), "/", "expected an object");
 }
 
-struct BadCase {
+struct BadProject {
     const char* label;
     std::string text;
     const char* where;
@@ -535,9 +534,10 @@ struct BadCase {
 };
 
 TEST(ProjectFile, BadValuesNameFileAndPath) {
-    const std::vector<BadCase> cases = {
+    const std::vector<BadProject> cases = {
         {"format", fullWith("/format", "atelier-scene"), "/format", "expected \"atelier-project\""},
-        {"format missing", fullWith("/format", removed()), "/", "missing required key \"format\""},
+        {"format missing", fullWith("/format", removedKeys()), "/",
+         "missing required key \"format\""},
         {"newer version", fullWith("/version", 3), "/version", "written by a newer Atelier"},
         {"version 0", fullWith("/version", 0), "/version", "unsupported version 0"},
         {"version type", fullWith("/version", "1"), "/version", "expected an integer"},
@@ -567,7 +567,7 @@ TEST(ProjectFile, BadValuesNameFileAndPath) {
          "/materials/1/description", "unknown key"},
         {"duplicate material", fullWith("/materials/1/name", "shell"), "/materials/1/name",
          "already named \"shell\""},
-        {"material name missing", fullWith("/materials/0/name", removed()), "/materials/0",
+        {"material name missing", fullWith("/materials/0/name", removedKeys()), "/materials/0",
          "missing required key \"name\""},
         {"duplicate panel", fullWith("/panels/1/name", "front"), "/panels/1/name",
          "another panel is already named \"front\""},
@@ -578,7 +578,7 @@ TEST(ProjectFile, BadValuesNameFileAndPath) {
          "unknown side \"inside\""},
         {"grain type", fullWith("/panels/0/grain_deg", "90"), "/panels/0/grain_deg",
          "expected a number, found a string"},
-        {"outline missing", fullWith("/panels/1/outline", removed()), "/panels/1",
+        {"outline missing", fullWith("/panels/1/outline", removedKeys()), "/panels/1",
          "missing required key \"outline\""},
         {"outline empty", fullWith("/panels/1/outline", json::array()), "/panels/1/outline",
          "at least one segment"},
@@ -586,7 +586,7 @@ TEST(ProjectFile, BadValuesNameFileAndPath) {
          "/panels/0/outline/2/cubic/c1", "must be an array of two finite numbers"},
         {"cubic c1 string", fullWith("/panels/0/outline/2/cubic/c1", json::parse(R"(["1", 2])")),
          "/panels/0/outline/2/cubic/c1", "must be an array of two finite numbers"},
-        {"cubic c2 missing", fullWith("/panels/0/outline/2/cubic/c2", removed()),
+        {"cubic c2 missing", fullWith("/panels/0/outline/2/cubic/c2", removedKeys()),
          "/panels/0/outline/2/cubic", "missing required key \"c2\""},
         {"segment kind", fullWith("/panels/0/outline/1", json::parse(R"({"spline": {}})")),
          "/panels/0/outline/1/spline", "unknown segment kind \"spline\""},
@@ -594,11 +594,12 @@ TEST(ProjectFile, BadValuesNameFileAndPath) {
          "/panels/0/outline/1", "one key"},
         {"to in a loop", fullWith("/panels/0/outline/0/line/to", json::parse("[1, 2]")),
          "/panels/0/outline/0/line/to", "unknown key \"to\""},
-        {"arc bulge missing", fullWith("/panels/0/outline/6/arc/bulge", removed()),
+        {"arc bulge missing", fullWith("/panels/0/outline/6/arc/bulge", removedKeys()),
          "/panels/0/outline/6/arc", "missing required key \"bulge\""},
         {"hole point", fullWith("/panels/0/holes/0/2/line/from", json::parse("[1, null]")),
          "/panels/0/holes/0/2/line/from", "must be an array of two finite numbers"},
-        {"internal line to", fullWith("/panels/0/internal_lines/0/segments/0/line/to", removed()),
+        {"internal line to",
+         fullWith("/panels/0/internal_lines/0/segments/0/line/to", removedKeys()),
          "/panels/0/internal_lines/0/segments/0/line", "missing required key \"to\""},
         {"internal line key", fullWith("/panels/0/internal_lines/0/fold", 3),
          "/panels/0/internal_lines/0/fold", "unknown key \"fold\""},
@@ -634,17 +635,17 @@ TEST(ProjectFile, BadValuesNameFileAndPath) {
         {"simulation typo", fullWith("/simulation/dt", 0.01), "/simulation/dt",
          "unknown key \"dt\""},
     };
-    for (const BadCase& c : cases) {
+    for (const BadProject& c : cases) {
         SCOPED_TRACE(c.label);
-        expectError(parse(c.text), c.where, c.fragment);
+        expectError(parseShirt(c.text), c.where, c.fragment);
     }
 }
 
 TEST(ProjectFile, EveryPrefixOfAFileFailsCleanly) {
     // Never a crash or an exception: each truncation gives an error with a place.
-    const std::string text = formatProject(parse(FULL).value());
+    const std::string text = formatProject(parseShirt(FULL).value());
     for (std::size_t n = 0; n + 1 < text.size(); n += 7) {
-        const auto result = parse(text.substr(0, n));
+        const auto result = parseShirt(text.substr(0, n));
         ASSERT_FALSE(result.ok()) << n;
         EXPECT_FALSE(result.error().where.empty()) << n;
     }
@@ -677,11 +678,11 @@ patterns::Project randomProject(std::mt19937& rng) {
         panel.name = "panel" + std::to_string(k);
         panel.material = p.garment.materials[rng() % 2].name;
         panel.side = rng() % 2 == 0 ? patterns::PanelSide::Front : patterns::PanelSide::Back;
-        panel.grainAngle = between(-PI, PI);
+        panel.grainAngle = between(-std::numbers::pi, std::numbers::pi);
         const int n = 5 + static_cast<int>(rng() % 4);
         std::vector<sim::Vec2> corners;
         for (int i = 0; i < n; ++i) {
-            const double angle = 2 * PI * (i + between(-0.2, 0.2)) / n;
+            const double angle = 2 * std::numbers::pi * (i + between(-0.2, 0.2)) / n;
             const double radius = between(0.2, 0.4);
             corners.emplace_back(radius * std::cos(angle), radius * std::sin(angle));
         }
@@ -718,13 +719,13 @@ patterns::Project randomProject(std::mt19937& rng) {
         s.start = sim::Vec2(between(0.05, 0.07), between(-0.05, 0.0));
         s.end = sim::Vec2(between(0.08, 0.1), between(0.0, 0.05));
         line.path.push_back(s);
-        line.foldAngle = between(-PI, PI);
+        line.foldAngle = between(-std::numbers::pi, std::numbers::pi);
         panel.internalLines.push_back(line);
         panel.notches.push_back(
             {static_cast<int>(rng() % static_cast<unsigned>(n)), between(0, 1)});
         panel.placement.slot = "slot" + std::to_string(k);
         panel.placement.offset = sim::Vec2(between(-0.3, 0.3), between(-0.3, 0.3));
-        panel.placement.rotation = between(-PI, PI);
+        panel.placement.rotation = between(-std::numbers::pi, std::numbers::pi);
         panel.placement.clearance = between(0, 0.05);
         p.garment.panels.push_back(panel);
     }
@@ -769,7 +770,7 @@ TEST(ProjectFile, RandomProjectsRoundTripToTheSameText) {
         SCOPED_TRACE("trial " + std::to_string(trial));
         const patterns::Project original = randomProject(rng);
         const std::string text = formatProject(original);
-        const auto parsed = parse(text);
+        const auto parsed = parseShirt(text);
         ASSERT_TRUE(parsed.ok()) << parsed.error().toString();
         const std::string again = formatProject(parsed.value());
         ASSERT_EQ(again, text);
@@ -821,7 +822,7 @@ TEST(ProjectFile, MillimetreValuesRoundedToMicrometres) {
     // Values with more than six decimals are rounded on the first save, then stay put.
     std::string text = MINIMAL;
     text.replace(text.find("[100, 0]"), 8, "[100.12345678901, 0.1]");
-    const auto parsed = parse(text);
+    const auto parsed = parseShirt(text);
     ASSERT_TRUE(parsed.ok()) << parsed.error().toString();
     const std::string formatted = formatProject(parsed.value());
     const json doc = json::parse(formatted);
@@ -831,11 +832,11 @@ TEST(ProjectFile, MillimetreValuesRoundedToMicrometres) {
 }
 
 TEST(ProjectFile, EverySampleRoundTrips) {
-    if (!std::filesystem::is_directory(GARMENTS)) {
-        GTEST_SKIP() << "no sample garments in " << GARMENTS;
+    if (!std::filesystem::is_directory(test::GARMENTS_DIR)) {
+        GTEST_SKIP() << "no sample garments in " << test::GARMENTS_DIR;
     }
     int count = 0;
-    for (const auto& entry : std::filesystem::directory_iterator(GARMENTS)) {
+    for (const auto& entry : std::filesystem::directory_iterator(test::GARMENTS_DIR)) {
         if (entry.path().extension() != ".atelier") {
             continue;
         }

@@ -7,6 +7,8 @@
 #include "patterns/document.h"
 #include "patterns/mesh.h"
 
+#include "source_paths.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -21,9 +23,6 @@ namespace atelier::io {
 namespace {
 
 using nlohmann::json;
-
-const std::filesystem::path GARMENTS =
-    std::filesystem::path(ATELIER_SOURCE_DIR) / "assets/garments";
 
 /// A version-1 project with every kind of object: curves of each kind, a hole, an internal
 /// line of two segments, a dart, a notch, a seam of each direction.
@@ -50,17 +49,17 @@ const char* const V1 = R"({"format": "atelier-project", "version": 1, "name": "t
   "seams": [{"name": "side", "a": [{"panel": "front", "segment": 1}],
              "b": [{"panel": "back", "segment": 3, "t0": 1, "t1": 0}]}]})";
 
-Result<patterns::Project> parse(const std::string& text) {
+Result<patterns::Project> parseShirtV2(const std::string& text) {
     return parseProject(text, "shirt.atelier");
 }
 
 /// The version-2 text of V1, as JSON to take apart.
 json v2Json() {
-    return json::parse(formatProject(parse(V1).value()));
+    return json::parse(formatProject(parseShirtV2(V1).value()));
 }
 
 TEST(ProjectFileV2, Version1MigratesWithIdsAndReferences) {
-    const auto v1 = parse(V1);
+    const auto v1 = parseShirtV2(V1);
     ASSERT_TRUE(v1.ok()) << v1.error().toString();
     EXPECT_EQ(v1.value().version, 1);
     ASSERT_TRUE(patterns::checkDocument(v1.value().document).ok());
@@ -92,7 +91,7 @@ TEST(ProjectFileV2, Version1MigratesWithIdsAndReferences) {
 
 TEST(ProjectFileV2, SaveLoadSaveIsByteIdenticalAndKeepsTheDocument) {
     const test::TempDir dir;
-    const auto v1 = parse(V1);
+    const auto v1 = parseShirtV2(V1);
     ASSERT_TRUE(v1.ok()) << v1.error().toString();
     ASSERT_TRUE(saveProject(dir / "a.atelier", v1.value()).ok());
     const auto loaded = loadProject(dir / "a.atelier");
@@ -113,16 +112,16 @@ TEST(ProjectFileV2, AnEditedDocumentRoundTripsWithItsIds) {
     doc["panels"][1]["id"] = 500;
     doc["seams"][0]["b"][0]["panel"] = 500;
     doc["next_id"] = 900;
-    const auto parsed = parse(doc.dump());
+    const auto parsed = parseShirtV2(doc.dump());
     ASSERT_TRUE(parsed.ok()) << parsed.error().toString();
     EXPECT_EQ(parsed.value().document.nextId, 900U);
     EXPECT_EQ(parsed.value().document.panels[1].id.value, 500U);
     EXPECT_EQ(parsed.value().garment.seams[0].b[0].panel, "back");
     const std::string text = formatProject(parsed.value());
-    EXPECT_EQ(formatProject(parse(text).value()), text);
+    EXPECT_EQ(formatProject(parseShirtV2(text).value()), text);
     // Without next_id, the next id is above the largest.
     doc.erase("next_id");
-    const auto noNext = parse(doc.dump());
+    const auto noNext = parseShirtV2(doc.dump());
     ASSERT_TRUE(noNext.ok()) << noNext.error().toString();
     EXPECT_EQ(noNext.value().document.nextId, 501U);
 }
@@ -142,12 +141,12 @@ void expectSameMesh(const patterns::GarmentMesh& a, const patterns::GarmentMesh&
 }
 
 TEST(ProjectFileV2, EverySampleMigratesAndMeshesTheSame) {
-    if (!std::filesystem::is_directory(GARMENTS)) {
-        GTEST_SKIP() << "no sample garments in " << GARMENTS;
+    if (!std::filesystem::is_directory(test::GARMENTS_DIR)) {
+        GTEST_SKIP() << "no sample garments in " << test::GARMENTS_DIR;
     }
     const test::TempDir dir;
     int count = 0;
-    for (const auto& entry : std::filesystem::directory_iterator(GARMENTS)) {
+    for (const auto& entry : std::filesystem::directory_iterator(test::GARMENTS_DIR)) {
         if (entry.path().extension() != ".atelier") {
             continue;
         }
@@ -192,11 +191,11 @@ std::string v2With(const std::string& pointer, const json& value) {
     return doc.dump();
 }
 
-json removed() {
+json removedKeysV2() {
     return json(json::value_t::discarded);
 }
 
-struct BadCase {
+struct BadProjectV2 {
     const char* label;
     std::string text;
     const char* where;
@@ -215,7 +214,7 @@ TEST(ProjectFileV2, BadIdsAndReferencesNameTheJsonPointer) {
     json twoCorners = doc["panels"][1]["outline"];
     twoCorners.erase(2);
     twoCorners.erase(2);
-    const std::vector<BadCase> cases = {
+    const std::vector<BadProjectV2> cases = {
         {"duplicate panel id", v2With("/panels/1/id", frontId), "/panels/1/id",
          "duplicate id 1 (already used at /panels/0/id)"},
         {"duplicate point id", v2With("/panels/0/outline/1/point", point0),
@@ -223,7 +222,8 @@ TEST(ProjectFileV2, BadIdsAndReferencesNameTheJsonPointer) {
         {"id of another kind", v2With("/seams/0/id", frontEdge), "/seams/0/id", "duplicate id"},
         {"id zero", v2With("/panels/0/id", 0), "/panels/0/id", "must be an id"},
         {"id type", v2With("/panels/0/id", "1"), "/panels/0/id", "expected an integer"},
-        {"id missing", v2With("/seams/0/id", removed()), "/seams/0", "missing required key \"id\""},
+        {"id missing", v2With("/seams/0/id", removedKeysV2()), "/seams/0",
+         "missing required key \"id\""},
         {"id not below next", v2With("/next_id", 5), "/panels/0/outline/1/edge",
          "id 5 is not below next_id (5)"},
         {"next id zero", v2With("/next_id", 0), "/next_id", "must be an integer in [1, "},
@@ -252,24 +252,25 @@ TEST(ProjectFileV2, BadIdsAndReferencesNameTheJsonPointer) {
          "/panels/0/outline/0/curve", "unknown curve \"spline\""},
         {"control point on a line", v2With("/panels/0/outline/0/c1", json::parse("[1, 2]")),
          "/panels/0/outline/0/c1", "unknown key \"c1\""},
-        {"cubic without c2", v2With("/panels/0/outline/2/c2", removed()), "/panels/0/outline/2",
-         "missing required key \"c2\""},
+        {"cubic without c2", v2With("/panels/0/outline/2/c2", removedKeysV2()),
+         "/panels/0/outline/2", "missing required key \"c2\""},
         {"point not finite", v2With("/panels/0/outline/3/at", json::parse("[1, null]")),
          "/panels/0/outline/3/at", "must be an array of two finite numbers"},
         {"edge after a line's end", v2With("/panels/0/internal_lines/0/points/2/edge", 999),
          "/panels/0/internal_lines/0/points/2/edge", "has no edge after it"},
-        {"line end missing an edge", v2With("/panels/0/internal_lines/0/points/1/edge", removed()),
+        {"line end missing an edge",
+         v2With("/panels/0/internal_lines/0/points/1/edge", removedKeysV2()),
          "/panels/0/internal_lines/0/points/1", "missing required key \"edge\""},
         {"outline too short", v2With("/panels/1/outline", twoCorners), "/panels/1/outline",
          "at least 3 points"},
-        {"hole without contour", v2With("/panels/0/holes/0/contour", removed()),
+        {"hole without contour", v2With("/panels/0/holes/0/contour", removedKeysV2()),
          "/panels/0/holes/0", "missing required key \"contour\""},
         {"duplicate panel name", v2With("/panels/1/name", "front"), "/panels/1/name",
          "another panel is already named \"front\""},
     };
-    for (const BadCase& c : cases) {
+    for (const BadProjectV2& c : cases) {
         SCOPED_TRACE(c.label);
-        const auto result = parse(c.text);
+        const auto result = parseShirtV2(c.text);
         ASSERT_FALSE(result.ok());
         EXPECT_EQ(result.error().file, "shirt.atelier");
         EXPECT_EQ(result.error().where, c.where) << result.error().toString();
@@ -281,7 +282,7 @@ TEST(ProjectFileV2, BadIdsAndReferencesNameTheJsonPointer) {
 TEST(ProjectFileV2, GeometryIssuesNameVersion2Pointers) {
     // A hole corner on top of the next one: validateGarment's issue, at the hole's contour.
     const json corner = v2Json()["panels"][0]["holes"][0]["contour"][2]["at"];
-    const auto result = parse(v2With("/panels/0/holes/0/contour/1/at", corner));
+    const auto result = parseShirtV2(v2With("/panels/0/holes/0/contour/1/at", corner));
     ASSERT_FALSE(result.ok());
     EXPECT_EQ(result.error().where.rfind("/panels/0/holes/0/contour/", 0), 0U)
         << result.error().toString();
@@ -290,20 +291,20 @@ TEST(ProjectFileV2, GeometryIssuesNameVersion2Pointers) {
 TEST(ProjectFileV2, APanelsOwnParticleDistanceRoundTripsAndBadOnesNameTheirPointer) {
     json doc = v2Json();
     doc["panels"][1]["particle_distance_mm"] = 12.5;
-    const auto read = parse(doc.dump());
+    const auto read = parseShirtV2(doc.dump());
     ASSERT_TRUE(read.ok()) << read.error().toString();
     EXPECT_DOUBLE_EQ(read.value().document.panels[1].particleDistance, 0.0125);
     EXPECT_DOUBLE_EQ(read.value().garment.panels[1].particleDistance, 0.0125);
     EXPECT_EQ(read.value().document.panels[0].particleDistance, 0.0);
     const std::string saved = formatProject(read.value());
-    EXPECT_EQ(formatProject(parse(saved).value()), saved);
+    EXPECT_EQ(formatProject(parseShirtV2(saved).value()), saved);
     EXPECT_EQ(json::parse(saved)["panels"][1]["particle_distance_mm"], 12.5);
     EXPECT_FALSE(json::parse(saved)["panels"][0].contains("particle_distance_mm"))
         << "a panel at the drape's distance is saved as before";
     for (const json& value : {json(0.5), json(-3), json(2000)}) {
         json d = doc;
         d["panels"][1]["particle_distance_mm"] = value;
-        const auto bad = parse(d.dump());
+        const auto bad = parseShirtV2(d.dump());
         ASSERT_FALSE(bad.ok()) << value.dump();
         EXPECT_NE(bad.error().toString().find("/panels/1/particle_distance_mm"), std::string::npos)
             << bad.error().toString();
@@ -313,7 +314,7 @@ TEST(ProjectFileV2, APanelsOwnParticleDistanceRoundTripsAndBadOnesNameTheirPoint
 TEST(ProjectFileV2, APanelsSheetPlaceRoundTripsAndBadOnesNameTheirPointer) {
     json doc = v2Json();
     doc["panels"][1]["sheet"] = json::parse(R"({"at_mm": [450, -120.5], "angle_deg": -90})");
-    const auto read = parse(doc.dump());
+    const auto read = parseShirtV2(doc.dump());
     ASSERT_TRUE(read.ok()) << read.error().toString();
     const auto& sheet = read.value().document.panels[1].sheet;
     ASSERT_TRUE(sheet);
@@ -321,7 +322,7 @@ TEST(ProjectFileV2, APanelsSheetPlaceRoundTripsAndBadOnesNameTheirPointer) {
     EXPECT_NEAR(sheet->angle, -std::numbers::pi / 2, 1e-15);
     EXPECT_FALSE(read.value().document.panels[0].sheet);
     const std::string saved = formatProject(read.value());
-    EXPECT_EQ(formatProject(parse(saved).value()), saved);
+    EXPECT_EQ(formatProject(parseShirtV2(saved).value()), saved);
     EXPECT_FALSE(json::parse(saved)["panels"][0].contains("sheet"))
         << "a panel laid out by the view is saved as before";
     for (const char* bad :
@@ -329,7 +330,7 @@ TEST(ProjectFileV2, APanelsSheetPlaceRoundTripsAndBadOnesNameTheirPointer) {
           R"({"at_mm": [0, 0], "angle_deg": "x"})", R"({"at_mm": [0, 0], "turn": 1})"}) {
         json d = doc;
         d["panels"][1]["sheet"] = json::parse(bad);
-        const auto refused = parse(d.dump());
+        const auto refused = parseShirtV2(d.dump());
         ASSERT_FALSE(refused.ok()) << bad;
         EXPECT_NE(refused.error().toString().find("/panels/1/sheet"), std::string::npos)
             << refused.error().toString();
@@ -343,7 +344,7 @@ TEST(ProjectFileV2, PinsRoundTripAndBadPinsNameTheirPointer) {
         {"id": 901, "at": [0, 200], "position_mm": [10, 1200.5, 150], "release_s": 1.5}])");
     doc["panels"][0]["pins"] = json::array({{{"id", 902}, {"notch", notch}}});
     doc["next_id"] = 903;
-    const auto read = parse(doc.dump());
+    const auto read = parseShirtV2(doc.dump());
     ASSERT_TRUE(read.ok()) << read.error().toString();
     const patterns::Project& p = read.value();
     ASSERT_EQ(p.document.panels[1].pins.size(), 2U);
@@ -359,15 +360,15 @@ TEST(ProjectFileV2, PinsRoundTripAndBadPinsNameTheirPointer) {
     EXPECT_EQ(p.garment.panels[0].pins[0].notch, 0);
     // Save, load, save: the same bytes; pins only where a panel has them.
     const std::string saved = formatProject(p);
-    EXPECT_EQ(formatProject(parse(saved).value()), saved);
+    EXPECT_EQ(formatProject(parseShirtV2(saved).value()), saved);
     EXPECT_EQ(json::parse(saved)["panels"][1]["pins"], doc["panels"][1]["pins"]);
-    EXPECT_FALSE(json::parse(formatProject(parse(V1).value()))["panels"][0].contains("pins"))
+    EXPECT_FALSE(json::parse(formatProject(parseShirtV2(V1).value()))["panels"][0].contains("pins"))
         << "a project without pins is saved as before";
 
     const auto bad = [&](const std::string& pointer, const json& value) {
         json d = doc;
         d[json::json_pointer(pointer)] = value;
-        return parse(d.dump());
+        return parseShirtV2(d.dump());
     };
     const std::vector<std::tuple<const char*, Result<patterns::Project>, const char*, const char*>>
         cases = {

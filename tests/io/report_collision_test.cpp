@@ -32,7 +32,7 @@ std::string dropScene(const std::string& obstacles) {
 })";
 }
 
-nlohmann::json runAndReport(const std::string& text) {
+nlohmann::json runCollisionReport(const std::string& text) {
     auto loaded = parseScene(text, "drop.json", ".");
     EXPECT_TRUE(loaded.ok()) << loaded.error().toString();
     if (!loaded.ok()) {
@@ -46,8 +46,8 @@ nlohmann::json runAndReport(const std::string& text) {
 }
 
 TEST(ReportCollision, SheetDroppedOnPlane) {
-    const nlohmann::json report =
-        runAndReport(dropScene(R"({"name": "floor", "shape": {"type": "plane", "size": 1}})"));
+    const nlohmann::json report = runCollisionReport(
+        dropScene(R"({"name": "floor", "shape": {"type": "plane", "size": 1}})"));
     ASSERT_TRUE(report.is_object());
     EXPECT_EQ(report.at("finite"), true);
 
@@ -73,7 +73,7 @@ TEST(ReportCollision, SheetDroppedOnPlane) {
 }
 
 TEST(ReportCollision, KeysPresentWithoutCollisionStage) {
-    const nlohmann::json report = runAndReport(dropScene(""));
+    const nlohmann::json report = runCollisionReport(dropScene(""));
     ASSERT_TRUE(report.is_object());
     EXPECT_EQ(report.at("max_penetration_m"), 0.0);
     EXPECT_EQ(report.at("intersecting_triangle_pairs"), 0);

@@ -34,7 +34,7 @@ std::string hangingScene(const std::string& solverKeys) {
 })";
 }
 
-nlohmann::json runAndReport(const std::string& solverKeys) {
+nlohmann::json runSolverReport(const std::string& solverKeys) {
     auto loaded = parseScene(hangingScene(solverKeys), "hanging.json", ".");
     EXPECT_TRUE(loaded.ok()) << loaded.error().toString();
     if (!loaded.ok()) {
@@ -46,7 +46,7 @@ nlohmann::json runAndReport(const std::string& solverKeys) {
 }
 
 TEST(ReportLinearSolver, CappedSolvesAreCountedWithTheirWorstResidual) {
-    const nlohmann::json r = runAndReport(
+    const nlohmann::json r = runSolverReport(
         R"("linear_solver": "block-jacobi", "cg_tolerance": 1e-9, "cg_max_iterations": 2)");
     ASSERT_FALSE(r.empty());
     EXPECT_EQ(r["linear_solver"], "block-jacobi");
@@ -57,7 +57,7 @@ TEST(ReportLinearSolver, CappedSolvesAreCountedWithTheirWorstResidual) {
 }
 
 TEST(ReportLinearSolver, ConvergedSolvesReportNone) {
-    const nlohmann::json r = runAndReport(
+    const nlohmann::json r = runSolverReport(
         R"("linear_solver": "block-ic0", "cg_tolerance": 1e-9, "cg_max_iterations": 2000)");
     ASSERT_FALSE(r.empty());
     EXPECT_EQ(r["linear_solver"], "block-ic0");

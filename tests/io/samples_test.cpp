@@ -9,6 +9,8 @@
 
 #include "sim/simulation.h"
 
+#include "source_paths.h"
+
 #include <gtest/gtest.h>
 
 #include <array>
@@ -21,16 +23,15 @@
 namespace atelier::io {
 namespace {
 
-const std::filesystem::path SAMPLES = std::filesystem::path(ATELIER_SOURCE_DIR) / "assets/garments";
-
 TEST(Samples, MeshAndStartOutsideTheDefaultBody) {
-    if (!std::filesystem::is_directory(SAMPLES)) {
-        GTEST_SKIP() << "no sample garments in " << SAMPLES;
+    if (!std::filesystem::is_directory(test::GARMENTS_DIR)) {
+        GTEST_SKIP() << "no sample garments in " << test::GARMENTS_DIR;
     }
-    const auto body = loadBody(patterns::BodySource{}, SAMPLES, SAMPLES / "default");
+    const auto body =
+        loadBody(patterns::BodySource{}, test::GARMENTS_DIR, test::GARMENTS_DIR / "default");
     ASSERT_TRUE(body.ok()) << body.error().toString();
     int count = 0;
-    for (const auto& entry : std::filesystem::directory_iterator(SAMPLES)) {
+    for (const auto& entry : std::filesystem::directory_iterator(test::GARMENTS_DIR)) {
         if (entry.path().extension() != ".atelier") {
             continue;
         }

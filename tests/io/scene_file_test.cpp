@@ -31,15 +31,15 @@ std::string sceneText(const std::string& extraTop = "", const std::string& extra
 })";
 }
 
-Result<sim::SceneSpec> parse(const std::string& text, const std::filesystem::path& dir = ".",
-                             bool validate = true) {
+Result<sim::SceneSpec> sceneFrom(const std::string& text, const std::filesystem::path& dir = ".",
+                                 bool validate = true) {
     SceneLoadOptions options;
     options.validate = validate;
     return parseScene(text, "scene.json", dir, options);
 }
 
-void expectError(const Result<sim::SceneSpec>& result, const std::string& where,
-                 const std::string& fragment) {
+void expectSceneError(const Result<sim::SceneSpec>& result, const std::string& where,
+                      const std::string& fragment) {
     ASSERT_FALSE(result.ok()) << "expected an error at " << where;
     EXPECT_EQ(result.error().file, "scene.json");
     EXPECT_EQ(result.error().where, where) << result.error().toString();
@@ -87,7 +87,8 @@ TEST(SceneFile, HangingSheetContents) {
 }
 
 TEST(SceneFile, PlacementPinsDrivesAndSettings) {
-    const auto loaded = parse(sceneText(R"(,
+    const auto loaded =
+        sceneFrom(sceneText(R"(,
   "drives": [{"cloth": 0, "corner": "bottom-right", "relative": true,
               "keys": [[0, 0, 0, 0], [1, 0, 2, 0]], "release_time": 1.5},
              {"cloth": "sheet", "edge": "top", "relative": true, "keys": [[0, 1, 0, 0]]}],
@@ -97,10 +98,10 @@ TEST(SceneFile, PlacementPinsDrivesAndSettings) {
   "integrator": {"type": "implicit-euler", "dt": 0.01, "max_dt": 0.02},
   "duration": 2.5,
   "frame_rate": 24)",
-                                        R"(,
+                            R"(,
     "placement": {"origin": [1, 2, 3], "u_axis": [0, 0, 2], "v_axis": [0, 1, 0]},
     "model": "springs", "cross_springs": true)"),
-                              ".", /*validate=*/false); // the loader only, not the engine's checks
+                  ".", /*validate=*/false); // the loader only, not the engine's checks
     ASSERT_TRUE(loaded.ok()) << loaded.error().toString();
     const sim::SceneSpec& scene = loaded.value();
     const sim::ClothSpec& cloth = scene.cloths[0];
@@ -125,7 +126,7 @@ TEST(SceneFile, PlacementPinsDrivesAndSettings) {
 }
 
 TEST(SceneFile, FoldsSetRestAnglesOfInteriorEdges) {
-    const auto loaded = parse(sceneText("", R"(,
+    const auto loaded = sceneFrom(sceneText("", R"(,
     "folds": [{"vertices": [6, 1], "angle_deg": 90}])"));
     ASSERT_TRUE(loaded.ok()) << loaded.error().toString();
     const sim::ClothSpec& cloth = loaded.value().cloths[0];
@@ -139,18 +140,18 @@ TEST(SceneFile, FoldsSetRestAnglesOfInteriorEdges) {
     }
     EXPECT_EQ(folded, 1);
     // A border edge has no fold angle.
-    expectError(parse(sceneText("", R"(,
+    expectSceneError(sceneFrom(sceneText("", R"(,
     "folds": [{"vertices": [0, 1], "angle_deg": 30}])")),
-                "/cloths/0/folds/0/vertices", "not an interior edge");
-    expectError(parse(sceneText("", R"(,
+                     "/cloths/0/folds/0/vertices", "not an interior edge");
+    expectSceneError(sceneFrom(sceneText("", R"(,
     "folds": [{"vertices": [6, 1], "angle_deg": 180}])")),
-                "/cloths/0/folds/0/angle_deg", "between");
+                     "/cloths/0/folds/0/angle_deg", "between");
 }
 
 TEST(SceneFile, MaterialOverridesAndRandomStart) {
-    const auto loaded = parse(sceneText("", R"(,
+    const auto loaded = sceneFrom(sceneText("", R"(,
     "initial": {"type": "random", "amplitude": 0.1, "seed": 3})",
-                                        R"({"preset": "denim", "bending_n_m": 2e-4})"));
+                                            R"({"preset": "denim", "bending_n_m": 2e-4})"));
     ASSERT_TRUE(loaded.ok()) << loaded.error().toString();
     const sim::ClothSpec& cloth = loaded.value().cloths[0];
     EXPECT_EQ(cloth.material.name, "denim");
@@ -170,53 +171,61 @@ TEST(SceneFile, MaterialOverridesAndRandomStart) {
         }
     }
     // Deterministic.
-    const auto again = parse(sceneText("", R"(,
+    const auto again = sceneFrom(sceneText("", R"(,
     "initial": {"type": "random", "amplitude": 0.1, "seed": 3})",
-                                       R"({"preset": "denim", "bending_n_m": 2e-4})"));
+                                           R"({"preset": "denim", "bending_n_m": 2e-4})"));
     ASSERT_TRUE(again.ok());
     EXPECT_EQ(again.value().cloths[0].position, cloth.position);
 }
 
 TEST(SceneFile, ErrorsNameTheJsonPath) {
-    expectError(parse(sceneText(R"(, "duraton": 2)")), "/duraton", "unknown key");
-    expectError(parse(sceneText("", R"(, "bendng": true)")), "/cloths/0/bendng", "unknown key");
-    expectError(parse(sceneText(R"(, "duration": "long")")), "/duration", "expected a number");
-    expectError(parse(sceneText(R"(, "duration": 0)")), "/duration", "positive");
-    expectError(parse(sceneText("", "", R"("demin")")), "/cloths/0/material", "unknown material");
-    expectError(parse(sceneText("", "", R"({"preset": "cotton", "density_kg_per_m2": -1})")),
-                "/cloths/0/material/density_kg_per_m2", "positive");
-    expectError(parse(sceneText("", "", "42")), "/cloths/0/material", "expected a preset name");
-    expectError(parse(sceneText("", R"(, "model": "mass-spring")")), "/cloths/0/model",
-                "unknown model");
-    expectError(parse(sceneText(R"(, "integrator": {"type": "rk5"})")), "/integrator/type",
-                "unknown integrator");
-    expectError(parse(sceneText(R"(, "integrator": {"dt": -1})")), "/integrator/dt", "positive");
-    expectError(parse(sceneText(R"(, "seams": [{"cloth_a": "sheet", "vertex_a": 0,
+    expectSceneError(sceneFrom(sceneText(R"(, "duraton": 2)")), "/duraton", "unknown key");
+    expectSceneError(sceneFrom(sceneText("", R"(, "bendng": true)")), "/cloths/0/bendng",
+                     "unknown key");
+    expectSceneError(sceneFrom(sceneText(R"(, "duration": "long")")), "/duration",
+                     "expected a number");
+    expectSceneError(sceneFrom(sceneText(R"(, "duration": 0)")), "/duration", "positive");
+    expectSceneError(sceneFrom(sceneText("", "", R"("demin")")), "/cloths/0/material",
+                     "unknown material");
+    expectSceneError(
+        sceneFrom(sceneText("", "", R"({"preset": "cotton", "density_kg_per_m2": -1})")),
+        "/cloths/0/material/density_kg_per_m2", "positive");
+    expectSceneError(sceneFrom(sceneText("", "", "42")), "/cloths/0/material",
+                     "expected a preset name");
+    expectSceneError(sceneFrom(sceneText("", R"(, "model": "mass-spring")")), "/cloths/0/model",
+                     "unknown model");
+    expectSceneError(sceneFrom(sceneText(R"(, "integrator": {"type": "rk5"})")), "/integrator/type",
+                     "unknown integrator");
+    expectSceneError(sceneFrom(sceneText(R"(, "integrator": {"dt": -1})")), "/integrator/dt",
+                     "positive");
+    expectSceneError(sceneFrom(sceneText(R"(, "seams": [{"cloth_a": "sheet", "vertex_a": 0,
         "cloth_b": "sheet", "vertex_b": 15}])")),
-                "/seams/0/vertex_b", "out of range");
-    expectError(parse(sceneText(R"(, "drives": [{"cloth": "sheet", "vertex": -1, "keys": []}])")),
-                "/drives/0/vertex", "out of range");
-    expectError(parse(sceneText(R"(, "drives": [{"cloth": "shet", "vertex": 1, "keys": []}])")),
-                "/drives/0/cloth", "no cloth named");
-    expectError(parse(sceneText(R"(, "drives": [{"cloth": 0, "vertex": 1,
+                     "/seams/0/vertex_b", "out of range");
+    expectSceneError(
+        sceneFrom(sceneText(R"(, "drives": [{"cloth": "sheet", "vertex": -1, "keys": []}])")),
+        "/drives/0/vertex", "out of range");
+    expectSceneError(
+        sceneFrom(sceneText(R"(, "drives": [{"cloth": "shet", "vertex": 1, "keys": []}])")),
+        "/drives/0/cloth", "no cloth named");
+    expectSceneError(sceneFrom(sceneText(R"(, "drives": [{"cloth": 0, "vertex": 1,
         "keys": [[0, 0, 0, 0], [0, 1, 1, 1]]}])")),
-                "/drives/0/keys/1/0", "increase");
-    expectError(parse(sceneText(R"(, "gravity": [0, -9.8])")), "/gravity", "3 numbers");
-    expectError(
-        parse(sceneText("", R"(, "placement": {"u_axis": [1, 0, 0], "v_axis": [2, 0, 0]})")),
+                     "/drives/0/keys/1/0", "increase");
+    expectSceneError(sceneFrom(sceneText(R"(, "gravity": [0, -9.8])")), "/gravity", "3 numbers");
+    expectSceneError(
+        sceneFrom(sceneText("", R"(, "placement": {"u_axis": [1, 0, 0], "v_axis": [2, 0, 0]})")),
         "/cloths/0/placement/v_axis", "parallel");
-    expectError(parse(R"({"format": "atelier-scene", "version": 2, "cloths": []})"), "/version",
-                "unsupported version");
-    expectError(parse(R"({"format": "atelier-scene", "version": 1, "cloths": []})"), "/cloths",
-                "at least one cloth");
+    expectSceneError(sceneFrom(R"({"format": "atelier-scene", "version": 2, "cloths": []})"),
+                     "/version", "unsupported version");
+    expectSceneError(sceneFrom(R"({"format": "atelier-scene", "version": 1, "cloths": []})"),
+                     "/cloths", "at least one cloth");
 
     // Pins: a corner of a rectangle, an unknown edge name.
     const std::string pinsReplaced = std::regex_replace(
         sceneText(), std::regex(R"("corner": "top-left")"), R"("corner": "top-middle")");
-    expectError(parse(pinsReplaced), "/pins/0/corner", "unknown corner");
+    expectSceneError(sceneFrom(pinsReplaced), "/pins/0/corner", "unknown corner");
 
     // JSON syntax errors give the line.
-    const auto syntax = parse("{\n  \"format\": \"atelier-scene\",\n  \"version\": 1,,\n}");
+    const auto syntax = sceneFrom("{\n  \"format\": \"atelier-scene\",\n  \"version\": 1,,\n}");
     ASSERT_FALSE(syntax.ok());
     EXPECT_EQ(syntax.error().where.substr(0, 7), "line 3,") << syntax.error().toString();
 }
@@ -232,7 +241,7 @@ TEST(SceneFile, ObjMeshes) {
         std::regex_replace(sceneText(), std::regex(R"(\{"type": "rectangle"[^}]*\})"), obj);
     const std::string withPin =
         std::regex_replace(text, std::regex(R"("corner": "top-left")"), R"("vertex": 2)");
-    const auto loaded = parse(withPin, dir.path());
+    const auto loaded = sceneFrom(withPin, dir.path());
     ASSERT_TRUE(loaded.ok()) << loaded.error().toString();
     const sim::ClothSpec& cloth = loaded.value().cloths[0];
     EXPECT_EQ(cloth.mesh.vertexCount(), 4);
@@ -240,27 +249,27 @@ TEST(SceneFile, ObjMeshes) {
     EXPECT_EQ(cloth.position.row(2), Eigen::RowVector3d(1, 1, 0)); // the OBJ's own positions
 
     // Corners are only for rectangles.
-    expectError(parse(text, dir.path()), "/pins/0/corner", "only for rectangle");
+    expectSceneError(sceneFrom(text, dir.path()), "/pins/0/corner", "only for rectangle");
 
     // A zero-area triangle in the rest shape (collinear UVs).
     dir.write("square.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
                             "vt 0 0\nvt 1 0\nvt 2 0\nvt 0 1\n"
                             "f 1/1 2/2 3/3\nf 1/1 3/3 4/4\n");
-    expectError(parse(withPin, dir.path()), "/cloths/0/mesh", "zero area");
+    expectSceneError(sceneFrom(withPin, dir.path()), "/cloths/0/mesh", "zero area");
 
     // No UVs: no rest shape.
     dir.write("square.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n");
-    expectError(parse(withPin, dir.path()), "/cloths/0/mesh/path", "texture coordinates");
+    expectSceneError(sceneFrom(withPin, dir.path()), "/cloths/0/mesh/path", "texture coordinates");
 
     // A malformed OBJ: the error names the JSON path, the OBJ file and its line.
     dir.write("square.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 7\n");
-    const auto broken = parse(withPin, dir.path());
-    expectError(broken, "/cloths/0/mesh/path", "line 4");
+    const auto broken = sceneFrom(withPin, dir.path());
+    expectSceneError(broken, "/cloths/0/mesh/path", "line 4");
     EXPECT_NE(broken.error().message.find("square.obj"), std::string::npos);
 
     // A missing OBJ file.
     std::filesystem::remove(dir / "square.obj");
-    expectError(parse(withPin, dir.path()), "/cloths/0/mesh/path", "square.obj");
+    expectSceneError(sceneFrom(withPin, dir.path()), "/cloths/0/mesh/path", "square.obj");
 }
 
 TEST(SceneFile, RectangleCorners) {

@@ -1,6 +1,7 @@
 // Pattern curves against closed forms: lengths, arc-length parameters, loop areas.
 
 #include "patterns/curve.h"
+#include "patterns/loops.h"
 
 #include <gtest/gtest.h>
 
@@ -9,19 +10,8 @@
 namespace atelier::patterns {
 namespace {
 
-Segment line(Vec2 a, Vec2 b) {
-    Segment s;
-    s.start = a;
-    s.end = b;
-    return s;
-}
-
-Segment arc(Vec2 a, Vec2 b, double bulge) {
-    Segment s = line(a, b);
-    s.kind = SegmentKind::Arc;
-    s.bulge = bulge;
-    return s;
-}
+using test::arc;
+using test::line;
 
 TEST(Curve, ArcByBulgeIsTheCircleThroughItsEnds) {
     // A quarter circle of radius 2 about the origin, counter-clockwise: bulge tan(π/8).

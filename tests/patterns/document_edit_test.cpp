@@ -261,7 +261,7 @@ TEST(DocumentEdits, FabricsAndTheirPanels) {
 // --- Marks: notches, internal lines, darts, grain -----------------------------------------
 
 /// A document with one 0.3 × 0.4 m rectangle "r" (edges: bottom, right, top, left).
-GarmentDocument rectangle() {
+GarmentDocument rectangleDocument() {
     GarmentDocument d;
     d.materials.push_back({"cotton", {}});
     Panel drawn;
@@ -279,7 +279,7 @@ GarmentDocument rectangle() {
 }
 
 TEST(DocumentMarks, NotchesLinesAndGrainUndoExactly) {
-    GarmentDocument d = rectangle();
+    GarmentDocument d = rectangleDocument();
     const PanelId id = d.panels.front().id;
     const EdgeId bottom = d.panels.front().outline.edges[0].id;
     const std::string start = dumpDocument(d);
@@ -346,7 +346,7 @@ TEST(DocumentMarks, NotchesLinesAndGrainUndoExactly) {
 }
 
 TEST(DocumentMarks, ADartCutsTheEdgeAndIsSewnWhenMeshed) {
-    GarmentDocument d = rectangle();
+    GarmentDocument d = rectangleDocument();
     const PanelId id = d.panels.front().id;
     const EdgeId bottom = d.panels.front().outline.edges[0].id;
     const std::string start = dumpDocument(d);
@@ -393,7 +393,7 @@ TEST(DocumentMarks, ADartCutsTheEdgeAndIsSewnWhenMeshed) {
 }
 
 TEST(DocumentMarks, ADartsWidthAndDepthAreSetUndoably) {
-    GarmentDocument d = rectangle();
+    GarmentDocument d = rectangleDocument();
     const PanelId id = d.panels.front().id;
     auto dart = addDart(d, id, d.panels.front().outline.edges[0].id, 0.5, 0.04, 0.12);
     ASSERT_TRUE(dart.ok()) << dart.error().toString();
@@ -435,7 +435,7 @@ TEST(DocumentMarks, ADartsWidthAndDepthAreSetUndoably) {
 }
 
 TEST(DocumentMarks, RefusedMarksLeaveTheDocumentUntouched) {
-    GarmentDocument d = rectangle();
+    GarmentDocument d = rectangleDocument();
     const PanelId id = d.panels.front().id;
     const EdgeId bottom = d.panels.front().outline.edges[0].id;
     const EdgeId right = d.panels.front().outline.edges[1].id;

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <optional>
 
 namespace atelier::patterns {
@@ -16,8 +17,6 @@ namespace {
 
 using sim::Vec2;
 using sim::Vec3;
-
-constexpr double PI = 3.14159265358979323846;
 
 /// Independent tape: in the plane through `c` with normal `n`, rays from c in 720 directions
 /// each hit the first mesh edge of the section; the convex hull of the hits is the tape.
@@ -47,7 +46,8 @@ double rayTape(const Mannequin& m, const Vec3& c, const Vec3& normal) {
     }
     std::vector<Vec2> hits;
     for (int k = 0; k < 720; ++k) {
-        const Vec2 d(std::cos(2 * PI * k / 720), std::sin(2 * PI * k / 720));
+        const Vec2 d(std::cos(2 * std::numbers::pi * k / 720),
+                     std::sin(2 * std::numbers::pi * k / 720));
         double best = 1e9;
         for (const auto& [a, b] : segments) {
             // Solve a + s (b − a) = t d.

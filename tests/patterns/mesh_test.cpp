@@ -3,6 +3,7 @@
 // and grain-rotated rest shapes; and validation naming each bad case.
 
 #include "patterns/curve.h"
+#include "patterns/loops.h"
 #include "patterns/mesh.h"
 
 #include "sim/mesh/cloth_mesh.h"
@@ -16,25 +17,14 @@
 namespace atelier::patterns {
 namespace {
 
-Segment line(Vec2 a, Vec2 b) {
-    Segment s;
-    s.start = a;
-    s.end = b;
-    return s;
-}
+using test::arc;
+using test::line;
 
 Segment cubic(Vec2 a, Vec2 c1, Vec2 c2, Vec2 b) {
     Segment s = line(a, b);
     s.kind = SegmentKind::Cubic;
     s.control1 = c1;
     s.control2 = c2;
-    return s;
-}
-
-Segment arc(Vec2 a, Vec2 b, double bulge) {
-    Segment s = line(a, b);
-    s.kind = SegmentKind::Arc;
-    s.bulge = bulge;
     return s;
 }
 

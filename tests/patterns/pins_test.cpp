@@ -42,7 +42,7 @@ Project patchProject() {
     return p;
 }
 
-Body capsuleBody() {
+Body frontCapsuleBody() {
     Body body;
     sim::makeCapsuleMesh(0.1, 0.6, 32, body.vertices, body.triangles);
     ArrangementSlot s;
@@ -55,12 +55,12 @@ Body capsuleBody() {
 
 std::unique_ptr<DrapeSession> makeSession(const Project& project) {
     auto session = std::make_unique<DrapeSession>(
-        [](const BodySource&) -> Result<Body> { return capsuleBody(); });
+        [](const BodySource&) -> Result<Body> { return frontCapsuleBody(); });
     session->setProject(project);
     return session;
 }
 
-bool sameBits(const sim::Vec3& a, const sim::Vec3& b) {
+bool samePointBits(const sim::Vec3& a, const sim::Vec3& b) {
     return std::memcmp(a.data(), b.data(), sizeof(double) * 3) == 0;
 }
 
@@ -91,8 +91,8 @@ TEST(Pins, APinnedVertexDoesNotMoveWhileTheClothFalls) {
     const sim::MatX3& end = session->positions();
     ASSERT_TRUE(end.allFinite());
     for (const HeldPin& h : assembled.pins) {
-        EXPECT_TRUE(
-            sameBits(end.row(h.hold.vertex).transpose(), start.row(h.hold.vertex).transpose()));
+        EXPECT_TRUE(samePointBits(end.row(h.hold.vertex).transpose(),
+                                  start.row(h.hold.vertex).transpose()));
     }
     const DrapeFigures f = session->figures();
     EXPECT_EQ(f.pins, 2);
@@ -134,7 +134,7 @@ TEST(Pins, APinMovesToItsPositionAndLetsGoAtItsReleaseTime) {
     const DrapeFigures f = session->figures();
     EXPECT_EQ(f.pins, 1) << "the second pin let go at 0.3 s";
     EXPECT_EQ(f.pinDisplacementMax, 0.0);
-    EXPECT_TRUE(sameBits(session->positions().row(notchVertex).transpose(), target));
+    EXPECT_TRUE(samePointBits(session->positions().row(notchVertex).transpose(), target));
     EXPECT_GT((session->positions().row(released).transpose() - releasedStart).norm(), 0.01)
         << "the released corner falls";
 }
@@ -153,9 +153,9 @@ TEST(Pins, PinningAndUnpinningAVertexOfARunningDrape) {
     const Pin& pin = session->project().garment.panels[0].pins[0];
     EXPECT_EQ(pin.point, Vec2(session->mesh().panels[0].pattern.row(vertex).transpose()));
     ASSERT_TRUE(pin.position.has_value());
-    EXPECT_TRUE(sameBits(*pin.position, held));
+    EXPECT_TRUE(samePointBits(*pin.position, held));
     session->advance(0.2);
-    EXPECT_TRUE(sameBits(session->positions().row(vertex).transpose(), held));
+    EXPECT_TRUE(samePointBits(session->positions().row(vertex).transpose(), held));
     EXPECT_EQ(session->figures().pins, 1);
     EXPECT_EQ(session->figures().pinDisplacementMax, 0.0);
 
@@ -163,7 +163,7 @@ TEST(Pins, PinningAndUnpinningAVertexOfARunningDrape) {
     ASSERT_TRUE(
         session->setMaterial("cotton", session->project().garment.materials[0].material).ok());
     session->advance(0.05);
-    EXPECT_TRUE(sameBits(session->positions().row(vertex).transpose(), held));
+    EXPECT_TRUE(samePointBits(session->positions().row(vertex).transpose(), held));
 
     const auto unpinned = session->unpinVertex(vertex);
     ASSERT_TRUE(unpinned.ok()) << unpinned.error().toString();

@@ -13,7 +13,7 @@ namespace atelier::patterns {
 namespace {
 
 /// A 0.3 × 0.2 m rectangle mesh (two triangles, counter-clockwise) drawn at (1, 2).
-PanelMesh rectangle() {
+PanelMesh rectangleMesh() {
     PanelMesh m;
     m.pattern.resize(4, 2);
     m.pattern << 1.0, 2.0, 1.3, 2.0, 1.3, 2.2, 1.0, 2.2;
@@ -42,7 +42,7 @@ TEST(Placement, CentredRotatedAndOffsetInThePanelPlane) {
     Panel panel;
     panel.placement.offset = Vec2(0.05, -0.1);
     panel.placement.rotation = M_PI / 2;
-    const sim::MatX2 c = placementCoordinates(panel, rectangle());
+    const sim::MatX2 c = placementCoordinates(panel, rectangleMesh());
     // Corner (1, 2) is (−0.15, −0.1) from the centre; rotated 90°: (0.1, −0.15); then offset.
     EXPECT_NEAR(c(0, 0), 0.1 + 0.05, 1e-12);
     EXPECT_NEAR(c(0, 1), -0.15 - 0.1, 1e-12);
@@ -53,7 +53,7 @@ TEST(Placement, BackPanelsAreMirroredAndStayCounterClockwise) {
     panel.side = PanelSide::Back;
     // The mesher gives a Back panel triangles that are counter-clockwise in its mirrored rest
     // shape, i.e. clockwise as drawn.
-    PanelMesh m = rectangle();
+    PanelMesh m = rectangleMesh();
     m.triangles << 0, 2, 1, 0, 3, 2;
     const sim::MatX2 c = placementCoordinates(panel, m);
     EXPECT_NEAR(c(0, 0), 0.15, 1e-12); // the left corner went right
@@ -68,7 +68,7 @@ TEST(Placement, BackPanelsAreMirroredAndStayCounterClockwise) {
 TEST(Placement, WrapsOnTheSlotCylinderAtRadiusPlusClearanceFacingOut) {
     const ArrangementSlot slot = tiltedSlot();
     Panel panel;
-    const PanelMesh m = rectangle();
+    const PanelMesh m = rectangleMesh();
     const double clearance = 0.02;
     const sim::MatX3 x = wrapOnSlot(placementCoordinates(panel, m), slot, clearance);
     for (int i = 0; i < x.rows(); ++i) {

@@ -13,7 +13,7 @@ int labelScale(const SheetOptions& options) {
     return options.cellWidth >= 192 ? 2 : 1;
 }
 
-std::uint8_t toByte(double value) {
+std::uint8_t roundToByte(double value) {
     return static_cast<std::uint8_t>(std::lround(std::clamp(value, 0.0, 255.0)));
 }
 
@@ -50,9 +50,9 @@ io::RgbaImage resizeImage(const io::RgbaImage& image, int width, int height) {
             std::uint8_t* q = out.at(x, y);
             const double count = double(x1 - x0) * double(y1 - y0);
             for (int k = 0; k < 3; ++k) {
-                q[k] = sum[3] > 0 ? toByte(sum[k] / sum[3]) : 0;
+                q[k] = sum[3] > 0 ? roundToByte(sum[k] / sum[3]) : 0;
             }
-            q[3] = toByte(sum[3] / count);
+            q[3] = roundToByte(sum[3] / count);
         }
     }
     return out;

@@ -57,12 +57,12 @@ Result<GLuint> buildProgram(const char* vertexSource, const char* fragmentSource
     return program;
 }
 
-std::uint8_t toByte(float value) {
+std::uint8_t unitToByte(float value) {
     return static_cast<std::uint8_t>(std::lround(std::clamp(value, 0.0f, 1.0f) * 255.0f));
 }
 
 void appendColour(std::vector<std::uint8_t>& out, const Colour& c) {
-    out.insert(out.end(), {toByte(c.r), toByte(c.g), toByte(c.b), toByte(c.a)});
+    out.insert(out.end(), {unitToByte(c.r), unitToByte(c.g), unitToByte(c.b), unitToByte(c.a)});
 }
 
 /// Checks a mesh's arrays before upload; the message names the problem.

@@ -15,7 +15,7 @@ namespace atelier::ui {
 
 namespace {
 
-constexpr double MM = 1000.0;
+constexpr double MM_PER_M = 1000.0;
 constexpr double MS = 1000.0;
 
 } // namespace
@@ -63,7 +63,7 @@ void SimulationDock::setSettings(const patterns::DrapeSettings& settings) {
     m_settings = settings;
     const QSignalBlocker a(m_distance);
     const QSignalBlocker b(m_dt);
-    m_distance->setValue(settings.particleDistance * MM);
+    m_distance->setValue(settings.particleDistance * MM_PER_M);
     m_dt->setValue(settings.dt * MS);
 }
 
@@ -79,7 +79,7 @@ void SimulationDock::emitSettings() {
                                                                      : field->value() / scale;
     };
     patterns::DrapeSettings changed = m_settings;
-    changed.particleDistance = pick(m_distance, m_settings.particleDistance, MM);
+    changed.particleDistance = pick(m_distance, m_settings.particleDistance, MM_PER_M);
     changed.dt = pick(m_dt, m_settings.dt, MS);
     if (changed.particleDistance != m_settings.particleDistance || changed.dt != m_settings.dt) {
         Q_EMIT settingsRequested(changed);

@@ -3,13 +3,11 @@
 #include "sim/collision/ccd/edge_edge_ccd.h"
 #include "sim/collision/ccd/point_triangle_ccd.h"
 #include "sim/collision/distance/edge_edge.h"
+#include "sim/collision/triangle_normal.h"
 
 namespace atelier::sim {
 
 namespace {
-
-/// Below this length [m] a direction is taken as undefined.
-constexpr double TINY = 1e-12;
 
 /// Whether a segment parameter is strictly inside (not at an end).
 bool interior(double s) {
@@ -49,10 +47,10 @@ std::optional<EdgeMeeting> edgesMeet(const Vec3& a0, const Vec3& a1, const Vec3&
 }
 
 std::optional<Vec3> edgeSeparation(const Vec3& de, const Vec3& ds, bool near) {
-    if (near && de.dot(ds) > 0 && de.norm() > TINY) {
+    if (near && de.dot(ds) > 0 && de.norm() > TINY_LENGTH) {
         return de.normalized();
     }
-    if (ds.norm() > TINY) {
+    if (ds.norm() > TINY_LENGTH) {
         return ds.normalized();
     }
     return std::nullopt;

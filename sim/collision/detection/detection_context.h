@@ -11,6 +11,11 @@
 
 namespace atelier::sim {
 
+/// The side of a signed distance: +1, −1, or 0 on the surface (a contact's orientation).
+inline signed char signOf(double v) {
+    return v > 0 ? 1 : (v < 0 ? -1 : 0);
+}
+
 struct DetectionContext {
     const SceneSpec& scene;
     const CollisionMesh& mesh;

@@ -15,13 +15,6 @@ namespace atelier::sim {
 
 namespace {
 
-/// Below this length [m] a direction is taken as undefined.
-constexpr double TINY = 1e-12;
-
-signed char signOf(double v) {
-    return v > 0 ? 1 : (v < 0 ? -1 : 0);
-}
-
 /// One detection pass against one obstacle: the feature tests of each candidate pair (cloth
 /// triangle a, obstacle triangle b) and the drivers of the First and Again passes.
 class ObstacleDetector {
@@ -176,7 +169,8 @@ void ObstacleDetector::vertexFace(DetectionChunk& out, const Frame& fr, int p) c
     c.distance = d0;
     if (cp.distance < d0 * m_factor) {
         const Vec3 d = pe - cp.point;
-        c.normal = (d.dot(faceSide) > 0 && cp.distance > TINY) ? Vec3(d / cp.distance) : faceSide;
+        c.normal =
+            (d.dot(faceSide) > 0 && cp.distance > TINY_LENGTH) ? Vec3(d / cp.distance) : faceSide;
         c.obstaclePoint = cp.point;
         c.obstacleVelocity = cp.bary[0] * obstacleVelocity(ob[0]) +
                              cp.bary[1] * obstacleVelocity(ob[1]) +
@@ -252,7 +246,8 @@ void ObstacleDetector::faceVertex(DetectionChunk& out, const Frame& fr, int q) c
         c.weight[i] = bary[static_cast<std::size_t>(i)];
     }
     const Vec3 d = cp.point - q1;
-    c.normal = (near && d.dot(away) > 0 && cp.distance > TINY) ? Vec3(d / cp.distance) : away;
+    c.normal =
+        (near && d.dot(away) > 0 && cp.distance > TINY_LENGTH) ? Vec3(d / cp.distance) : away;
     if (c.normal.squaredNorm() == 0) {
         return;
     }
@@ -298,7 +293,7 @@ void ObstacleDetector::edgeEdge(DetectionChunk& out, int e, int g) const {
             normal += triangleNormal(row(o.x1, f(et[1], 0)), row(o.x1, f(et[1], 1)),
                                      row(o.x1, f(et[1], 2)));
         }
-        if (normal.norm() < TINY) {
+        if (normal.norm() < TINY_LENGTH) {
             return;
         }
         normal.normalize();

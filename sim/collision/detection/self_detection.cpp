@@ -15,10 +15,6 @@ namespace atelier::sim {
 
 namespace {
 
-signed char signOf(double v) {
-    return v > 0 ? 1 : (v < 0 ? -1 : 0);
-}
-
 /// The feature tests of one candidate pair of cloth triangles.
 class SelfDetector {
   public:

@@ -12,9 +12,7 @@ namespace atelier::sim {
 
 namespace {
 
-constexpr double INF = std::numeric_limits<double>::infinity();
-/// Below this length [m] a direction is taken as undefined.
-constexpr double TINY = 1e-12;
+constexpr double INFINITE_DISTANCE = std::numeric_limits<double>::infinity();
 
 /// Angle of triangle (a, b, c) at a [rad].
 double cornerAngle(const Vec3& a, const Vec3& b, const Vec3& c) {
@@ -28,7 +26,7 @@ double signedDistance(const CollisionObstacle& o, const MatX3& xo, const Vec3& p
                       double maxDistance, Vec3* closest, Vec3* outward) {
     const auto [tri, cp] = o.bvh.closestTriangle(xo, p, maxDistance);
     if (tri < 0) {
-        return INF;
+        return INFINITE_DISTANCE;
     }
     const MatX3i& f = o.spec->triangles;
     const int ids[3] = {f(tri, 0), f(tri, 1), f(tri, 2)};
@@ -78,7 +76,8 @@ double signedDistance(const CollisionObstacle& o, const MatX3& xo, const Vec3& p
         *closest = cp.point;
     }
     if (outward != nullptr) {
-        *outward = cp.distance > TINY ? Vec3(sign * d / cp.distance) : Vec3(pseudo.normalized());
+        *outward =
+            cp.distance > TINY_LENGTH ? Vec3(sign * d / cp.distance) : Vec3(pseudo.normalized());
     }
     return sign * cp.distance;
 }
@@ -93,7 +92,7 @@ double vertexSignedDistance(CollisionObstacle& o, int p, const Vec3& xp, double 
             return bound;
         }
     }
-    const double sd = signedDistance(o, o.x1, xp, INF);
+    const double sd = signedDistance(o, o.x1, xp, INFINITE_DISTANCE);
     if (!o.moves) {
         o.distanceValue[i] = sd;
         o.distancePoint.row(static_cast<Eigen::Index>(i)) = xp.transpose();

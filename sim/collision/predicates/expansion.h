@@ -6,8 +6,12 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 
 namespace atelier::sim::exact {
+
+/// Shewchuk's ε: the largest relative rounding error of one operation (2⁻⁵³).
+inline constexpr double HALF_EPS = 0.5 * std::numeric_limits<double>::epsilon();
 
 /// x + y = a + b exactly with x = fl(a + b) (Knuth's Two-Sum; Shewchuk Theorem 7).
 inline void twoSum(double a, double b, double& x, double& y) {

@@ -13,8 +13,7 @@ using exact::Expansion;
 using exact::product;
 using exact::sum;
 
-/// Shewchuk's ε: the largest relative rounding error of one operation (2⁻⁵³).
-constexpr double HALF_EPS = 0.5 * std::numeric_limits<double>::epsilon();
+using exact::HALF_EPS;
 /// Same for orient2d (ibid.: ccwerrboundA = (3 + 16ε)ε).
 constexpr double ORIENT2D_BOUND = (3.0 + 16.0 * HALF_EPS) * HALF_EPS;
 

@@ -15,8 +15,7 @@ using exact::scale;
 using exact::sum;
 using exact::twoSum;
 
-/// Shewchuk's ε: the largest relative rounding error of one operation (2⁻⁵³).
-constexpr double HALF_EPS = 0.5 * std::numeric_limits<double>::epsilon();
+using exact::HALF_EPS;
 /// Relative error bound of the floating-point orient3d determinant, as a multiple of its
 /// permanent (Shewchuk 1997, "Adaptive Precision Floating-Point Arithmetic and Fast Robust
 /// Geometric Predicates", §4.3: o3derrboundA = (7 + 56ε)ε).

@@ -2,6 +2,7 @@
 
 #include "sim/collision/response/contact_correction.h"
 #include "sim/collision/response/velocity_correction.h"
+#include "sim/collision/triangle_normal.h"
 
 #include <algorithm>
 
@@ -9,8 +10,6 @@ namespace atelier::sim {
 
 namespace {
 
-/// Below this length [m] a direction is taken as undefined.
-constexpr double TINY = 1e-12;
 /// Contacts whose gap is within this fraction of the contact distance count as touching.
 constexpr double TOUCH = 0.01;
 
@@ -68,8 +67,8 @@ long projectPositions(std::vector<Contact>& contacts, const SceneSpec& scene, Ma
     long active = 0;
     for (Contact& c : contacts) {
         const double gap = c.normal.dot(combination(c, xe) - c.obstaclePoint);
-        c.active = c.active || gap <= c.distance * (1.0 + TOUCH) + TINY;
-        active += c.active || gap <= c.distance * (1.0 + layer) + TINY ? 1 : 0;
+        c.active = c.active || gap <= c.distance * (1.0 + TOUCH) + TINY_LENGTH;
+        active += c.active || gap <= c.distance * (1.0 + layer) + TINY_LENGTH ? 1 : 0;
     }
     return active;
 }
@@ -85,7 +84,7 @@ long correctRedetected(std::vector<Contact>& contacts, std::size_t first, MatX3&
             distribute(c, invMass, w, violation * c.normal, xe);
         }
         c.active = c.distance - c.normal.dot(combination(c, xe) - c.obstaclePoint) >=
-                   -c.distance * TOUCH - TINY;
+                   -c.distance * TOUCH - TINY_LENGTH;
         if (c.active) {
             velocityCorrection(c, invMass, ve, 0.0, true);
             ++active;

@@ -21,7 +21,6 @@
 namespace atelier::sim {
 namespace {
 
-constexpr double PI = std::numbers::pi;
 using Pairs = std::vector<std::pair<int, int>>;
 
 /// A triangle mesh with positions.
@@ -62,7 +61,8 @@ TestMesh crumpledSheet(int n, double jitter, std::uint32_t seed) {
     return gridSheet(n, n, [&](int i, int j) {
         const double x = i * h;
         const double y = j * h;
-        const double z = 0.15 * std::sin(3 * PI * x) * std::cos(2 * PI * y);
+        const double z =
+            0.15 * std::sin(3 * std::numbers::pi * x) * std::cos(2 * std::numbers::pi * y);
         return Vec3(Vec3(x, y, z) + jitter * h * Vec3(u(rng), u(rng), u(rng)));
     });
 }
@@ -75,9 +75,9 @@ TestMesh sphereMesh(const Vec3& c, double radius, int rings, int segments) {
     m.x.row(0) = (c + radius * Vec3::UnitZ()).transpose();
     m.x.row(nv - 1) = (c - radius * Vec3::UnitZ()).transpose();
     for (int r = 1; r < rings; ++r) {
-        const double theta = PI * r / rings;
+        const double theta = std::numbers::pi * r / rings;
         for (int s = 0; s < segments; ++s) {
-            const double phi = 2 * PI * s / segments;
+            const double phi = 2 * std::numbers::pi * s / segments;
             const Vec3 d(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
                          std::cos(theta));
             m.x.row(1 + (r - 1) * segments + s) = (c + radius * d).transpose();
@@ -350,7 +350,7 @@ double angleBetween(const Vec3& a, const Vec3& b) {
 
 /// Whether cone `outer` contains cone `inner` (up to `tol` [rad]).
 bool coneContains(const NormalCone& outer, const NormalCone& inner, double tol = 1e-9) {
-    return outer.halfAngle >= PI ||
+    return outer.halfAngle >= std::numbers::pi ||
            angleBetween(outer.axis, inner.axis) + inner.halfAngle <= outer.halfAngle + tol;
 }
 
@@ -527,7 +527,8 @@ TEST(MergeCones, ContainsBothAndIsTightForRandomCones) {
         } else if (theta + a.halfAngle <= b.halfAngle) {
             EXPECT_EQ(m.halfAngle, b.halfAngle);
         } else {
-            EXPECT_NEAR(m.halfAngle, std::min(PI, 0.5 * (a.halfAngle + b.halfAngle + theta)),
+            EXPECT_NEAR(m.halfAngle,
+                        std::min(std::numbers::pi, 0.5 * (a.halfAngle + b.halfAngle + theta)),
                         5e-12);
         }
         EXPECT_TRUE(std::isfinite(m.halfAngle));
@@ -541,12 +542,14 @@ TEST(MergeCones, SpecialCases) {
     EXPECT_EQ(same.halfAngle, 0.0);
     EXPECT_EQ(same.axis, Vec3::UnitZ());
     const NormalCone opposite = mergeCones(up, down);
-    EXPECT_GE(opposite.halfAngle, PI / 2); // never below: the default culling would cull it
-    EXPECT_NEAR(opposite.halfAngle, PI / 2, 1e-9);
+    EXPECT_GE(opposite.halfAngle,
+              std::numbers::pi / 2); // never below: the default culling would cull it
+    EXPECT_NEAR(opposite.halfAngle, std::numbers::pi / 2, 1e-9);
     EXPECT_NEAR(opposite.axis.dot(Vec3::UnitZ()), 0.0, 1e-12);
     EXPECT_GE(mergeCones(NormalCone{Vec3::UnitZ(), 2.0}, NormalCone{-Vec3::UnitZ(), 2.0}).halfAngle,
-              PI);
-    EXPECT_EQ(mergeCones(up, NormalCone{Vec3::UnitX(), PI}).halfAngle, PI);
+              std::numbers::pi);
+    EXPECT_EQ(mergeCones(up, NormalCone{Vec3::UnitX(), std::numbers::pi}).halfAngle,
+              std::numbers::pi);
     // Nearly parallel and nearly opposite axes, equal and unequal half-angles.
     for (const double eps : {1e-14, 1e-10, 1e-6, 1e-3}) {
         for (const double sign : {1.0, -1.0}) {
@@ -563,7 +566,7 @@ TEST(MergeCones, SpecialCases) {
                 // Nearly opposite axes fix the merged axis only to ~1e-15 / sin θ.
                 const double theta = angleBetween(a.axis, b.axis);
                 const double expected =
-                    theta + ha <= hb ? hb : std::min(PI, 0.5 * (ha + hb + theta));
+                    theta + ha <= hb ? hb : std::min(std::numbers::pi, 0.5 * (ha + hb + theta));
                 EXPECT_NEAR(m.halfAngle, expected, 1e-11 + 1e-14 / std::sin(theta));
             }
         }
@@ -752,14 +755,15 @@ TEST(SurfaceBvh, RefitConesContainNormalsAndDegenerateIsUnknown) {
     const auto leaf5 = std::find_if(nodes.begin(), nodes.end(),
                                     [](const SurfaceBvh::Node& n) { return n.triangle == 5; });
     ASSERT_NE(leaf5, nodes.end());
-    EXPECT_EQ(leaf5->cone.halfAngle, PI);
+    EXPECT_EQ(leaf5->cone.halfAngle, std::numbers::pi);
     for (const auto& node : nodes) {
         EXPECT_NEAR(node.cone.axis.norm(), 1.0, 1e-13);
     }
     for (std::size_t n = 0; n < nodes.size(); ++n) {
         for (const int t : patch(bvh, static_cast<int>(n))) {
             if (t == 5) {
-                EXPECT_GE(nodes[n].cone.halfAngle, PI) << "a node with a degenerate triangle";
+                EXPECT_GE(nodes[n].cone.halfAngle, std::numbers::pi)
+                    << "a node with a degenerate triangle";
                 continue;
             }
             for (const MatX3* x : std::array<const MatX3*, 2>{&m.x, &x1}) {

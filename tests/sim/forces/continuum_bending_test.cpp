@@ -13,7 +13,7 @@ namespace {
 
 using test::PlacedCloth;
 
-Material bendingMaterial() {
+Material plateMaterial() {
     Material m;
     m.bending = 2e-4;
     m.damping = 0.02;
@@ -22,7 +22,7 @@ Material bendingMaterial() {
 
 /// An orthotropic fabric: weft 2× warp, bias between.
 Material orthotropic() {
-    Material m = bendingMaterial();
+    Material m = plateMaterial();
     m.bendingWeft = 3e-4;
     m.bendingWarp = 1.5e-4;
     m.bendingBias = 1.8e-4;
@@ -57,7 +57,7 @@ bool interior(const ClothMesh& mesh, int t) {
 
 TEST(BendingRigidity, IsotropicByDefaultAndEveryDirectionGivesItsValue) {
     BendingRigidity r;
-    ASSERT_FALSE(bendingRigidity(bendingMaterial(), r).has_value());
+    ASSERT_FALSE(bendingRigidity(plateMaterial(), r).has_value());
     EXPECT_DOUBLE_EQ(r.weft, 2e-4);
     EXPECT_DOUBLE_EQ(r.warp, 2e-4);
     EXPECT_DOUBLE_EQ(r.twist, 1e-4);
@@ -85,7 +85,7 @@ class ContinuumBendingTest : public ::testing::TestWithParam<Triangulation> {};
 
 TEST_P(ContinuumBendingTest, PassesForceChecks) {
     const PlacedCloth c = test::placeCloth(test::makeTestMesh(GetParam()));
-    for (const Material& m : {bendingMaterial(), orthotropic()}) {
+    for (const Material& m : {plateMaterial(), orthotropic()}) {
         const ContinuumBending model(c.mesh, c.offset, m, VecX(), false);
         test::ForceCheckOptions o;
         o.restTolerance = 1e-14;
@@ -202,7 +202,7 @@ TEST(ContinuumBending, RollsStoreTheContinuumEnergyOnTheGridAlongWeftAndWarp) {
 /// the continuum at 20, 10 and 5 mm, in every direction alike (measured 1.050-1.136 isotropic,
 /// 1.012-1.136 orthotropic); discrete shells stored 1.5-4.5×.
 TEST(ContinuumBending, RollsOnDelaunayMeshesStoreNearTheContinuumInEveryDirection) {
-    for (const Material& m : {bendingMaterial(), orthotropic()}) {
+    for (const Material& m : {plateMaterial(), orthotropic()}) {
         for (const double h : {0.02, 0.01, 0.005}) {
             const ClothMesh mesh = delaunayRectangle(0.2, 0.2, h);
             const ContinuumBending model(mesh, 0, m, VecX(), false);
@@ -217,7 +217,7 @@ TEST(ContinuumBending, RollsOnDelaunayMeshesStoreNearTheContinuumInEveryDirectio
 
 TEST(ContinuumBending, AFabricWithoutBendingBendsNothing) {
     const PlacedCloth c = test::placeCloth(test::makeTestMesh(Triangulation::Regular));
-    Material m = bendingMaterial();
+    Material m = plateMaterial();
     m.bending = 0;
     const ContinuumBending model(c.mesh, c.offset, m, VecX(), false);
     const auto [x, v] = test::randomState(c, 0.03, 0.5, 3);

@@ -16,7 +16,10 @@
 #include <utility>
 #include <vector>
 
-namespace atelier::sim::test {
+namespace atelier::test {
+
+// The engine's types and force models, unqualified as in the engine's own code.
+using namespace atelier::sim;
 
 /// A cloth embedded in a global state with other vertices before and after it, so that
 /// checks also catch a model that ignores its `offset`.
@@ -349,4 +352,4 @@ inline void checkForceModel(const ForceModel& model, const PlacedCloth& c, const
     expectDampingProduct(model, x, v, o.rigidTolerance); // (g)
 }
 
-} // namespace atelier::sim::test
+} // namespace atelier::test

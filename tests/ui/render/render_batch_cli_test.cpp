@@ -18,7 +18,7 @@ namespace {
 using test::CliRun;
 using test::runCli;
 
-std::string q(const std::filesystem::path& p) {
+std::string quoted(const std::filesystem::path& p) {
     return test::inQuotes(p);
 }
 
@@ -92,8 +92,9 @@ class RenderBatchCli : public ::testing::Test {
 };
 
 TEST_F(RenderBatchCli, AFolderGivesPicturesAndASheetAndAFailedItemDoesNotStopTheRest) {
-    const CliRun run = runCli(m_dir, "render-batch " + q(m_dir / "items") + " --out " +
-                                         q(m_dir / "out") + " --views front,back,top --size 64x48");
+    const CliRun run =
+        runCli(m_dir, "render-batch " + quoted(m_dir / "items") + " --out " +
+                          quoted(m_dir / "out") + " --views front,back,top --size 64x48");
     EXPECT_EQ(run.exitCode, 1) << run.stderrText;
     EXPECT_NE(run.stderrText.find("broken.obj"), std::string::npos) << run.stderrText;
     EXPECT_NE(run.stderrText.find("2 items x 3 views"), std::string::npos) << run.stderrText;
@@ -120,10 +121,10 @@ TEST_F(RenderBatchCli, AFolderGivesPicturesAndASheetAndAFailedItemDoesNotStopThe
 
 TEST_F(RenderBatchCli, AListWithCommentsAndColumns) {
     m_dir.write("list.txt", "# the good one only\n\n  items/panels.obj  \n");
-    const CliRun run =
-        runCli(m_dir, "render-batch " + q(m_dir / "list.txt") + " --out " + q(m_dir / "sheet") +
-                          " --views front,left,right,three-quarter --size 40x40 "
-                          "--sheet-columns 2 --background transparent");
+    const CliRun run = runCli(m_dir, "render-batch " + quoted(m_dir / "list.txt") + " --out " +
+                                         quoted(m_dir / "sheet") +
+                                         " --views front,left,right,three-quarter --size 40x40 "
+                                         "--sheet-columns 2 --background transparent");
     ASSERT_EQ(run.exitCode, 0) << run.stderrText;
     const io::RgbaImage front = picture("sheet/panels-front.png");
     EXPECT_EQ(front.at(0, 0)[3], 0) << "the pictures keep the transparent background";
@@ -135,10 +136,10 @@ TEST_F(RenderBatchCli, AListWithCommentsAndColumns) {
 TEST_F(RenderBatchCli, ProjectsAreDrapedFirstAndAMissingOneFails) {
     const std::string skirt = std::string(ATELIER_SOURCE_DIR) + "/assets/garments/skirt.atelier";
     m_dir.write("projects.txt", skirt + "\nmissing.atelier\n");
-    const CliRun run =
-        runCli(m_dir, "render-batch " + q(m_dir / "projects.txt") + " --out " + q(m_dir / "p") +
-                          " --views front --size 48x48 --particle-distance 40 --time-limit 0.02 "
-                          "--threads 1 --overlay seams");
+    const CliRun run = runCli(
+        m_dir, "render-batch " + quoted(m_dir / "projects.txt") + " --out " + quoted(m_dir / "p") +
+                   " --views front --size 48x48 --particle-distance 40 --time-limit 0.02 "
+                   "--threads 1 --overlay seams");
     EXPECT_EQ(run.exitCode, 1) << run.stderrText;
     EXPECT_NE(run.stderrText.find("missing.atelier: the drape failed"), std::string::npos)
         << run.stderrText;
@@ -150,14 +151,15 @@ TEST_F(RenderBatchCli, ProjectsAreDrapedFirstAndAMissingOneFails) {
 
 TEST_F(RenderBatchCli, BadInputExitsWithTwo) {
     m_dir.write("empty.txt", "# nothing\n");
-    const auto out = q(m_dir / "o");
+    const auto out = quoted(m_dir / "o");
     for (const std::string& args :
-         {q(m_dir / "empty.txt") + " --out " + out, q(m_dir / "none.txt") + " --out " + out,
-          q(m_dir / "items") + " --out " + out + " --views front,sideways",
-          q(m_dir / "items") + " --out " + out + " --size 10",
-          q(m_dir / "items") + " --out " + out + " --overlay sparkles",
-          q(m_dir / "items") + " --out " + out + " --sheet-cell 4096 --size 4096x4096 --views " +
-              "front,back,left,right,top"}) {
+         {quoted(m_dir / "empty.txt") + " --out " + out,
+          quoted(m_dir / "none.txt") + " --out " + out,
+          quoted(m_dir / "items") + " --out " + out + " --views front,sideways",
+          quoted(m_dir / "items") + " --out " + out + " --size 10",
+          quoted(m_dir / "items") + " --out " + out + " --overlay sparkles",
+          quoted(m_dir / "items") + " --out " + out +
+              " --sheet-cell 4096 --size 4096x4096 --views " + "front,back,left,right,top"}) {
         const CliRun run = runCli(m_dir, "render-batch " + args);
         EXPECT_EQ(run.exitCode, 2) << args << "\n" << run.stderrText;
     }
@@ -177,8 +179,9 @@ double redShare(const io::RgbaImage& image, int x0, int x1) {
 
 TEST_F(RenderBatchCli, StrainOverlayColoursTheStretchedPanelAndDrawsALegend) {
     const auto out = m_dir / "strain.png";
-    const CliRun run = runCli(m_dir, "render " + q(m_dir / "items/panels.obj") + " --out " +
-                                         q(out) + " --size 256x256 --view front --overlay strain");
+    const CliRun run =
+        runCli(m_dir, "render " + quoted(m_dir / "items/panels.obj") + " --out " + quoted(out) +
+                          " --size 256x256 --view front --overlay strain");
     ASSERT_EQ(run.exitCode, 0) << run.stderrText;
     const io::RgbaImage image = picture("strain.png");
     // Left panel 11% stretched (red beyond the 10% range), right panel at rest (white).
@@ -198,21 +201,21 @@ TEST_F(RenderBatchCli, StrainOverlayColoursTheStretchedPanelAndDrawsALegend) {
     EXPECT_GT(ink, 40);
 
     m_dir.write("plain.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
-    const CliRun noUv = runCli(m_dir, "render " + q(m_dir / "plain.obj") + " --out " +
-                                          q(m_dir / "x.png") + " --overlay strain");
+    const CliRun noUv = runCli(m_dir, "render " + quoted(m_dir / "plain.obj") + " --out " +
+                                          quoted(m_dir / "x.png") + " --overlay strain");
     EXPECT_EQ(noUv.exitCode, 2);
     EXPECT_NE(noUv.stderrText.find("no pattern UVs"), std::string::npos) << noUv.stderrText;
 }
 
 TEST_F(RenderBatchCli, SeamAndContactOverlays) {
     const auto plain = m_dir / "plain.png";
-    ASSERT_EQ(runCli(m_dir, "render " + q(m_dir / "items/panels.obj") + " --out " + q(plain) +
-                                " --size 128x128 --view front")
+    ASSERT_EQ(runCli(m_dir, "render " + quoted(m_dir / "items/panels.obj") + " --out " +
+                                quoted(plain) + " --size 128x128 --view front")
                   .exitCode,
               0);
     const auto seams = m_dir / "seams.png";
-    CliRun run = runCli(m_dir, "render " + q(m_dir / "items/panels.obj") + " --out " + q(seams) +
-                                   " --size 128x128 --view front --overlay seams");
+    CliRun run = runCli(m_dir, "render " + quoted(m_dir / "items/panels.obj") + " --out " +
+                                   quoted(seams) + " --size 128x128 --view front --overlay seams");
     ASSERT_EQ(run.exitCode, 0) << run.stderrText;
     const io::RgbaImage a = picture("plain.png");
     const io::RgbaImage b = picture("seams.png");
@@ -232,15 +235,15 @@ TEST_F(RenderBatchCli, SeamAndContactOverlays) {
     EXPECT_LT(changed, 128 * 12) << "only the seam line changed";
 
     // Contact: the cloth lies 1 mm in front of the box, inside the 4 mm default: amber.
-    run = runCli(m_dir, "render " + q(m_dir / "items/panels.obj") + " --out " +
-                            q(m_dir / "contact.png") +
+    run = runCli(m_dir, "render " + quoted(m_dir / "items/panels.obj") + " --out " +
+                            quoted(m_dir / "contact.png") +
                             " --size 128x128 --view front --overlay contact");
     ASSERT_EQ(run.exitCode, 0) << run.stderrText;
     const io::RgbaImage c = picture("contact.png");
     const std::uint8_t* centre = c.at(64, 64);
     EXPECT_GT(centre[0], centre[2] + 60) << "amber, not the clear grey-blue";
-    run = runCli(m_dir, "render " + q(m_dir / "items/panels.obj") + " --out " +
-                            q(m_dir / "clear.png") +
+    run = runCli(m_dir, "render " + quoted(m_dir / "items/panels.obj") + " --out " +
+                            quoted(m_dir / "clear.png") +
                             " --size 128x128 --view front --overlay contact --contact-thickness "
                             "0.5");
     ASSERT_EQ(run.exitCode, 0) << run.stderrText;
@@ -248,16 +251,16 @@ TEST_F(RenderBatchCli, SeamAndContactOverlays) {
     const std::uint8_t* clear = clearImage.at(64, 64);
     EXPECT_LT(std::abs(clear[0] - clear[2]), 40) << "farther than 0.5 mm: not in contact";
     // 1 mm is above 0.9 mm but within the contact layer over it (25% more): resting, green.
-    run = runCli(m_dir, "render " + q(m_dir / "items/panels.obj") + " --out " +
-                            q(m_dir / "resting.png") +
+    run = runCli(m_dir, "render " + quoted(m_dir / "items/panels.obj") + " --out " +
+                            quoted(m_dir / "resting.png") +
                             " --size 128x128 --view front --overlay contact --contact-thickness "
                             "0.9");
     ASSERT_EQ(run.exitCode, 0) << run.stderrText;
     const io::RgbaImage restingImage = picture("resting.png");
     const std::uint8_t* resting = restingImage.at(64, 64);
     EXPECT_GT(resting[1], resting[0] + 30) << "green";
-    const CliRun noBody = runCli(m_dir, "render " + q(m_dir / "items/broken.obj") + " --out " +
-                                            q(m_dir / "x.png") + " --overlay contact");
+    const CliRun noBody = runCli(m_dir, "render " + quoted(m_dir / "items/broken.obj") + " --out " +
+                                            quoted(m_dir / "x.png") + " --overlay contact");
     EXPECT_EQ(noBody.exitCode, 2);
 }
 
@@ -274,8 +277,8 @@ TEST_F(RenderBatchCli, FramesAreDrawnWithOneCamera) {
     };
     m_dir.write("frames/frame_00000.obj", square(1.0));
     m_dir.write("frames/frame_00001.obj", square(1.2));
-    const CliRun run = runCli(m_dir, "render --frames-dir " + q(m_dir / "frames") + " --out " +
-                                         q(m_dir / "pngs") + " --size 64x64 --view front");
+    const CliRun run = runCli(m_dir, "render --frames-dir " + quoted(m_dir / "frames") + " --out " +
+                                         quoted(m_dir / "pngs") + " --size 64x64 --view front");
     ASSERT_EQ(run.exitCode, 0) << run.stderrText;
     EXPECT_NE(run.stderrText.find("2 frames 64x64 written"), std::string::npos) << run.stderrText;
     EXPECT_NE(run.stderrText.find("(1 by position updates)"), std::string::npos) << run.stderrText;
@@ -295,10 +298,10 @@ TEST_F(RenderBatchCli, FramesAreDrawnWithOneCamera) {
     const double y0 = centreRow(picture("pngs/frame_00000.png"));
     const double y1 = centreRow(picture("pngs/frame_00001.png"));
     EXPECT_GT(y0 - y1, 10) << "the second frame is higher in the picture";
-    EXPECT_EQ(
-        runCli(m_dir, "render --frames-dir " + q(m_dir / "items") + " --out " + q(m_dir / "p2"))
-            .exitCode,
-        2)
+    EXPECT_EQ(runCli(m_dir, "render --frames-dir " + quoted(m_dir / "items") + " --out " +
+                                quoted(m_dir / "p2"))
+                  .exitCode,
+              2)
         << "no frame_NNNNN.obj there";
 }
 

@@ -168,7 +168,7 @@ TEST_F(RenderCli, DrapeWritesAThumbnailAndRenderDrapesAProject) {
 }
 
 /// Pixels of the pinhead's red (render/pin_markers.h): saturated, unlike the panel tones.
-int pinRedPixels(const io::RgbaImage& image) {
+int redPinPixels(const io::RgbaImage& image) {
     int n = 0;
     for (int y = 0; y < image.height; ++y) {
         for (int x = 0; x < image.width; ++x) {
@@ -193,8 +193,8 @@ TEST_F(RenderCli, AProjectsPinsAreDrawnAsPinheadsUnlessTurnedOff) {
     auto image = io::readPng(pinned);
     ASSERT_TRUE(image.ok());
     // Two heads of radius 4 px: about 2 × π × 2.5² of pure red inside their white rings.
-    EXPECT_GE(pinRedPixels(image.value()), 12) << "two pinheads";
-    EXPECT_LE(pinRedPixels(image.value()), 2 * 80);
+    EXPECT_GE(redPinPixels(image.value()), 12) << "two pinheads";
+    EXPECT_LE(redPinPixels(image.value()), 2 * 80);
 
     const auto hidden = m_dir / "hidden.png";
     run = runCli(m_dir, "render " + q(source + "/assets/examples/apron-on-pins.atelier") +
@@ -202,7 +202,7 @@ TEST_F(RenderCli, AProjectsPinsAreDrawnAsPinheadsUnlessTurnedOff) {
     ASSERT_EQ(run.exitCode, 0) << run.stderrText;
     image = io::readPng(hidden);
     ASSERT_TRUE(image.ok());
-    EXPECT_EQ(pinRedPixels(image.value()), 0);
+    EXPECT_EQ(redPinPixels(image.value()), 0);
 
     const auto unpinned = m_dir / "unpinned.png";
     run = runCli(m_dir, "render " + q(source + "/assets/garments/skirt.atelier") + " --out " +
@@ -210,7 +210,7 @@ TEST_F(RenderCli, AProjectsPinsAreDrawnAsPinheadsUnlessTurnedOff) {
     ASSERT_EQ(run.exitCode, 0) << run.stderrText;
     image = io::readPng(unpinned);
     ASSERT_TRUE(image.ok());
-    EXPECT_EQ(pinRedPixels(image.value()), 0) << "a project without pins has no pinheads";
+    EXPECT_EQ(redPinPixels(image.value()), 0) << "a project without pins has no pinheads";
 }
 
 } // namespace

@@ -49,7 +49,7 @@ using test::openAndWait;
 using test::QuietPrompts;
 using test::waitFor;
 
-const QString GARMENTS = QStringLiteral(ATELIER_SOURCE_DIR "/assets/garments");
+using test::GARMENTS;
 
 /// A window on the skirt, placed, its front panel selected.
 struct SkirtWindow {

@@ -40,7 +40,7 @@
 namespace atelier::ui {
 namespace {
 
-const QString GARMENTS = QStringLiteral(ATELIER_SOURCE_DIR "/assets/garments");
+using test::GARMENTS;
 
 using test::waitFor;
 

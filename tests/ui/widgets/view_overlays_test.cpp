@@ -30,7 +30,7 @@ using test::openAndWait;
 using test::QuietPrompts;
 using test::waitFor;
 
-const QString GARMENTS = QStringLiteral(ATELIER_SOURCE_DIR "/assets/garments");
+using test::GARMENTS;
 
 bool haveEgl() {
     return render::HeadlessContext::create().ok();

@@ -10,6 +10,9 @@
 
 namespace atelier::ui::test {
 
+/// The bundled sample garments (assets/garments).
+inline const QString GARMENTS = QStringLiteral(ATELIER_SOURCE_DIR "/assets/garments");
+
 /// Runs the event loop until `done` or `seconds` have passed; returns done().
 template <class Done> bool waitFor(Done done, double seconds) {
     QElapsedTimer clock;

@@ -43,8 +43,9 @@
 namespace atelier::ui {
 namespace {
 
-const QString GARMENTS = QStringLiteral(ATELIER_SOURCE_DIR "/assets/garments");
+using test::GARMENTS;
 
+using test::openAndWait;
 using test::waitFor;
 
 /// Drags `file` onto the window and drops it there: whether the window took the drag and the
@@ -67,9 +68,9 @@ std::string bytesOf(const QString& path) {
     return out.str();
 }
 
-/// Prompts that never block: errors are collected, unsaved changes get `answer`, recovery
-/// files are restored.
-struct QuietPrompts {
+/// Prompts that never block and record what they were asked: errors are collected, unsaved
+/// changes get `answer`, recovery files are restored.
+struct RecordingPrompts {
     QStringList errors;
     QStringList restoreOffers;
     QMessageBox::StandardButton answer = QMessageBox::Discard;
@@ -86,15 +87,6 @@ struct QuietPrompts {
         window.setPrompts(std::move(p));
     }
 };
-
-/// Opens `file` in `window` and waits until it is placed.
-bool openAndWait(MainWindow& window, const QString& file) {
-    QSignalSpy ready(&window, &MainWindow::projectReady);
-    if (!window.openProject(file)) {
-        return false;
-    }
-    return waitFor([&] { return ready.count() >= 1; }, 120) && window.drape().staticScene();
-}
 
 void sendMouse(QWidget* widget, QEvent::Type type, QPoint at, Qt::MouseButton button,
                Qt::MouseButtons buttons, Qt::KeyboardModifiers modifiers = {}) {
@@ -363,7 +355,7 @@ TEST(Viewport, AltClickPinsTheClothAndUnpinsAPinhead) {
 TEST(MainWindow, UndoOfAPointMoveAndOfAMirrorGivesTheSavedBytesBack) {
     QTemporaryDir dir;
     MainWindow window(GARMENTS);
-    QuietPrompts prompts;
+    RecordingPrompts prompts;
     prompts.install(window);
     window.setRecoveryDirectory(dir.filePath("recovery"));
     window.resize(1000, 600);
@@ -440,7 +432,7 @@ TEST(MainWindow, UndoOfAPointMoveAndOfAMirrorGivesTheSavedBytesBack) {
 TEST(MainWindow, ADoubleClickAddsAPointAndDeleteRemovesIt) {
     QTemporaryDir dir;
     MainWindow window(GARMENTS);
-    QuietPrompts prompts;
+    RecordingPrompts prompts;
     prompts.install(window);
     window.setRecoveryDirectory(dir.filePath("recovery"));
     window.resize(1000, 600);
@@ -481,7 +473,7 @@ TEST(MainWindow, ADoubleClickAddsAPointAndDeleteRemovesIt) {
 TEST(MainWindow, SaveAndOpenRoundTripAndRecentFiles) {
     QTemporaryDir dir;
     MainWindow window(GARMENTS);
-    QuietPrompts prompts;
+    RecordingPrompts prompts;
     prompts.install(window);
     window.setRecoveryDirectory(dir.filePath("recovery"));
     ASSERT_TRUE(openAndWait(window, GARMENTS + "/tshirt.atelier"));
@@ -514,7 +506,7 @@ TEST(MainWindow, AMissingRecentFileIsRemovedWithAMessage) {
     const QString gone = dir.filePath("gone.atelier");
     QSettings().setValue("files/recent", QStringList{gone, kept});
     MainWindow window(GARMENTS);
-    QuietPrompts prompts;
+    RecordingPrompts prompts;
     prompts.install(window);
     window.setRecoveryDirectory(dir.filePath("recovery"));
     EXPECT_FALSE(window.openRecent(gone));
@@ -548,7 +540,7 @@ TEST(MainWindow, WindowGeometryAndSplitterSizesAreRemembered) {
 TEST(MainWindow, UnsavedChangesAreAskedAboutBeforeANewProject) {
     QTemporaryDir dir;
     MainWindow window(GARMENTS);
-    QuietPrompts prompts;
+    RecordingPrompts prompts;
     prompts.install(window);
     window.setRecoveryDirectory(dir.filePath("recovery"));
     ASSERT_TRUE(openAndWait(window, GARMENTS + "/skirt.atelier"));
@@ -576,7 +568,7 @@ TEST(MainWindow, UnsavedChangesAreAskedAboutBeforeANewProject) {
 TEST(MainWindow, ACorruptProjectIsAnErrorAndTheWindowKeepsItsProject) {
     QTemporaryDir dir;
     MainWindow window(GARMENTS);
-    QuietPrompts prompts;
+    RecordingPrompts prompts;
     prompts.install(window);
     window.setRecoveryDirectory(dir.filePath("recovery"));
     ASSERT_TRUE(openAndWait(window, GARMENTS + "/skirt.atelier"));
@@ -611,7 +603,7 @@ TEST(MainWindow, ACorruptProjectIsAnErrorAndTheWindowKeepsItsProject) {
 TEST(MainWindow, ADroppedProjectFileIsOpened) {
     QTemporaryDir dir;
     MainWindow window(GARMENTS);
-    QuietPrompts prompts;
+    RecordingPrompts prompts;
     prompts.install(window);
     window.setRecoveryDirectory(dir.filePath("recovery"));
     window.show();
@@ -635,7 +627,7 @@ TEST(MainWindow, ADroppedProjectFileIsOpened) {
 TEST(MainWindow, ADroppedDxfPatternOpensItsPiecesAsANewProject) {
     QTemporaryDir dir;
     MainWindow window(GARMENTS);
-    QuietPrompts prompts;
+    RecordingPrompts prompts;
     prompts.install(window);
     window.setRecoveryDirectory(dir.filePath("recovery"));
     window.show();
@@ -657,7 +649,7 @@ TEST(MainWindow, ADroppedDxfPatternOpensItsPiecesAsANewProject) {
 TEST(MainWindow, ADroppedBodyMeshBecomesTheBodyUndoably) {
     QTemporaryDir dir;
     MainWindow window(GARMENTS);
-    QuietPrompts prompts;
+    RecordingPrompts prompts;
     prompts.install(window);
     window.setRecoveryDirectory(dir.filePath("recovery"));
     ASSERT_TRUE(openAndWait(window, GARMENTS + "/skirt.atelier"));
@@ -708,7 +700,7 @@ TEST(MainWindow, ADroppedBodyMeshBecomesTheBodyUndoably) {
 /// `recoveryDir`, says "autosaved" once the recovery file is there, and waits to be killed.
 int autosaveChild(const QString& recoveryDir, const QString& project, const QString& expected) {
     MainWindow window(GARMENTS);
-    QuietPrompts prompts;
+    RecordingPrompts prompts;
     prompts.install(window);
     window.setRecoveryDirectory(recoveryDir);
     window.setAutosaveSeconds(1);
@@ -769,7 +761,7 @@ TEST(MainWindow, AutosaveRecoversTheEditsOfAKilledProcess) {
 
     // Start again: the recovery file is newer than the project; it is offered and restored.
     MainWindow window(GARMENTS);
-    QuietPrompts prompts;
+    RecordingPrompts prompts;
     prompts.install(window);
     window.setRecoveryDirectory(recovery);
     QSignalSpy ready(&window, &MainWindow::projectReady);
@@ -785,7 +777,7 @@ TEST(MainWindow, AutosaveRecoversTheEditsOfAKilledProcess) {
     ASSERT_TRUE(window.save());
     EXPECT_TRUE(QDir(recovery).entryList({"*.atelier"}, QDir::Files).isEmpty());
     MainWindow later(GARMENTS);
-    QuietPrompts laterPrompts;
+    RecordingPrompts laterPrompts;
     laterPrompts.install(later);
     later.setRecoveryDirectory(recovery);
     EXPECT_FALSE(later.offerRecovery());
@@ -798,7 +790,7 @@ TEST(MainWindow, TwoWindowsOnOneProjectAutosaveToTwoFilesAndALostOneIsRecovered)
     ASSERT_TRUE(QFile::copy(GARMENTS + "/skirt.atelier", project));
     const QString recovery = dir.filePath("recovery");
     // Two windows on the same file, each renaming the front panel its own way.
-    QuietPrompts prompts[2];
+    RecordingPrompts prompts[2];
     std::unique_ptr<MainWindow> windows[2];
     const char* names[2] = {"front of the first", "front of the second"};
     for (int k = 0; k < 2; ++k) {
@@ -825,7 +817,7 @@ TEST(MainWindow, TwoWindowsOnOneProjectAutosaveToTwoFilesAndALostOneIsRecovered)
     // window is offered its file alone (the first window's is in use) and restores it.
     windows[1].reset();
     MainWindow next(GARMENTS);
-    QuietPrompts nextPrompts;
+    RecordingPrompts nextPrompts;
     nextPrompts.install(next);
     next.setRecoveryDirectory(recovery);
     ASSERT_TRUE(next.offerRecovery());
@@ -871,7 +863,7 @@ TEST(MainWindow, TheProgramKilledAfterAnImportLeavesARecoveryFileThatRestoresIt)
     ASSERT_TRUE(expected.ok());
 
     MainWindow window(GARMENTS);
-    QuietPrompts prompts;
+    RecordingPrompts prompts;
     prompts.install(window);
     window.setRecoveryDirectory(recovery);
     ASSERT_TRUE(window.offerRecovery());
