@@ -2,7 +2,9 @@
 
 #include "io/atomic_file.h"
 #include "io/json_reader.h"
+#include "io/json_text.h"
 #include "io/material_json.h"
+#include "io/project_json.h"
 
 #include "sim/forces/continuum_bending.h"
 
@@ -122,6 +124,27 @@ const MaterialPresets& builtinMaterialPresets() {
         return parsed.ok() ? parsed.value() : MaterialPresets{};
     }();
     return presets;
+}
+
+std::string presetNames(const MaterialPresets& presets) {
+    std::string names;
+    for (const auto& entry : presets) {
+        names += (names.empty() ? "" : ", ") + entry.first;
+    }
+    return names;
+}
+
+std::string formatMaterialPreset(const std::string& name, const sim::Material& material,
+                                 const std::string& description, const std::string& source) {
+    nlohmann::ordered_json preset = nlohmann::ordered_json::object();
+    preset["description"] = description;
+    preset["source"] = source;
+    detail::appendMaterialFields(preset, material);
+    nlohmann::ordered_json root = nlohmann::ordered_json::object();
+    root["format"] = "atelier-fabrics";
+    root["version"] = 1;
+    root["presets"][name] = std::move(preset);
+    return jsonText(root);
 }
 
 } // namespace atelier::io

@@ -31,4 +31,12 @@ Result<MaterialPresets> parseMaterialPresets(std::string_view text, const std::s
 /// The presets of assets/materials/fabrics.json as built into the library (no file access).
 const MaterialPresets& builtinMaterialPresets();
 
+/// The preset names, comma-separated, for a message listing what there is.
+std::string presetNames(const MaterialPresets& presets);
+
+/// The text of a fabric preset file (what loadMaterialPresets reads) holding `material` as the
+/// preset `name`, with its `description` and `source` (where the values come from).
+std::string formatMaterialPreset(const std::string& name, const sim::Material& material,
+                                 const std::string& description, const std::string& source);
+
 } // namespace atelier::io

@@ -418,6 +418,11 @@ ordered_json materialJson(const patterns::GarmentMaterial& material) {
         out["fabric"] = m.name;
         return out;
     }
+    appendMaterialFields(out, m);
+    return out;
+}
+
+void appendMaterialFields(ordered_json& out, const sim::Material& m) {
     out["density_kg_per_m2"] = number(m.density);
     out["stretch_weft_n_per_m"] = number(m.stretchWeft);
     out["stretch_warp_n_per_m"] = number(m.stretchWarp);
@@ -437,7 +442,6 @@ ordered_json materialJson(const patterns::GarmentMaterial& material) {
     out["kinetic_friction"] = number(m.kineticFriction);
     out["plastic_yield_angle_rad"] = number(m.plasticYieldAngle);
     out["plastic_rate_per_s"] = number(m.plasticRate);
-    return out;
 }
 
 ordered_json placementJson(const patterns::Placement& placement) {

@@ -90,6 +90,9 @@ nlohmann::ordered_json pointMm(const patterns::Vec2& p);
 
 nlohmann::ordered_json bodyJson(const patterns::BodySource& source);
 nlohmann::ordered_json materialJson(const patterns::GarmentMaterial& material);
+/// Appends the parameter keys of `material` (material_json.h's, per-direction rigidities only
+/// when set) to `out`.
+void appendMaterialFields(nlohmann::ordered_json& out, const sim::Material& material);
 nlohmann::ordered_json placementJson(const patterns::Placement& placement);
 nlohmann::ordered_json simulationJson(const patterns::DrapeSettings& drape);
 std::string_view sideName(patterns::PanelSide side);

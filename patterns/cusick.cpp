@@ -217,6 +217,7 @@ CusickResult runCusick(const CusickOptions& o) {
         }
     }
     cloth.material = o.material;
+    cloth.bendingModel = o.bendingModel;
     cloth.selfCollision = false; // a Cusick specimen's folds hang apart
     scene.cloths.push_back(cloth);
     // The support stops just under the clamped cloth (clear of the contact distance), as the

@@ -7,6 +7,7 @@
 
 #include "sim/core/types.h"
 #include "sim/material.h"
+#include "sim/scene.h"
 
 #include <atomic>
 #include <string>
@@ -16,6 +17,8 @@ namespace atelier::patterns {
 
 struct CusickOptions {
     sim::Material material;
+    /// Continuum: `material.bending` is the rigidity a cantilever tester measures, on any mesh.
+    sim::BendingModel bendingModel = sim::BendingModel::Hinge;
     double specimenDiameter = 0.30; ///< [m]
     double supportDiameter = 0.18;  ///< the clamping discs [m]
     double particleDistance = 0.01; ///< [m]

@@ -118,9 +118,11 @@ void addCantilever(CLI::App& bench) {
 void addMaterial(CLI::App& bench) {
     auto o = std::make_shared<MaterialBenchOptions>();
     CLI::App* cmd = bench.add_subcommand(
-        "material",
-        "Quasi-static uniaxial tension test of a stretch model on a strip: measured stretch "
-        "stiffness and Poisson ratio against the requested ones (JSON)");
+        "tensile",
+        "Quasi-static uniaxial tension test of a stretch model on a strip cut along the weft, "
+        "the warp or the bias: measured stretch stiffness and Poisson ratio against the "
+        "orthotropic plate's (JSON; also `bench material`)");
+    cmd->alias("material");
     // Names are kept as strings (the transformers of CLI11 print enum values as numbers in
     // their error messages) and converted in the callback.
     auto names = std::make_shared<std::array<std::string, 3>>(
@@ -132,9 +134,9 @@ void addMaterial(CLI::App& bench) {
     cmd->add_option("--mesh", (*names)[1], "Triangulation of the strip")
         ->capture_default_str()
         ->check(CLI::IsMember({"regular", "irregular"}));
-    cmd->add_option("--direction", (*names)[2], "Pull along weft (x) or warp (y)")
+    cmd->add_option("--direction", (*names)[2], "Pull along weft (x), warp (y) or bias (45°)")
         ->capture_default_str()
-        ->check(CLI::IsMember({"weft", "warp"}));
+        ->check(CLI::IsMember({"weft", "warp", "bias"}));
     cmd->add_option("--out,-o", o->out, "JSON output (default: stdout)");
     cmd->add_option("--strain", t.strain, "Imposed strain along the pull [-]")
         ->capture_default_str()
@@ -161,7 +163,9 @@ void addMaterial(CLI::App& bench) {
         o->test.model = *sim::stretchModelFromName((*names)[0]);
         o->test.triangulation = (*names)[1] == "irregular" ? sim::Triangulation::Irregular
                                                            : sim::Triangulation::Regular;
-        o->test.direction = (*names)[2] == "warp" ? PullDirection::Warp : PullDirection::Weft;
+        o->test.direction = (*names)[2] == "warp"   ? PullDirection::Warp
+                            : (*names)[2] == "bias" ? PullDirection::Bias
+                                                    : PullDirection::Weft;
         if (const int code = runMaterialBench(*o); code != EXIT_OK) {
             throw CLI::RuntimeError(code);
         }

@@ -63,12 +63,8 @@ int runCusickBench(const CusickBenchOptions& options) {
     const auto& presets = io::builtinMaterialPresets();
     const auto preset = presets.find(options.fabric);
     if (preset == presets.end()) {
-        std::string names;
-        for (const auto& [name, material] : presets) {
-            names += (names.empty() ? "" : ", ") + name;
-        }
-        std::cerr << "bench cusick: no fabric \"" << options.fabric << "\" (presets: " << names
-                  << ")\n";
+        std::cerr << "bench cusick: no fabric \"" << options.fabric
+                  << "\" (presets: " << io::presetNames(presets) << ")\n";
         return EXIT_BAD_INPUT;
     }
     if (options.starts < 1) {

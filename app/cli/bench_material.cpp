@@ -5,6 +5,8 @@
 #include "io/atomic_file.h"
 #include "io/json_text.h"
 
+#include "patterns/fabric_fit.h"
+
 #include "sim/forces/fem.h"
 #include "sim/forces/springs.h"
 #include "sim/forces/volino.h"
@@ -56,7 +58,15 @@ int nearestAlong(const sim::MatX2& rest, const std::vector<int>& candidates, int
 }
 
 const char* directionName(PullDirection d) {
-    return d == PullDirection::Weft ? "weft" : "warp";
+    switch (d) {
+    case PullDirection::Weft:
+        return "weft";
+    case PullDirection::Warp:
+        return "warp";
+    case PullDirection::Bias:
+        break;
+    }
+    return "bias";
 }
 
 const char* triangulationName(sim::Triangulation t) {
@@ -294,6 +304,18 @@ NewtonState solveEquilibrium(StripEquilibrium& eq, sim::MatX3 x, const TensionTe
 
 } // namespace
 
+patterns::StripResponse orthotropicResponse(const sim::Material& m, PullDirection direction) {
+    switch (direction) {
+    case PullDirection::Weft:
+        return {m.stretchWeft, m.poisson};
+    case PullDirection::Warp:
+        return {m.stretchWarp, m.poisson * m.stretchWarp / m.stretchWeft};
+    case PullDirection::Bias:
+        break;
+    }
+    return patterns::biasTensile(m);
+}
+
 /// Boundary conditions (frictionless grips, in-plane test):
 /// - every vertex is held in z: the strip stays in its plane (no wrinkling or buckling modes);
 /// - the vertices of the fixed edge (pull coordinate 0) are held along the pull at 0, those of
@@ -309,12 +331,13 @@ NewtonState solveEquilibrium(StripEquilibrium& eq, sim::MatX3 x, const TensionTe
 /// between the two lateral-boundary vertices nearest mid-length over the rest width.
 TensionTestResult runTensionTest(const TensionTestOptions& o) {
     TensionTestResult result;
-    const bool weft = o.direction == PullDirection::Weft;
+    // A bias strip is laid out as a weft one whose material frame is turned by 45°.
+    const bool weft = o.direction != PullDirection::Warp;
     const int pull = weft ? 0 : 1; // axis of the pull
     const int side = 1 - pull;     // lateral axis
-    const sim::Material& m = o.material;
-    result.requestedStretch = weft ? m.stretchWeft : m.stretchWarp;
-    result.requestedPoisson = weft ? m.poisson : m.poisson * m.stretchWarp / m.stretchWeft;
+    const patterns::StripResponse requested = orthotropicResponse(o.material, o.direction);
+    result.requestedStretch = requested.stretch;
+    result.requestedPoisson = requested.poisson;
 
     sim::RectangleOptions rect;
     rect.width = weft ? o.length : o.width;
@@ -326,8 +349,13 @@ TensionTestResult runTensionTest(const TensionTestOptions& o) {
     sim::MatX2 rest;
     sim::MatX3i triangles;
     sim::makeRectangle(rect, rest, triangles);
+    sim::MatX2 materialRest = rest; // the pattern's coordinates: weft = x, warp = y
+    if (o.direction == PullDirection::Bias) {
+        const double c = std::sqrt(0.5);
+        materialRest = rest * (sim::Mat2() << c, c, -c, c).finished(); // rows turned by +45°
+    }
     sim::ClothMesh mesh;
-    if (auto e = sim::buildClothMesh(rest, triangles, mesh)) {
+    if (auto e = sim::buildClothMesh(materialRest, triangles, mesh)) {
         result.error = "mesh: " + *e;
         return result;
     }
@@ -372,14 +400,14 @@ int runMaterialBench(const MaterialBenchOptions& options) {
     const TensionTestOptions& o = options.test;
     if (!(o.strain > 0) || !std::isfinite(o.strain) || o.cellsLong < 1 || o.cellsWide < 1 ||
         !(o.length > 0) || !(o.width > 0)) {
-        std::cerr << "error: bench material: need strain > 0, positive size and cell counts\n";
+        std::cerr << "error: bench tensile: need strain > 0, positive size and cell counts\n";
         return EXIT_BAD_INPUT;
     }
     const sim::Material& m = o.material;
     if (!(m.stretchWeft > 0) || !(m.stretchWarp > 0) || !(m.shear > 0) || !(m.poisson >= 0) ||
         !(m.poisson * m.poisson * m.stretchWarp / m.stretchWeft < 1.0) ||
         (o.model == sim::StretchModel::Volino && m.poisson >= 0.5)) {
-        std::cerr << "error: bench material: need positive weft, warp and shear stiffness and "
+        std::cerr << "error: bench tensile: need positive weft, warp and shear stiffness and "
                      "0 <= poisson with nu12*nu21 < 1 (volino: < 0.5)\n";
         return EXIT_BAD_INPUT;
     }
@@ -427,7 +455,7 @@ int runMaterialBench(const MaterialBenchOptions& options) {
 
     char line[256];
     std::snprintf(line, sizeof line,
-                  "bench material: %s %s %s: stretch %.6g N/m (requested %.6g), poisson %.4f "
+                  "bench tensile: %s %s %s: stretch %.6g N/m (requested %.6g), poisson %.4f "
                   "(requested %.4f), %d Newton iterations, residual %.2g",
                   j["model"].get<std::string>().c_str(), triangulationName(o.triangulation),
                   directionName(o.direction), r.measuredStretch, r.requestedStretch,
@@ -440,7 +468,7 @@ int runMaterialBench(const MaterialBenchOptions& options) {
         return EXIT_RUN_FAILED;
     }
     if (!r.converged) {
-        std::cerr << "error: bench material: " << r.error << "\n";
+        std::cerr << "error: bench tensile: " << r.error << "\n";
         return EXIT_RUN_FAILED;
     }
     return EXIT_OK;

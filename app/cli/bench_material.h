@@ -1,7 +1,10 @@
 #pragma once
-/// `atelier-cli bench material`: a quasi-static uniaxial tension test of a stretch model on a
-/// rectangular strip, measuring its effective stretch stiffness and Poisson ratio.
+/// `atelier-cli bench tensile` (also `bench material`): a quasi-static uniaxial tension test of a
+/// stretch model on a rectangular strip cut along the weft, the warp or the bias, measuring its
+/// effective stretch stiffness and Poisson ratio.
 /// Plain C++ (no CLI11): the parsing is in bench_command.cpp.
+
+#include "patterns/fabric_fit.h"
 
 #include "sim/material.h"
 #include "sim/mesh/cloth_mesh.h"
@@ -15,7 +18,13 @@ namespace atelier::app {
 enum class PullDirection {
     Weft, ///< along x
     Warp, ///< along y
+    Bias, ///< at 45° between them: along (1, 1)/√2
 };
+
+/// What an orthotropic plate of `material` (E₁ = stretchWeft, E₂ = stretchWarp, G = shear,
+/// ν₁₂ = poisson) shows in uniaxial tension along `direction`: along the weft E₁ and ν₁₂, along
+/// the warp E₂ and ν₂₁ = ν₁₂·E₂/E₁, on the bias patterns::biasTensile.
+patterns::StripResponse orthotropicResponse(const sim::Material& material, PullDirection direction);
 
 /// Options of the uniaxial tension test.
 struct TensionTestOptions {

@@ -60,5 +60,8 @@ void addAnimateCommand(CLI::App& app);
 /// `atelier-cli import garmentcode SPEC.json --out PROJECT.atelier [--fabric NAME]`
 /// (import_command.cpp).
 void addImportCommand(CLI::App& app);
+/// `atelier-cli fabric fit --density G_M2 --bending-length-weft MM ... --out PRESET.json`
+/// (fabric_command.cpp).
+void addFabricCommand(CLI::App& app);
 
 } // namespace atelier::app

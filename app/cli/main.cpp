@@ -28,6 +28,7 @@ int run(int argc, char** argv) {
     atelier::app::addBatchSummaryCommand(app);
     atelier::app::addExportPatternCommand(app);
     atelier::app::addImportCommand(app);
+    atelier::app::addFabricCommand(app);
     atelier::app::addAnimateCommand(app);
     atelier::app::addLimitsCommand(app);
 

@@ -1,4 +1,4 @@
-/// `atelier-cli bench material` and `bench work-precision`, run as a user would.
+/// `atelier-cli bench tensile` (`bench material`) and `bench work-precision`, run as a user would.
 
 #include "io/temp_dir.h"
 
@@ -40,7 +40,7 @@ MaterialFigures runMaterial(const TempDir& dir, const std::string& model, const 
                             const std::string& extra = "") {
     const auto out = dir / (model + "-" + mesh + ".json");
     const auto log = dir / (model + "-" + mesh + ".log");
-    const int code = runCli("bench material --model " + model + " --mesh " + mesh + " --out \"" +
+    const int code = runCli("bench tensile --model " + model + " --mesh " + mesh + " --out \"" +
                                 out.string() + "\" " + extra,
                             log);
     EXPECT_EQ(code, 0) << readText(log);
@@ -86,6 +86,34 @@ TEST_P(BenchMaterial, FemAlongWarp) {
     EXPECT_LT(std::abs(f.poisson - f.requestedPoisson), 0.03) << f.poisson;
 }
 
+TEST_P(BenchMaterial, FemOnTheBiasIsTheOrthotropicPlateTurnedBy45Degrees) {
+    const TempDir dir;
+    const std::string mesh = GetParam();
+    const MaterialFigures f = runMaterial(
+        dir, "fem", mesh, "--direction bias --weft 3000 --warp 1500 --shear 400 --poisson 0.3");
+    // 1/E45 = (1/E1 + 1/E2 + 1/G - 2 nu12/E1)/4; nu45 = E45 (nu12/(2 E1) - (1/E1 + 1/E2 - 1/G)/4).
+    const double s1 = 1.0 / 3000, s2 = 1.0 / 1500, s6 = 1.0 / 400;
+    const double e45 = 4.0 / (s1 + s2 + s6 - 2 * 0.3 * s1);
+    EXPECT_NEAR(f.requestedStretch, e45, 1e-9);
+    EXPECT_NEAR(f.requestedPoisson, e45 * (0.15 * s1 - 0.25 * (s1 + s2 - s6)), 1e-12);
+    EXPECT_LT(std::abs(f.stretch / f.requestedStretch - 1.0), 0.05) << f.stretch;
+    EXPECT_LT(std::abs(f.poisson - f.requestedPoisson), 0.03) << f.poisson;
+    // Much softer on the bias than along either thread: the shear carries the load.
+    EXPECT_LT(f.stretch, 0.9 * 1500);
+}
+
+TEST_P(BenchMaterial, AnIsotropicPlateIsTheSameOnTheBias) {
+    const TempDir dir;
+    const std::string mesh = GetParam();
+    // G = E / (2 (1 + nu)): isotropic, so E45 = E and nu45 = nu.
+    const MaterialFigures f = runMaterial(
+        dir, "fem", mesh, "--direction bias --weft 2000 --warp 2000 --shear 800 --poisson 0.25");
+    EXPECT_NEAR(f.requestedStretch, 2000, 1e-9);
+    EXPECT_NEAR(f.requestedPoisson, 0.25, 1e-12);
+    EXPECT_LT(std::abs(f.stretch / 2000 - 1.0), 0.05) << f.stretch;
+    EXPECT_LT(std::abs(f.poisson - 0.25), 0.03) << f.poisson;
+}
+
 TEST_P(BenchMaterial, SpringsAndVolinoReportFinitePositiveFigures) {
     const TempDir dir;
     const std::string mesh = GetParam();
@@ -100,7 +128,21 @@ INSTANTIATE_TEST_SUITE_P(Meshes, BenchMaterial, ::testing::Values("regular", "ir
 
 TEST(BenchMaterialCli, RejectsAnUnknownModel) {
     const TempDir dir;
-    EXPECT_EQ(runCli("bench material --model cotton --out x.json", dir / "log"), 2);
+    EXPECT_EQ(runCli("bench tensile --model cotton --out x.json", dir / "log"), 2);
+    EXPECT_EQ(runCli("bench tensile --model fem --direction diagonal --out x.json", dir / "log"),
+              2);
+}
+
+TEST(BenchMaterialCli, BenchMaterialIsTheTensileTestsFormerName) {
+    const TempDir dir;
+    const auto out = dir / "m.json";
+    ASSERT_EQ(
+        runCli("bench material --model fem --cells 4 --out \"" + out.string() + "\"", dir / "log"),
+        0)
+        << readText(dir / "log");
+    const auto j = nlohmann::json::parse(readText(out));
+    EXPECT_EQ(j.at("format"), "atelier-bench-material");
+    EXPECT_EQ(j.at("direction"), "weft");
 }
 
 TEST(BenchCantileverCli, WritesTheTableAndThePlot) {
