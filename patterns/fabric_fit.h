@@ -7,7 +7,7 @@
 /// ρgL³/B = 8 (sim/analysis/heavy_elastica.h), so c = L/2 = (B/(ρg))^(1/3), B = ρg·c³.
 /// Tensile stiffness per width at small strain along the weft, the warp and the bias (a strip
 /// at 45°) gives the in-plane shear modulus of the orthotropic plate:
-/// 1/G = 4/E₄₅ − 1/E₁ − 1/E₂ + 2ν₁₂/E₁ (app/cli/bench_material.h, orthotropicResponse).
+/// 1/G = 4/E₄₅ − 1/E₁ − 1/E₂ + 2ν₁₂/E₁ (biasTensile below, inverted).
 
 #include "sim/core/result.h"
 #include "sim/material.h"

@@ -162,15 +162,14 @@ void addFabricCommand(CLI::App& app) {
     cmd->add_option("--out,-o", o->out, "Write the fitted preset file (JSON)");
     cmd->add_option("--description", o->description, "Description of the fitted preset");
     cmd->add_option("--source", o->source, "Where the measurements come from");
-    cmd->add_option("--density", lab.density, "Areal density [g/m^2]")
-        ->each([o](const std::string&) { o->densityGiven = true; });
+    cmd->add_option("--density", lab.density, "Areal density [g/m^2]");
     // Lengths in mm and densities in g/m² as lab reports give them; converted in the callback.
-    const auto length = [&](const char* name, std::optional<double>& value, const char* what) {
-        cmd->add_option(name, value, what);
-    };
-    length("--bending-length-weft", lab.bendingLengthWeft, "Bending length, weft strip [mm]");
-    length("--bending-length-warp", lab.bendingLengthWarp, "Bending length, warp strip [mm]");
-    length("--bending-length-bias", lab.bendingLengthBias, "Bending length, 45° strip [mm]");
+    cmd->add_option("--bending-length-weft", lab.bendingLengthWeft,
+                    "Bending length, weft strip [mm]");
+    cmd->add_option("--bending-length-warp", lab.bendingLengthWarp,
+                    "Bending length, warp strip [mm]");
+    cmd->add_option("--bending-length-bias", lab.bendingLengthBias,
+                    "Bending length, 45° strip [mm]");
     cmd->add_option("--bending-weft", lab.bendingWeft, "Bending rigidity, weft strip [N m]");
     cmd->add_option("--bending-warp", lab.bendingWarp, "Bending rigidity, warp strip [N m]");
     cmd->add_option("--bending-bias", lab.bendingBias, "Bending rigidity, 45° strip [N m]");
@@ -184,8 +183,9 @@ void addFabricCommand(CLI::App& app) {
     cmd->add_option("--particle-distance", *particleMm, "Of the Cusick drape test [mm]")
         ->capture_default_str()
         ->check(CLI::PositiveNumber);
-    cmd->callback([o, noDrape, particleMm] {
+    cmd->callback([o, cmd, noDrape, particleMm] {
         FabricFitOptions run = *o;
+        run.densityGiven = cmd->count("--density") > 0;
         run.drape = !*noDrape;
         run.particleDistance = *particleMm / 1000;
         run.lab.density /= 1000; // g/m² → kg/m²
