@@ -2,6 +2,7 @@
 
 #include "io/atomic_file.h"
 
+#include "sim/mesh/joined_vertices.h"
 #include "sim/mesh/vertex_normals.h"
 
 #include <assimp/Exporter.hpp>
@@ -264,22 +265,9 @@ SurfaceMesh weldedSurface(const sim::MatX3& x, const sim::MatX3i& triangles, con
                           std::vector<ObjGroup> groups,
                           const std::vector<std::pair<int, int>>& welds) {
     const auto n = static_cast<std::size_t>(x.rows());
-    std::vector<int> parent(n);
-    std::iota(parent.begin(), parent.end(), 0);
-    const auto root = [&parent](int v) {
-        while (parent[static_cast<std::size_t>(v)] != v) {
-            v = parent[static_cast<std::size_t>(v)] =
-                parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(v)])];
-        }
-        return v;
-    };
-    for (const auto& [a, b] : welds) {
-        const int ra = root(a);
-        const int rb = root(b);
-        // The smaller index is the root, so that a group's vertex sits where its first
-        // member does in the order.
-        parent[static_cast<std::size_t>(std::max(ra, rb))] = std::min(ra, rb);
-    }
+    // A group's vertex sits where its first member does in the order.
+    const std::vector<int> group = sim::joinedGroups(static_cast<int>(n), welds);
+    const auto root = [&group](int v) { return group[static_cast<std::size_t>(v)]; };
     std::vector<int> compact(n, -1);
     int next = 0;
     for (std::size_t v = 0; v < n; ++v) {

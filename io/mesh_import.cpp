@@ -6,6 +6,8 @@
 #include "io/json_reader.h"
 #include "io/obj.h"
 
+#include "sim/mesh/joined_vertices.h"
+
 #include <assimp/Importer.hpp>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
@@ -321,16 +323,8 @@ EdgeFigures edgeFigures(const sim::MatX3i& triangles, Eigen::Index vertexCount) 
     }
     std::sort(edges.begin(), edges.end());
     EdgeFigures out;
-    // Boundary loops: connected groups of boundary edges (union-find over their vertices).
-    std::vector<int> parent(static_cast<std::size_t>(vertexCount));
-    std::iota(parent.begin(), parent.end(), 0);
-    const auto root = [&parent](int v) {
-        while (parent[static_cast<std::size_t>(v)] != v) {
-            v = parent[static_cast<std::size_t>(v)] =
-                parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(v)])];
-        }
-        return v;
-    };
+    // Boundary loops: connected groups of boundary edges (joined over their vertices).
+    std::vector<std::pair<int, int>> boundary;
     std::vector<char> onBoundary(static_cast<std::size_t>(vertexCount), 0);
     for (std::size_t i = 0; i < edges.size();) {
         std::size_t j = i;
@@ -343,14 +337,16 @@ EdgeFigures edgeFigures(const sim::MatX3i& triangles, Eigen::Index vertexCount) 
             const auto [a, b] = edges[i];
             onBoundary[static_cast<std::size_t>(a)] = 1;
             onBoundary[static_cast<std::size_t>(b)] = 1;
-            parent[static_cast<std::size_t>(root(a))] = root(b);
+            boundary.emplace_back(a, b);
         } else if (uses > 2) {
             ++out.nonManifoldEdges;
         }
         i = j;
     }
+    const std::vector<int> loop = sim::joinedGroups(static_cast<int>(vertexCount), boundary);
     for (Eigen::Index v = 0; v < vertexCount; ++v) {
-        if (onBoundary[static_cast<std::size_t>(v)] != 0 && root(static_cast<int>(v)) == v) {
+        if (onBoundary[static_cast<std::size_t>(v)] != 0 &&
+            loop[static_cast<std::size_t>(v)] == v) {
             ++out.holes;
         }
     }

@@ -151,6 +151,7 @@ patterns::Seam readSeamV1(const json& value, const std::string& ptr) {
     ObjectReader r(value, ptr);
     patterns::Seam seam;
     seam.name = r.string("name", "");
+    detail::seamBending(r, seam.foldAngle, seam.bendingScale);
     for (const char* sideKey : {"a", "b"}) {
         const std::string sp = r.pointerOf(sideKey);
         const json& edges = detail::arrayAt(r.require(sideKey), sp);

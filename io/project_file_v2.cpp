@@ -283,6 +283,7 @@ class DocumentReader {
         doc::Seam seam;
         seam.id = claim<patterns::SeamId>(r, "id");
         seam.name = r.string("name", "");
+        seamBending(r, seam.foldAngle, seam.bendingScale);
         for (const char* sideKey : {"a", "b"}) {
             const std::string sp = r.pointerOf(sideKey);
             const json& ranges = arrayAt(r.require(sideKey), sp);
@@ -406,6 +407,12 @@ ordered_json seamJson(const doc::Seam& seam) {
     ordered_json out = ordered_json::object();
     out["id"] = seam.id.value;
     out["name"] = seam.name;
+    if (seam.foldAngle != 0) { // written when not the default, as a flat seam
+        out["fold_deg"] = deg(seam.foldAngle);
+    }
+    if (seam.bendingScale != 1) {
+        out["bending_scale"] = number(seam.bendingScale);
+    }
     for (const auto* side : {&seam.a, &seam.b}) {
         ordered_json ranges = ordered_json::array();
         for (const doc::SeamRange& range : *side) {

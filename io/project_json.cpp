@@ -106,6 +106,14 @@ double lengthMm(ObjectReader& r, std::string_view key, double fallback, Range ra
     return metresFromMm(r.number(key));
 }
 
+void seamBending(ObjectReader& r, double& foldAngle, double& bendingScale) {
+    foldAngle = angleDeg(r, "fold_deg", foldAngle);
+    if (!(std::abs(foldAngle) < std::numbers::pi)) {
+        r.fail("fold_deg", "a seam's fold angle must be within (-180, 180) degrees");
+    }
+    bendingScale = r.nonNegative("bending_scale", bendingScale);
+}
+
 double angleDeg(ObjectReader& r, std::string_view key, double fallback) {
     const auto deg = r.optionalNumber(key);
     return deg ? radiansFromDeg(*deg) : fallback;
@@ -351,6 +359,7 @@ patterns::DrapeSettings readSimulation(const json& value, const std::string& poi
     d.seamStiffness = r.nonNegative("seam_stiffness_n_per_m2", d.seamStiffness);
     d.seamWeldDistance =
         lengthMm(r, "seam_weld_distance_mm", d.seamWeldDistance, Range::NonNegative);
+    d.seamBending = r.boolean("seam_bending", d.seamBending);
     d.seamReach = lengthMm(r, "seam_reach_mm", d.seamReach, Range::NonNegative);
     d.seamRouteClearance =
         lengthMm(r, "seam_route_clearance_mm", d.seamRouteClearance, Range::NonNegative);
@@ -476,6 +485,9 @@ ordered_json simulationJson(const patterns::DrapeSettings& d) {
     out["seam_time_constant_s"] = number(d.seamTimeConstant);
     out["seam_stiffness_n_per_m2"] = number(d.seamStiffness);
     out["seam_weld_distance_mm"] = mm(d.seamWeldDistance);
+    if (!d.seamBending) { // written when off: files of the default stay as they were
+        out["seam_bending"] = false;
+    }
     out["seam_reach_mm"] = mm(d.seamReach);
     out["seam_route_clearance_mm"] = mm(d.seamRouteClearance);
     out["sewing_time_s"] = number(d.sewingTime);

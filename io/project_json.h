@@ -45,6 +45,9 @@ patterns::Vec2 point(ObjectReader& r, std::string_view key);
 double parameter(ObjectReader& r, std::string_view key, double fallback);
 /// A non-empty string.
 std::string name(ObjectReader& r, std::string_view key);
+/// A seam's bending once sewn (patterns::Seam): "fold_deg" within (−180, 180) into `foldAngle`
+/// [rad] and "bending_scale" ≥ 0 into `bendingScale`, each left as it is when absent.
+void seamBending(ObjectReader& r, double& foldAngle, double& bendingScale);
 
 /// The segment kind named `name` ("line", "quadratic", "cubic", "arc").
 std::optional<patterns::SegmentKind> segmentKindFromName(std::string_view name);

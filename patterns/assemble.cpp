@@ -3,6 +3,8 @@
 #include "patterns/placement.h"
 
 #include "sim/constraints/kinematic.h"
+#include "sim/forces/seam_bending.h"
+#include "sim/mesh/joined_vertices.h"
 
 #include <algorithm>
 #include <cmath>
@@ -113,8 +115,15 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
                                                 [static_cast<std::size_t>(pair[0].vertex)] +
                                          outline[static_cast<std::size_t>(pair[1].panel)]
                                                 [static_cast<std::size_t>(pair[1].vertex)]);
-            scene.seams.push_back({a, b, length});
-            out.pairSeam.push_back(k < mesh.seamOfPair.size() ? mesh.seamOfPair[k] : -1);
+            sim::SeamPair seamPair{a, b, length};
+            const int seam = k < mesh.seamOfPair.size() ? mesh.seamOfPair[k] : -1;
+            if (seam >= 0 && seam < static_cast<int>(garment.seams.size())) {
+                const Seam& s = garment.seams[static_cast<std::size_t>(seam)];
+                seamPair.foldAngle = s.foldAngle;
+                seamPair.bendingScale = s.bendingScale;
+            } // a dart's legs: sewn flat, as stiff as the cloth
+            scene.seams.push_back(seamPair);
+            out.pairSeam.push_back(seam);
         }
     }
     // Implicit Euler: seams as elastics inside the solve (their Jacobian keeps it stable at
@@ -129,6 +138,7 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
     scene.seamReach = settings.seamReach;
     scene.seamStiffnessPerLength = settings.seamStiffness;
     scene.seamWeldDistance = settings.seamWeldDistance;
+    scene.seamBending = settings.seamBending;
     // Seams whose chord crosses the body (a shirt's shoulders, a skirt's hips) are led around
     // it rather than pressed into it.
     scene.seamRouteClearance = settings.seamRouteClearance;
@@ -266,6 +276,79 @@ double seamGapMax(const AssembledGarment& assembled, const sim::MatX3& x) {
         gap = std::max(gap, (x.row(p.a) - x.row(p.b)).norm());
     }
     return gap;
+}
+
+namespace {
+
+/// The median of `values` (reordered); 0 when empty.
+double medianOf(std::vector<double>& values) {
+    if (values.empty()) {
+        return 0.0;
+    }
+    const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+    std::nth_element(values.begin(), mid, values.end());
+    if (values.size() % 2 == 1) {
+        return *mid;
+    }
+    return 0.5 * (*mid + *std::max_element(values.begin(), mid));
+}
+
+/// |θ| of the hinge (x₀, x₁ | x₂, x₃) at positions x [rad].
+double foldAt(const sim::MatX3& x, int a, int b, int c, int d) {
+    return std::abs(sim::dihedralAngle(x.row(a).transpose(), x.row(b).transpose(),
+                                       x.row(c).transpose(), x.row(d).transpose()));
+}
+
+} // namespace
+
+FoldFigures foldFigures(const AssembledGarment& assembled, const sim::MatX3& positions) {
+    const sim::SceneSpec& scene = assembled.scene;
+    const std::vector<int>& offsets = assembled.panelOffsets;
+    // As a single-surface export writes it: each group of sewn vertices at its mean position
+    // (io::weldedSurface), whether welded yet or not.
+    std::vector<std::pair<int, int>> pairs;
+    for (const sim::SeamPair& p : scene.seams) {
+        pairs.emplace_back(p.a, p.b);
+    }
+    const std::vector<int> group = sim::joinedGroups(static_cast<int>(positions.rows()), pairs);
+    sim::MatX3 sum = sim::MatX3::Zero(positions.rows(), 3);
+    sim::VecX members = sim::VecX::Zero(positions.rows());
+    for (int v = 0; v < positions.rows(); ++v) {
+        sum.row(group[static_cast<std::size_t>(v)]) += positions.row(v);
+        members[group[static_cast<std::size_t>(v)]] += 1;
+    }
+    sim::MatX3 x(positions.rows(), 3);
+    for (int v = 0; v < positions.rows(); ++v) {
+        const int g = group[static_cast<std::size_t>(v)];
+        x.row(v) = sum.row(g) / members[g];
+    }
+    const auto panelOf = [&](int v) {
+        return static_cast<int>(std::upper_bound(offsets.begin(), offsets.end(), v) -
+                                offsets.begin()) -
+               1;
+    };
+    std::vector<double> seam, cloth;
+    for (const sim::SeamHinge& h : sim::seamHinges(scene, offsets)) {
+        // A seam inside one panel (a dart, a sleeve's underarm) is the panel's own cloth once
+        // sewn, as the exported surface has it.
+        const bool between = panelOf(h.corners[2]) != panelOf(h.corners[3]);
+        (between ? seam : cloth)
+            .push_back(foldAt(x, h.corners[0], h.corners[1], h.corners[2], h.corners[3]));
+    }
+    for (std::size_t c = 0; c < scene.cloths.size(); ++c) {
+        const auto& hinges = scene.cloths[c].mesh.hinges;
+        const int off = offsets[c];
+        for (int h = 0; h < hinges.rows(); ++h) {
+            cloth.push_back(foldAt(x, off + hinges(h, 0), off + hinges(h, 1), off + hinges(h, 2),
+                                   off + hinges(h, 3)));
+        }
+    }
+    FoldFigures f;
+    f.seamEdges = static_cast<int>(seam.size());
+    f.seamMax = seam.empty() ? 0.0 : *std::max_element(seam.begin(), seam.end());
+    f.seamMedian = medianOf(seam);
+    f.clothMedian = medianOf(cloth);
+    return f;
 }
 
 double areaRatio(const sim::SceneSpec& scene, const sim::MatX3& x) {

@@ -77,4 +77,18 @@ double seamGapMax(const AssembledGarment& assembled, const sim::MatX3& x);
 /// Total triangle area of the cloths at positions x over their total rest area [-].
 double areaRatio(const sim::SceneSpec& scene, const sim::MatX3& x);
 
+/// How sharply a drape folds: the angle between the normals of the two triangles on either side
+/// of an edge (|θ| of `sim::dihedralAngle`, 0 = flat) across the seams between panels and
+/// inside the panels (their own hinges, and those of seams sewn within a panel: darts), at
+/// positions x with each group of sewn vertices at its mean, as a single-surface
+/// export writes it (io::weldedSurface): the same figures come from the exported mesh, counting
+/// the edges whose faces lie in two panels' groups (tools/seam_folds.py).
+struct FoldFigures {
+    int seamEdges = 0;      ///< seam edges between panels
+    double seamMedian = 0;  ///< median fold across them [rad]
+    double seamMax = 0;     ///< largest [rad]
+    double clothMedian = 0; ///< median fold inside the panels [rad]
+};
+FoldFigures foldFigures(const AssembledGarment& assembled, const sim::MatX3& positions);
+
 } // namespace atelier::patterns

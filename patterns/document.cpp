@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <set>
 
 namespace atelier::patterns {
@@ -325,6 +326,8 @@ GarmentDocument fromGarment(const Garment& garment) {
         doc::Seam seam;
         seam.id = d.newId<SeamId>();
         seam.name = s.name;
+        seam.foldAngle = s.foldAngle;
+        seam.bendingScale = s.bendingScale;
         std::transform(s.a.begin(), s.a.end(), std::back_inserter(seam.a), range);
         std::transform(s.b.begin(), s.b.end(), std::back_inserter(seam.b), range);
         d.seams.push_back(std::move(seam));
@@ -388,6 +391,8 @@ Garment toGarment(const GarmentDocument& d) {
     for (const doc::Seam& s : d.seams) {
         Seam seam;
         seam.name = s.name;
+        seam.foldAngle = s.foldAngle;
+        seam.bendingScale = s.bendingScale;
         std::transform(s.a.begin(), s.a.end(), std::back_inserter(seam.a), range);
         std::transform(s.b.begin(), s.b.end(), std::back_inserter(seam.b), range);
         g.seams.push_back(std::move(seam));
@@ -477,6 +482,11 @@ Result<void> checkDocument(const GarmentDocument& d) {
     for (const doc::Seam& s : d.seams) {
         const std::string w = "seam #" + std::to_string(s.id.value);
         claim(s.id.value, w);
+        if (!(std::abs(s.foldAngle) < std::numbers::pi) || !(s.bendingScale >= 0) ||
+            !std::isfinite(s.bendingScale)) {
+            fail(w, "a seam's fold angle must be within (-pi, pi) rad and its bending scale "
+                    "finite and not negative");
+        }
         for (const auto* side : {&s.a, &s.b}) {
             if (side->empty()) {
                 fail(w, "seam side has no ranges");
@@ -526,6 +536,8 @@ std::string dumpDocument(const GarmentDocument& d) {
         out += "seam";
         appendId(out, s.id.value);
         appendText(out, s.name);
+        appendNumber(out, s.foldAngle);
+        appendNumber(out, s.bendingScale);
         out += '\n';
         for (const auto* side : {&s.a, &s.b}) {
             out += side == &s.a ? "  a" : "  b";

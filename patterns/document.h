@@ -148,6 +148,8 @@ struct Seam {
     std::string name;
     std::vector<SeamRange> a;
     std::vector<SeamRange> b;
+    double foldAngle = 0;    ///< as patterns::Seam::foldAngle [rad]
+    double bendingScale = 1; ///< as patterns::Seam::bendingScale [-]
 };
 
 } // namespace doc

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <set>
 #include <utility>
 
@@ -467,6 +468,28 @@ Result<Edit> reverseSeam(GarmentDocument& d, SeamId seam) {
                       for (doc::SeamRange& r : s->b) {
                           std::swap(r.t0, r.t1);
                       }
+                      return 0U;
+                  });
+}
+
+Result<Edit> setSeamBending(GarmentDocument& d, SeamId seam, double foldAngle,
+                            double bendingScale) {
+    return record(d, "set the bending of seam #" + std::to_string(seam.value), {}, {seam},
+                  [&](GarmentDocument& doc) -> Result<std::uint32_t> {
+                      const std::string where = "seam #" + std::to_string(seam.value);
+                      doc::Seam* s = doc.seam(seam);
+                      if (s == nullptr) {
+                          return editError(where, "no such seam");
+                      }
+                      if (!(std::abs(foldAngle) < std::numbers::pi)) {
+                          return editError(where, "a fold angle must be within (-pi, pi) rad");
+                      }
+                      if (!(bendingScale >= 0) || !std::isfinite(bendingScale)) {
+                          return editError(where,
+                                           "a bending scale must be finite and not negative");
+                      }
+                      s->foldAngle = foldAngle;
+                      s->bendingScale = bendingScale;
                       return 0U;
                   });
 }

@@ -88,6 +88,10 @@ Result<Edit> removeSeam(GarmentDocument& document, SeamId seam);
 
 /// Sews side b the other way round: its ranges in reverse order, each reversed.
 Result<Edit> reverseSeam(GarmentDocument& document, SeamId seam);
+/// Sets how a seam bends once sewn: its rest fold angle [rad] in (−π, π) (0 = flat) and its
+/// rigidity as a multiple of its cloths' (≥ 0; 1 = as the cloth), doc::Seam.
+Result<Edit> setSeamBending(GarmentDocument& document, SeamId seam, double foldAngle,
+                            double bendingScale);
 
 /// Mirrors a panel about the vertical line through the middle of its outline's points: every
 /// point, handle and the grain line; contours are reversed to keep their orientation, so seam

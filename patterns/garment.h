@@ -119,6 +119,13 @@ struct Seam {
     std::string name;
     std::vector<SeamEdge> a;
     std::vector<SeamEdge> b;
+    /// Once sewn, the rest fold angle across the seam [rad], in (−π, π): 0 = flat, the cloth
+    /// running on across it; positive where it turns away from the front of side a (a convex
+    /// edge seen from there, as a box's), sim::SeamPair::foldAngle.
+    double foldAngle = 0;
+    /// Once sewn, the seam's bending rigidity as a multiple of its cloths' (1 = as the cloth
+    /// beside it; a pressed-open seam allowance adds two layers: about 3), ≥ 0.
+    double bendingScale = 1;
 };
 
 /// A named fabric used by panels.

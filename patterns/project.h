@@ -63,6 +63,9 @@ struct DrapeSettings {
     /// docs/decisions/008.
     double seamStiffness = 16000.0;
     double seamWeldDistance = 0.001; ///< a closed seam pair welds below this gap [m]
+    /// Welded seams bend like the cloth beside them (times each seam's bending scale, about its
+    /// fold angle: sim::SceneSpec::seamBending); off, every seam is a free hinge.
+    bool seamBending = true;
     /// Beyond this gap a seam pulls with a constant force (sim::SceneSpec::seamReach): gaps
     /// close at about seamReach/(2τ) [m].
     double seamReach = 0.01;

@@ -31,6 +31,7 @@ void Sewing::begin(sim::Simulation& simulation, const DrapeSettings& settings, d
     m_active = !sewn;
     simulation.setSewingDeadline(deadline);
     simulation.setGravity(!holdsGravity());
+    simulation.setSeamBending(!m_active);
     if (holdsGravity()) {
         simulation.setFrictionScale(settings.sewingFrictionScale);
     } else {
@@ -72,6 +73,7 @@ void Sewing::end(sim::Simulation& simulation) {
     m_active = false;
     simulation.setSewingDeadline(-1);
     simulation.setGravity(true);
+    simulation.setSeamBending(true);
     simulation.setFrictionScale(1.0);
     simulation.setSeamRouting(false);
 }

@@ -2,9 +2,11 @@
 /// The sewing phase of a drape, as the drape session runs it: the seams close around the body
 /// with gravity held and friction lowered, the pull of open seams growing over the closing
 /// time; the phase ends once every pair is welded, or at its deadline, where the pairs still
-/// open are welded where they are; then gravity acts. The engine only obeys the calls
-/// (sim::Simulation::setGravity, setFrictionScale, setSeamReach, setSeamRouting,
-/// setSewingDeadline, weldAllSeams); when they happen is decided here.
+/// open are welded where they are; then gravity acts, and the welded seams bend like their
+/// cloth (held off while sewing: a closed part of a seam pushed flat would hold the rest open).
+/// The engine only obeys the calls (sim::Simulation::setGravity, setSeamBending,
+/// setFrictionScale, setSeamReach, setSeamRouting, setSewingDeadline, weldAllSeams); when they
+/// happen is decided here.
 
 #include "patterns/project.h"
 

@@ -166,6 +166,13 @@ struct SeamPair {
     /// Length of seam the pair stands for (half its neighbours' spacing on each side,
     /// averaged) [m], for SceneSpec::seamStiffnessPerLength; 0 = none.
     double length = 0.0;
+    /// Once welded, the rest fold angle of the seam's hinges at this pair [rad] (0 = flat: the
+    /// cloth runs on across the seam); positive where the seam turns away from the front of the
+    /// cloth on the pair's `a` side (a convex edge seen from that side, `dihedralAngle`).
+    double foldAngle = 0.0;
+    /// Once welded, the seam's bending rigidity as a multiple of its cloths' (1 = as stiff as
+    /// the cloth beside it; a seam allowance pressed open adds two layers: about 3) [-].
+    double bendingScale = 1.0;
 };
 
 struct AirOptions {
@@ -234,6 +241,9 @@ struct SceneSpec {
     /// outside (SeamElastics::setVia), re-chosen every step while routing is on
     /// (Simulation::setSeamRouting) [m]; 0 = off.
     double seamRouteClearance = 0.0;
+    /// Welded seams bend like the cloth beside them: a hinge across every seam edge whose two
+    /// pairs are welded (sim/forces/seam_bending.h). Off, a welded seam is a free hinge.
+    bool seamBending = true;
     /// High damping: purely dissipative velocity damping (A) of every vertex toward the mean
     /// velocity of its neighbours, time constant [s]; 0 = off.
     double highDampingTimeConstant = 0.0;

@@ -6,6 +6,7 @@
 #include "sim/forces/bending.h"
 #include "sim/forces/continuum_bending.h"
 #include "sim/forces/fem.h"
+#include "sim/forces/seam_bending.h"
 #include "sim/forces/springs.h"
 #include "sim/forces/volino.h"
 #include "sim/simulation.h"
@@ -91,6 +92,13 @@ void Simulation::Impl::buildStateAndModels() {
         pinned[static_cast<std::size_t>(p)] = 1;
     }
     welds = SeamWelds(scene.seams, n);
+    if (scene.seamBending && !scene.seams.empty()) {
+        if (auto hinges = SeamBending::build(scene, offsets)) {
+            seamBending = hinges.get();
+            seamBending->followWelds(welds);
+            models.push_back(std::move(hinges));
+        }
+    }
     driveOf.assign(static_cast<std::size_t>(n), -1);
     for (std::size_t d = 0; d < scene.drives.size(); ++d) {
         driveOf[static_cast<std::size_t>(scene.drives[d].vertex)] = static_cast<int>(d);

@@ -8,6 +8,7 @@
 #include "sim/constraints/seam_elastics.h"
 #include "sim/constraints/seam_welds.h"
 #include "sim/core/block_sparse.h"
+#include "sim/forces/seam_bending.h"
 #include "sim/integrators/explicit_rk.h"
 #include "sim/integrators/filtered_cg.h"
 #include "sim/simulation.h"
@@ -43,6 +44,8 @@ class StageTimer {
 };
 
 constexpr double INF = std::numeric_limits<double>::infinity();
+/// The seam hinges grow from nothing to their stiffness over this long once let act [s].
+constexpr double SEAM_BENDING_RAMP = 0.1;
 
 /// A grab (Simulation::grab): the grabbed triangle's vertices follow the target, each by a
 /// tracker-following drive appended to the scene's drives.
@@ -143,6 +146,9 @@ struct Simulation::Impl {
     /// Welds the seam pairs that have closed (all once forced: weldAllSeams or the sewing
     /// deadline reached); returns whether a weld group changed.
     bool weldClosedSeams();
+    /// Switches the seam hinges to follow the welds, or off while held, counting the energy
+    /// they hold when switched on as energy put in.
+    void updateSeamHinges();
     /// Imposed seams (B): each open pair's relative acceleration becomes
     /// \f$ -r/\tau^2 - 2\dot r/\tau \f$, split by mass (momentum conserved). Returns the
     /// power of the corrections [W].
@@ -152,7 +158,11 @@ struct Simulation::Impl {
     void imposeSeamVelocities(double h, MatX3& vEnd) const;
     bool pairOpen(std::size_t k) const { return !welds.welded(k); }
     SeamElastics* seamElastics = nullptr; ///< the seam model when seams are elastic
-    bool seamsRouted = false; ///< some pair has a via point (routing ran this sewing phase)
+    /// The hinges across welded seams (SceneSpec::seamBending), or null.
+    SeamBending* seamBending = nullptr;
+    bool seamBendingHeld = false; ///< Simulation::setSeamBending(false)
+    double seamBendingSince = 0;  ///< time at which the seam hinges were last let act [s]
+    bool seamsRouted = false;     ///< some pair has a via point (routing ran this sewing phase)
     /// Seam routing: re-chooses the via points of the open pairs blocked by an obstacle (see
     /// SceneSpec::seamRouteClearance); energy the moved targets add counts as put in.
     void routeSeams();

@@ -10,6 +10,7 @@
 #include "io/json_text.h"
 #include "io/project_file.h"
 
+#include "patterns/assemble.h"
 #include "patterns/drape_session.h"
 
 #include "sim/core/parallel.h"
@@ -24,6 +25,7 @@
 #include <chrono>
 #include <csignal>
 #include <iostream>
+#include <numbers>
 #include <thread>
 #include <vector>
 
@@ -221,6 +223,11 @@ int runDrapeBench(const DrapeBenchOptions& o) {
     j["linear_solves_unconverged"] = stats.unconvergedSolves;
     j["linear_solve_worst_residual"] = stats.worstRelativeResidual;
     j["seam_gap_max_m"] = f.seamGapMax;
+    const patterns::FoldFigures folds =
+        patterns::foldFigures(session.assembled(), session.simulation()->positions());
+    j["seam_fold_median_deg"] = folds.seamMedian * 180.0 / std::numbers::pi;
+    j["seam_fold_max_deg"] = folds.seamMax * 180.0 / std::numbers::pi;
+    j["cloth_fold_median_deg"] = folds.clothMedian * 180.0 / std::numbers::pi;
     j["intersecting_triangle_pairs"] = session.simulation()->intersectingTrianglePairs();
     j["max_penetration_m"] = stats.maxPenetration;
     j["largest_forced_weld_m"] = session.simulation()->stats().largestForcedWeld;

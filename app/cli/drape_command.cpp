@@ -16,6 +16,7 @@
 #include "io/project_file.h"
 #include "io/report.h"
 
+#include "patterns/assemble.h"
 #include "patterns/drape_session.h"
 
 #include "sim/core/parallel.h"
@@ -29,6 +30,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
@@ -151,6 +153,9 @@ io::ReportFields drapeReportFields(const DrapeOptions& options,
                                    const std::vector<std::string>& warnings, double wallSeconds,
                                    double totalSeconds) {
     const sim::RunStats& stats = session.simulation()->stats();
+    const patterns::FoldFigures folds =
+        patterns::foldFigures(session.assembled(), session.simulation()->positions());
+    const auto degrees = [](double radians) { return radians * 180.0 / std::numbers::pi; };
     const std::string status = end == RunEnd::Cancelled ? "cancelled"
                                : end == RunEnd::Failed  ? "failed"
                                : f.rested               ? "rested"
@@ -170,6 +175,11 @@ io::ReportFields drapeReportFields(const DrapeOptions& options,
         {"threads", static_cast<std::int64_t>(sim::threadCount())},
         {"seam_gap_max_m", f.seamGapMax},
         {"area_ratio", f.areaRatio},
+        // Folds across the seams between panels and inside them (patterns::FoldFigures).
+        {"seam_edges", static_cast<std::int64_t>(folds.seamEdges)},
+        {"seam_fold_median_deg", degrees(folds.seamMedian)},
+        {"seam_fold_max_deg", degrees(folds.seamMax)},
+        {"cloth_fold_median_deg", degrees(folds.clothMedian)},
         {"mesh_min_angle_deg", f.minAngleDeg},
         {"triangles", static_cast<std::int64_t>(f.triangles)},
         {"panels", static_cast<std::int64_t>(session.mesh().panels.size())},

@@ -11,6 +11,9 @@ namespace atelier::sim {
 
 namespace {
 
+/// A hinge's corners may feel |∇θ| up to this many times their rest value (the header's cap).
+constexpr double HINGE_GRADIENT_CAP = 50.0;
+
 /// Forward-mode dual number a + b·ε (ε² = 0) for the Hessian of θ.
 struct Dual {
     double v = 0; ///< value
@@ -145,48 +148,79 @@ bool dihedralAngleHessian(const std::array<Vec3, 4>& x, Eigen::Matrix<double, 12
     return true;
 }
 
-DihedralBending::DihedralBending(const ClothMesh& mesh, int offset, const Material& material,
-                                 const VecX& restAngles, bool plasticity)
-    : m_offset(offset), m_hinges(mesh.hinges), m_weight(mesh.hinges.rows()),
-      m_restAngle(VecX::Zero(mesh.hinges.rows())), m_stiffness(std::max(material.bending, 0.0)),
-      m_damping(std::max(material.damping, 0.0)),
-      m_plasticity(plasticity && material.plasticYieldAngle > 0),
-      m_yieldAngle(material.plasticYieldAngle), m_plasticRate(std::max(material.plasticRate, 0.0)),
-      m_gather(mesh.hinges, offset) {
-    m_gradientCap = VecX::Zero(mesh.hinges.rows());
-    if (restAngles.size() == m_hinges.rows()) {
-        m_restAngle = restAngles;
+void HingeSet::resize(int count) {
+    corners.setZero(count, 4);
+    weight.setZero(count);
+    gradientCap.setZero(count);
+    restAngle.setZero(count);
+    stiffness.setZero(count);
+    damping.setZero(count);
+}
+
+void HingeSet::setRestShape(int h, double edgeSquared, double area0, double area1) {
+    const double areas = std::abs(area0) + std::abs(area1);
+    weight[h] = areas > 0 ? 3.0 * edgeSquared / areas : 0.0;
+    const double edge = std::sqrt(edgeSquared);
+    // |∇θ| at a wing tip is 1/height; allow HINGE_GRADIENT_CAP times the rest value.
+    const double h0 = edge > 0 ? 2.0 * std::abs(area0) / edge : 0.0;
+    const double h1 = edge > 0 ? 2.0 * std::abs(area1) / edge : 0.0;
+    const double hmin = std::min(h0, h1);
+    gradientCap[h] = hmin > 0 ? HINGE_GRADIENT_CAP / hmin : 0.0;
+}
+
+namespace {
+
+/// The hinges of one cloth, shifted to global indices, with its material's k and τ.
+HingeSet clothHinges(const ClothMesh& mesh, int offset, const Material& material,
+                     const VecX& restAngles) {
+    HingeSet set;
+    const int nh = static_cast<int>(mesh.hinges.rows());
+    set.resize(nh);
+    set.corners = mesh.hinges.array() + offset;
+    set.stiffness.setConstant(std::max(material.bending, 0.0));
+    set.damping.setConstant(std::max(material.damping, 0.0));
+    if (restAngles.size() == nh) {
+        set.restAngle = restAngles;
     }
     // Each hinge's triangles: the rest areas come from the pattern coordinates.
-    for (int h = 0; h < m_hinges.rows(); ++h) {
-        const Vec2 p0 = mesh.rest.row(m_hinges(h, 0)).transpose();
-        const Vec2 p1 = mesh.rest.row(m_hinges(h, 1)).transpose();
-        const Vec2 p2 = mesh.rest.row(m_hinges(h, 2)).transpose();
-        const Vec2 p3 = mesh.rest.row(m_hinges(h, 3)).transpose();
-        const double areas = std::abs(signedArea(p0, p1, p2)) + std::abs(signedArea(p1, p0, p3));
-        m_weight[h] = areas > 0 ? 3.0 * (p1 - p0).squaredNorm() / areas : 0.0;
-        // |∇θ| at a wing tip is 1/height; allow GRADIENT_CAP times the rest value.
-        const double e = (p1 - p0).norm();
-        const double h0 = e > 0 ? 2.0 * std::abs(signedArea(p0, p1, p2)) / e : 0.0;
-        const double h1 = e > 0 ? 2.0 * std::abs(signedArea(p1, p0, p3)) / e : 0.0;
-        const double hmin = std::min(h0, h1);
-        m_gradientCap[h] = hmin > 0 ? GRADIENT_CAP / hmin : 0.0;
+    for (int h = 0; h < nh; ++h) {
+        const Vec2 p0 = mesh.rest.row(mesh.hinges(h, 0)).transpose();
+        const Vec2 p1 = mesh.rest.row(mesh.hinges(h, 1)).transpose();
+        const Vec2 p2 = mesh.rest.row(mesh.hinges(h, 2)).transpose();
+        const Vec2 p3 = mesh.rest.row(mesh.hinges(h, 3)).transpose();
+        set.setRestShape(h, (p1 - p0).squaredNorm(), signedArea(p0, p1, p2),
+                         signedArea(p1, p0, p3));
     }
+    return set;
 }
+
+} // namespace
+
+DihedralBending::DihedralBending(const ClothMesh& mesh, int offset, const Material& material,
+                                 const VecX& restAngles, bool plasticity)
+    : DihedralBending(clothHinges(mesh, offset, material, restAngles), "bending") {
+    m_plasticity = plasticity && material.plasticYieldAngle > 0;
+    m_yieldAngle = material.plasticYieldAngle;
+    m_plasticRate = std::max(material.plasticRate, 0.0);
+}
+
+DihedralBending::DihedralBending(HingeSet hinges, std::string_view name)
+    : m_set(std::move(hinges)), m_name(name), m_plasticity(false), m_yieldAngle(0),
+      m_plasticRate(0), m_gather(m_set.corners, 0) {}
 
 double DihedralBending::gradientScale(const std::array<Vec3, 4>& g, int h) const {
     double largest = 0;
     for (const Vec3& ga : g) {
         largest = std::max(largest, ga.norm());
     }
-    const double cap = m_gradientCap[h];
+    const double cap = m_set.gradientCap[h];
     return largest > cap ? cap / largest : 1.0;
 }
 
 std::array<Vec3, 4> DihedralBending::corners(const MatX3& x, int h) const {
     std::array<Vec3, 4> c;
     for (int a = 0; a < 4; ++a) {
-        c[static_cast<std::size_t>(a)] = x.row(m_offset + m_hinges(h, a)).transpose();
+        c[static_cast<std::size_t>(a)] = x.row(m_set.corners(h, a)).transpose();
     }
     return c;
 }
@@ -197,11 +231,14 @@ double DihedralBending::angle(const MatX3& x, int h) const {
 }
 
 void DihedralBending::addForces(const MatX3& x, const MatX3& v, MatX3& f) const {
-    const std::int64_t nh = m_hinges.rows();
+    const std::int64_t nh = m_set.corners.rows();
     MatX3& buffer = m_buffer;
     buffer.setZero(4 * nh, 3);
     parallelFor(nh, [&](std::int64_t hh) {
         const int h = static_cast<int>(hh);
+        if (!active(h)) {
+            return;
+        }
         const auto c = corners(x, h);
         std::array<Vec3, 4> g;
         if (!dihedralAngleGradient(c, g)) {
@@ -214,8 +251,8 @@ void DihedralBending::addForces(const MatX3& x, const MatX3& v, MatX3& f) const 
         }
         const double theta = dihedralAngle(c[0], c[1], c[2], c[3]);
         // dE/dθ = k w sin(θ − θ̄): continuous when the hinge folds through ±π (see header).
-        const double s = -m_stiffness * m_weight[h] * gradientScale(g, h) *
-                         (std::sin(theta - m_restAngle[h]) + m_damping * thetaDot);
+        const double s = -m_set.stiffness[h] * m_set.weight[h] * gradientScale(g, h) *
+                         (std::sin(theta - m_set.restAngle[h]) + m_set.damping[h] * thetaDot);
         for (std::size_t a = 0; a < 4; ++a) {
             buffer.row(4 * hh + static_cast<std::int64_t>(a)) = s * g[a].transpose();
         }
@@ -224,12 +261,14 @@ void DihedralBending::addForces(const MatX3& x, const MatX3& v, MatX3& f) const 
 }
 
 double DihedralBending::energy(const MatX3& x) const {
-    const std::int64_t nh = m_hinges.rows();
+    const std::int64_t nh = m_set.corners.rows();
     VecX w = VecX::Zero(nh);
     parallelFor(nh, [&](std::int64_t hh) {
         const int h = static_cast<int>(hh);
-        const double d = angle(x, h) - m_restAngle[h];
-        w[h] = m_stiffness * m_weight[h] * (1.0 - std::cos(d));
+        if (active(h)) {
+            const double d = angle(x, h) - m_set.restAngle[h];
+            w[h] = m_set.stiffness[h] * m_set.weight[h] * (1.0 - std::cos(d));
+        }
     });
     return w.sum();
 }
@@ -240,7 +279,7 @@ void DihedralBending::jacobianPattern(std::vector<std::pair<int, int>>& pairs) c
 
 void DihedralBending::addJacobian(const MatX3& x, const MatX3& v, double kx, double kv,
                                   JacobianMode mode, BlockSparseMatrix& J) const {
-    const std::int64_t nh = m_hinges.rows();
+    const std::int64_t nh = m_set.corners.rows();
     // Reused between calls and filled in the parallel loop (allocated and zeroed serially up
     // front, 16 blocks per hinge were 28 MB a step for the 10 mm tshirt).
     std::vector<Mat3>& blocks = m_blocks;
@@ -250,7 +289,7 @@ void DihedralBending::addJacobian(const MatX3& x, const MatX3& v, double kx, dou
         const int h = static_cast<int>(hh);
         const auto c = corners(x, h);
         std::array<Vec3, 4> g;
-        if (!dihedralAngleGradient(c, g)) {
+        if (!active(h) || !dihedralAngleGradient(c, g)) {
             for (std::size_t k = 0; k < 16; ++k) {
                 blocks[static_cast<std::size_t>(16 * h) + k].setZero();
             }
@@ -263,22 +302,23 @@ void DihedralBending::addJacobian(const MatX3& x, const MatX3& v, double kx, dou
             grad.segment<3>(3 * static_cast<int>(a)) = g[a];
             vel.segment<3>(3 * static_cast<int>(a)) = cv[a];
         }
-        const double kw = m_stiffness * m_weight[h] * gradientScale(g, h);
+        const double kw = m_set.stiffness[h] * m_set.weight[h] * gradientScale(g, h);
+        const double tau = m_set.damping[h];
         const Eigen::Matrix<double, 12, 12> ggT = grad * grad.transpose();
-        const double d = dihedralAngle(c[0], c[1], c[2], c[3]) - m_restAngle[h];
+        const double d = dihedralAngle(c[0], c[1], c[2], c[3]) - m_set.restAngle[h];
         Eigen::Matrix<double, 12, 12> K;
         if (exact) {
             K = -kw * std::cos(d) * ggT;
             Eigen::Matrix<double, 12, 12> H;
             if (dihedralAngleHessian(c, H)) {
                 const double thetaDot = grad.dot(vel);
-                const double s = std::sin(d) + m_damping * thetaDot;
-                K -= kw * (s * H + m_damping * grad * (H * vel).transpose());
+                const double s = std::sin(d) + tau * thetaDot;
+                K -= kw * (s * H + tau * grad * (H * vel).transpose());
             }
         } else {
             K = -kw * std::max(0.0, std::cos(d)) * ggT;
         }
-        const Eigen::Matrix<double, 12, 12> total = kx * K - (kv * kw * m_damping) * ggT;
+        const Eigen::Matrix<double, 12, 12> total = kx * K - (kv * kw * tau) * ggT;
         for (int a = 0; a < 4; ++a) {
             for (int b = 0; b < 4; ++b) {
                 blocks[static_cast<std::size_t>((4 * h + a) * 4 + b)] =
@@ -291,7 +331,7 @@ void DihedralBending::addJacobian(const MatX3& x, const MatX3& v, double kx, dou
 
 void DihedralBending::acceptStep(const MatX3& x, double dt) {
     if (m_plasticity) {
-        flowRestAngles(m_restAngle, m_yieldAngle, m_plasticRate, dt,
+        flowRestAngles(m_set.restAngle, m_yieldAngle, m_plasticRate, dt,
                        [&](int h) { return angle(x, h); });
     }
 }

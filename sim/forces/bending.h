@@ -8,6 +8,8 @@
 
 #include <array>
 #include <functional>
+#include <string>
+#include <string_view>
 #include <vector>
 
 namespace atelier::sim {
@@ -33,6 +35,23 @@ bool dihedralAngleGradient(const std::array<Vec3, 4>& x, std::array<Vec3, 4>& gr
 /// Hessian ∂²θ/∂x² (12×12, vertex-major blocks) by forward-mode differentiation of the
 /// closed-form gradient: exact to rounding, symmetrised. Returns false (and zero) when degenerate.
 bool dihedralAngleHessian(const std::array<Vec3, 4>& x, Eigen::Matrix<double, 12, 12>& hessian);
+
+/// Hinges over global vertex indices with what each one's energy needs (`DihedralBending`).
+struct HingeSet {
+    using Corners = Eigen::Matrix<int, Eigen::Dynamic, 4, Eigen::RowMajor>;
+    Corners corners;  ///< (|H|×4) global (edge v0, edge v1, opposite 0, opposite 1)
+    VecX weight;      ///< (|H|) w_h = 3|ē|²/(Ā₀ + Ā₁) [-]
+    VecX gradientCap; ///< (|H|) largest |∇θ| a corner may feel [1/m]
+    VecX restAngle;   ///< (|H|) θ̄ [rad]
+    VecX stiffness;   ///< (|H|) k [N·m]
+    VecX damping;     ///< (|H|) τ [s]
+
+    /// Room for `count` hinges, all zero.
+    void resize(int count);
+    /// Sets hinge h's weight and gradient cap from its squared rest edge length `edgeSquared`
+    /// [m²] and the rest areas of its two triangles [m²] (wing heights 2A/|ē|).
+    void setRestShape(int h, double edgeSquared, double area0, double area1);
+};
 
 /// Discrete-shells bending (Grinspun, Hirani, Desbrun & Schröder 2003 "Discrete shells";
 /// Bridson et al. 2003) on every interior edge (hinge) h:
@@ -81,8 +100,12 @@ class DihedralBending : public ForceModel {
     /// [rad] in `dihedralAngle`'s convention, or empty for a flat rest shape.
     DihedralBending(const ClothMesh& mesh, int offset, const Material& material,
                     const VecX& restAngles, bool plasticity);
+    /// Hinges given by global vertex indices, each with its own stiffness and damping (the
+    /// hinges across welded seams, sim/forces/seam_bending.h); no plasticity. `name` is the
+    /// stage name.
+    DihedralBending(HingeSet hinges, std::string_view name);
 
-    std::string_view name() const override { return "bending"; }
+    std::string_view name() const override { return m_name; }
     void addForces(const MatX3& x, const MatX3& v, MatX3& f) const override;
     bool hasEnergy() const override { return true; }
     double energy(const MatX3& x) const override;
@@ -91,29 +114,38 @@ class DihedralBending : public ForceModel {
                      BlockSparseMatrix& J) const override;
     void acceptStep(const MatX3& x, double dt) override;
 
+    int hingeCount() const { return static_cast<int>(m_set.corners.rows()); }
+    /// (|H|×4) global vertex indices of the hinges, in `dihedralAngle`'s order.
+    const HingeSet::Corners& hinges() const { return m_set.corners; }
     /// (|H|) current rest angles θ̄ [rad] (they change with plasticity).
-    const VecX& restAngles() const { return m_restAngle; }
+    const VecX& restAngles() const { return m_set.restAngle; }
     /// (|H|) weights w_h [-] (see the class comment).
-    const VecX& weights() const { return m_weight; }
+    const VecX& weights() const { return m_set.weight; }
     /// Dihedral angle of hinge h at x [rad].
     double angle(const MatX3& x, int h) const;
 
+    /// Which hinges act (non-zero) and which give nothing (zero); empty = all act. The Jacobian
+    /// pattern keeps every hinge, so that switching one on needs no new pattern.
+    void setActive(std::vector<char> active) { m_active = std::move(active); }
+    bool active(int h) const {
+        return m_active.empty() || m_active[static_cast<std::size_t>(h)] != 0;
+    }
+
+  protected:
+    /// The hinges' stiffness k [N·m], for a subclass that changes it between steps.
+    VecX& stiffness() { return m_set.stiffness; }
+
   private:
     std::array<Vec3, 4> corners(const MatX3& x, int h) const;
-
-    int m_offset;
-    Eigen::Matrix<int, Eigen::Dynamic, 4, Eigen::RowMajor> m_hinges; ///< (|H|×4) local
-    /// Force scale that keeps |∇θ| ≤ m_gradientCap[h] (1 when the hinge is not degenerate).
+    /// Force scale that keeps |∇θ| ≤ the hinge's gradient cap (1 when it is not degenerate).
     double gradientScale(const std::array<Vec3, 4>& g, int h) const;
-    VecX m_gradientCap; ///< (|H|) largest |∇θ| a corner may feel [1/m]
-    static constexpr double GRADIENT_CAP = 50.0;
+
+    HingeSet m_set;
+    std::string m_name;
+    std::vector<char> m_active; ///< (|H|) or empty, see setActive
     mutable MatX3 m_buffer; ///< (|H|·4 × 3) per-corner forces; one evaluating thread per model
     mutable std::vector<Mat3>
-        m_blocks;       ///< (|H|·16) Jacobian blocks; one assembling thread per model
-    VecX m_weight;      ///< (|H|) w_h
-    VecX m_restAngle;   ///< (|H|) θ̄ [rad]
-    double m_stiffness; ///< k [N·m]
-    double m_damping;   ///< τ [s]
+        m_blocks; ///< (|H|·16) Jacobian blocks; one assembling thread per model
     bool m_plasticity;
     double m_yieldAngle;  ///< [rad]
     double m_plasticRate; ///< [1/s]

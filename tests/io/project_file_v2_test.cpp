@@ -126,6 +126,32 @@ TEST(ProjectFileV2, AnEditedDocumentRoundTripsWithItsIds) {
     EXPECT_EQ(noNext.value().document.nextId, 501U);
 }
 
+TEST(ProjectFileV2, ASeamsFoldAndBendingScaleRoundTripAndBadValuesNameTheirPath) {
+    json doc = v2Json();
+    EXPECT_FALSE(doc["seams"][0].contains("fold_deg")) << "a flat seam's default is not written";
+    EXPECT_FALSE(doc["seams"][0].contains("bending_scale"));
+    doc["seams"][0]["fold_deg"] = 30;
+    doc["seams"][0]["bending_scale"] = 3;
+    const auto parsed = parseShirtV2(doc.dump());
+    ASSERT_TRUE(parsed.ok()) << parsed.error().toString();
+    EXPECT_NEAR(parsed.value().document.seams[0].foldAngle, std::numbers::pi / 6, 1e-15);
+    EXPECT_EQ(parsed.value().document.seams[0].bendingScale, 3.0);
+    EXPECT_NEAR(parsed.value().garment.seams[0].foldAngle, std::numbers::pi / 6, 1e-15);
+    EXPECT_EQ(parsed.value().garment.seams[0].bendingScale, 3.0);
+    const json again = json::parse(formatProject(parsed.value()));
+    EXPECT_EQ(again["seams"][0]["fold_deg"], 30);
+    EXPECT_EQ(again["seams"][0]["bending_scale"], 3);
+    for (const auto& [key, value] : {std::pair{"fold_deg", 180.0}, {"bending_scale", -1.0}}) {
+        json bad = doc;
+        bad["seams"][0][key] = value;
+        const auto refused = parseShirtV2(bad.dump());
+        ASSERT_FALSE(refused.ok()) << key;
+        EXPECT_NE(refused.error().toString().find(std::string("/seams/0/") + key),
+                  std::string::npos)
+            << refused.error().toString();
+    }
+}
+
 void expectSameMesh(const patterns::GarmentMesh& a, const patterns::GarmentMesh& b) {
     ASSERT_EQ(a.panels.size(), b.panels.size());
     for (std::size_t i = 0; i < a.panels.size(); ++i) {

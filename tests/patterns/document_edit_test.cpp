@@ -524,7 +524,7 @@ struct RandomEditor {
 
     Result<Edit> edit(GarmentDocument& d) {
         const PanelId p = panel(d);
-        switch (pick(22)) {
+        switch (pick(23)) {
         case 0:
             return movePoint(d, p, point(d, p), Vec2(uniform(-0.3, 0.3), uniform(0, 0.6)));
         case 1:
@@ -645,6 +645,8 @@ struct RandomEditor {
                                     : DartId{999999};
             return removeDart(d, p, dart);
         }
+        case 21: // out of range a third of the time
+            return setSeamBending(d, seam(d), uniform(-4, 4), uniform(-1, 5));
         default: {
             Placement placement;
             placement.slot = chance(0.5) ? "torso_front" : "torso_back";

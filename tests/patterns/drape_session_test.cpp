@@ -80,6 +80,12 @@ bool sameBits(const sim::MatX3& a, const sim::MatX3& b) {
     return a.rows() == b.rows() && std::memcmp(a.data(), b.data(), sizeof(double) * a.size()) == 0;
 }
 
+/// Whether a kept panel is where it was: to rounding, as the rebuilt simulation resolves the
+/// contacts it starts in (a vertex at the contact distance may move by 1e-13 m).
+bool samePlace(const sim::MatX3& a, const sim::MatX3& b) {
+    return a.rows() == b.rows() && (a - b).cwiseAbs().maxCoeff() < 1e-9;
+}
+
 /// Rows of panel p in the session's global positions.
 sim::MatX3 panelRows(const DrapeSession& s, std::size_t p) {
     const std::vector<int>& o = s.assembled().panelOffsets;
@@ -372,8 +378,8 @@ TEST(DrapeSession, EditedPanelIsTheOnlyOneMeshedAndPlacedAgain) {
     patch.outline = rectangle(0.12, 0.08);
     ASSERT_TRUE(f.session.setPanel(2, patch).ok());
     EXPECT_EQ(f.session.figures().panelsMeshed, 1);
-    EXPECT_TRUE(sameBits(panelRows(f.session, 0), front));
-    EXPECT_TRUE(sameBits(panelRows(f.session, 1), back));
+    EXPECT_TRUE(samePlace(panelRows(f.session, 0), front));
+    EXPECT_TRUE(samePlace(panelRows(f.session, 1), back));
     EXPECT_NEAR(panelRows(f.session, 2).col(0).maxCoeff() -
                     panelRows(f.session, 2).col(0).minCoeff(),
                 0.12, 0.02)
@@ -389,7 +395,7 @@ TEST(DrapeSession, PlacingOnePanelAgainLeavesTheOthers) {
     const sim::MatX3 front = panelRows(f.session, 0);
     EXPECT_FALSE(sameBits(panelRows(f.session, 1), placedBack)) << "the back has moved";
     ASSERT_TRUE(f.session.placePanel(1, f.session.project().garment.panels[1].placement).ok());
-    EXPECT_TRUE(sameBits(panelRows(f.session, 0), front));
+    EXPECT_TRUE(samePlace(panelRows(f.session, 0), front));
     EXPECT_LT((panelRows(f.session, 1) - placedBack).cwiseAbs().maxCoeff(), 1e-9);
     EXPECT_EQ(f.session.phase(), DrapePhase::Placing);
     EXPECT_EQ(f.session.step(), DrapeStatus::Running);

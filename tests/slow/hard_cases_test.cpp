@@ -79,6 +79,10 @@ TEST_P(HardCase, EndsFiniteBoundedAndSaneWithRk45) {
     scene.integrator.dt = 1e-4;
     scene.integrator.tolerance = 1e-3;
     scene.integrator.maxDt = 1.0 / 60;
+    // Explicit steps on stiff cotton are short: the first 2 s hold every scene's violent part
+    // (drags and releases end by 0.8 s) and time to settle unstretched; the scene's own
+    // integrator runs it to the end.
+    scene.duration = std::min(scene.duration, 2.0);
     runHardScene(scene, GetParam() + " (rk45)");
 }
 

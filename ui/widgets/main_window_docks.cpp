@@ -334,6 +334,13 @@ void MainWindow::buildDocks() {
             return patterns::reverseSeam(d, patterns::SeamId{seam});
         });
     });
+    connect(m_seamDock, &SeamDock::bendingRequested, this,
+            [this](quint32 seam, double foldAngle, double bendingScale) {
+                edit([&](patterns::GarmentDocument& d) {
+                    return patterns::setSeamBending(d, patterns::SeamId{seam}, foldAngle,
+                                                    bendingScale);
+                });
+            });
     connect(m_seamDock, &SeamDock::removeRequested, this, [this](quint32 seam) {
         edit([&](patterns::GarmentDocument& d) {
             return patterns::removeSeam(d, patterns::SeamId{seam});

@@ -3,6 +3,8 @@
 #include "patterns/curve.h"
 
 #include <QComboBox>
+#include <QDoubleSpinBox>
+#include <QFormLayout>
 #include <QHBoxLayout>
 #include <QLabel>
 #include <QPushButton>
@@ -10,6 +12,7 @@
 #include <QVBoxLayout>
 
 #include <cmath>
+#include <numbers>
 
 namespace atelier::ui {
 
@@ -41,6 +44,24 @@ SeamDock::SeamDock(QWidget* parent) : QDockWidget(tr("Seam"), parent) {
     }
     m_mismatch = new QLabel;
     layout->addWidget(m_mismatch);
+    auto* bending = new QFormLayout;
+    m_fold = new QDoubleSpinBox;
+    m_fold->setRange(-179.9, 179.9);
+    m_fold->setDecimals(1);
+    m_fold->setSuffix(QStringLiteral(" °"));
+    m_fold->setToolTip(tr("Once sewn, the seam rests folded by this angle: 0 = flat, the cloth "
+                          "running on across it; positive turns away from side a's front"));
+    m_bendingScale = new QDoubleSpinBox;
+    m_bendingScale->setRange(0, 100);
+    m_bendingScale->setDecimals(2);
+    m_bendingScale->setSingleStep(0.5);
+    m_bendingScale->setPrefix(QStringLiteral("× "));
+    m_bendingScale->setToolTip(tr("Once sewn, the seam's bending rigidity as a multiple of the "
+                                  "cloth's: 1 = as the cloth beside it, about 3 for a seam "
+                                  "allowance pressed open, 0 = a free hinge"));
+    bending->addRow(tr("Fold"), m_fold);
+    bending->addRow(tr("Bending"), m_bendingScale);
+    layout->addLayout(bending);
     auto* buttons = new QHBoxLayout;
     m_reverse = new QPushButton(tr("Reverse"));
     m_reverse->setToolTip(tr("Sew side b the other way round"));
@@ -62,6 +83,17 @@ SeamDock::SeamDock(QWidget* parent) : QDockWidget(tr("Seam"), parent) {
             Q_EMIT removeRequested(m_seam.value);
         }
     });
+    for (QDoubleSpinBox* box : {m_fold, m_bendingScale}) {
+        connect(box, &QDoubleSpinBox::editingFinished, this, [this] {
+            const patterns::doc::Seam* seam = m_document.seam(m_seam);
+            const double fold = m_fold->value() * std::numbers::pi / 180;
+            // Only a change is an edit: the values shown round the document's.
+            if (seam != nullptr && (std::abs(fold - seam->foldAngle) > 1e-9 ||
+                                    m_bendingScale->value() != seam->bendingScale)) {
+                Q_EMIT bendingRequested(m_seam.value, fold, m_bendingScale->value());
+            }
+        });
+    }
     refresh();
 }
 
@@ -101,6 +133,13 @@ void SeamDock::refresh() {
     const patterns::doc::Seam* seam = m_document.seam(m_seam);
     m_reverse->setEnabled(seam != nullptr);
     m_delete->setEnabled(seam != nullptr);
+    m_fold->setEnabled(seam != nullptr);
+    m_bendingScale->setEnabled(seam != nullptr);
+    {
+        const QSignalBlocker foldBlocker(m_fold), scaleBlocker(m_bendingScale);
+        m_fold->setValue(seam != nullptr ? seam->foldAngle * 180 / std::numbers::pi : 0.0);
+        m_bendingScale->setValue(seam != nullptr ? seam->bendingScale : 1.0);
+    }
     if (seam == nullptr) {
         for (QLabel* label : m_sides) {
             label->clear();

@@ -1,15 +1,17 @@
 #pragma once
 /// The Seam dock: one seam's two sides (each range's panel, edge and curve parameters), their
 /// lengths along the curves and the mismatch between them, flagged beyond the document's ease
-/// tolerance; Reverse (sews side b the other way round) and Delete, each a request the window
-/// turns into an undoable edit (reverseSeam, removeSeam). The seam shown comes from showSeam():
-/// the chooser in the dock, or a seam picked in a view.
+/// tolerance; how it bends once sewn (its rest fold angle and its rigidity as a multiple of the
+/// cloth's); Reverse (sews side b the other way round) and Delete. Each change is a request the
+/// window turns into an undoable edit (setSeamBending, reverseSeam, removeSeam). The seam shown
+/// comes from showSeam(): the chooser in the dock, or a seam picked in a view.
 
 #include "patterns/document.h"
 
 #include <QDockWidget>
 
 class QComboBox;
+class QDoubleSpinBox;
 class QLabel;
 class QPushButton;
 
@@ -35,6 +37,10 @@ class SeamDock : public QDockWidget {
     QComboBox* seamChooser() const { return m_chooser; }
     QPushButton* reverseButton() const { return m_reverse; }
     QPushButton* deleteButton() const { return m_delete; }
+    /// Fold angle once sewn [deg] and bending scale [-]; a value entered (editingFinished)
+    /// requests the edit.
+    QDoubleSpinBox* foldBox() const { return m_fold; }
+    QDoubleSpinBox* bendingScaleBox() const { return m_bendingScale; }
 
   public Q_SLOTS:
     /// Shows seam `seam` (none or unknown: nothing shown, the buttons disabled).
@@ -43,6 +49,8 @@ class SeamDock : public QDockWidget {
   Q_SIGNALS:
     void reverseRequested(quint32 seam);
     void removeRequested(quint32 seam);
+    /// The seam's fold angle [rad] and bending scale [-] as entered.
+    void bendingRequested(quint32 seam, double foldAngle, double bendingScale);
 
   private:
     void refresh();
@@ -52,6 +60,8 @@ class SeamDock : public QDockWidget {
     QComboBox* m_chooser;
     QLabel* m_sides[2];
     QLabel* m_mismatch;
+    QDoubleSpinBox* m_fold;
+    QDoubleSpinBox* m_bendingScale;
     QPushButton* m_reverse;
     QPushButton* m_delete;
 };

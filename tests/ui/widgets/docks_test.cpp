@@ -585,6 +585,18 @@ TEST(SeamDock, ShowsASeamsSidesAndMismatchAndReversesAndDeletesIt) {
     EXPECT_FALSE(dock.seam()) << "an unknown seam shows nothing";
     dock.showSeam(seam.id);
 
+    // How it bends once sewn: flat and as stiff as the cloth until told otherwise.
+    EXPECT_EQ(dock.foldBox()->value(), 0.0);
+    EXPECT_EQ(dock.bendingScaleBox()->value(), 1.0);
+    dock.foldBox()->setValue(30.0);
+    Q_EMIT dock.foldBox()->editingFinished();
+    dock.bendingScaleBox()->setValue(3.0);
+    Q_EMIT dock.bendingScaleBox()->editingFinished();
+    Q_EMIT dock.bendingScaleBox()->editingFinished(); // nothing changed: no edit
+    const patterns::doc::Seam* bent = s.window.project().document.seam(seam.id);
+    EXPECT_NEAR(bent->foldAngle, std::numbers::pi / 6, 1e-12);
+    EXPECT_EQ(bent->bendingScale, 3.0);
+
     dock.reverseButton()->click();
     const patterns::doc::Seam reversed = *s.window.project().document.seam(seam.id);
     ASSERT_EQ(reversed.b.size(), seam.b.size());
@@ -593,9 +605,10 @@ TEST(SeamDock, ShowsASeamsSidesAndMismatchAndReversesAndDeletesIt) {
     dock.deleteButton()->click();
     EXPECT_EQ(s.window.project().document.seam(seam.id), nullptr);
     EXPECT_FALSE(dock.seam()) << "the deleted seam is no longer shown";
-    EXPECT_EQ(s.window.undoStack().count(), 2);
-    s.window.undoStack().undo();
-    s.window.undoStack().undo();
+    EXPECT_EQ(s.window.undoStack().count(), 4);
+    for (int k = 0; k < 4; ++k) {
+        s.window.undoStack().undo();
+    }
     EXPECT_EQ(patterns::dumpDocument(s.window.project().document), before);
     ASSERT_NE(s.window.project().document.seam(seam.id), nullptr);
     EXPECT_EQ(s.window.project().document.seam(seam.id)->b.front().t0, seam.b.front().t0);
