@@ -150,10 +150,11 @@ class Simulation {
     /// Gravity acts from the next step on, or stops acting; no effect without
     /// SceneSpec::gravity. On by default.
     void setGravity(bool on);
-    /// The hinges across welded seams (SceneSpec::seamBending) act from the next step on, or
-    /// are held off, every seam a free hinge (a sewing phase holds them until the garment is
-    /// closed, so that closed parts of a seam do not hold the rest open); on by default. Energy
-    /// they hold when switched on counts as energy put in. No effect without them.
+    /// The hinges across welded seams (SceneSpec::seamBending) act from the next step on,
+    /// growing from nothing to their stiffness over 0.1 s, or are held off, every seam a free
+    /// hinge (a sewing phase holds them until the garment is closed, so that closed parts of a
+    /// seam do not hold the rest open); on by default. Energy they hold when switched on counts
+    /// as energy put in. No effect without them.
     void setSeamBending(bool on);
     /// Multiplies the friction of every contact (cloth–obstacle and cloth–cloth) from the next
     /// step on, so panels slide around the body to close their seams [-]; 1 by default.

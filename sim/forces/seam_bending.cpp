@@ -181,9 +181,8 @@ std::unique_ptr<SeamBending> SeamBending::build(const SceneSpec& scene,
 }
 
 SeamBending::SeamBending(HingeSet hinges, std::vector<std::array<std::size_t, 2>> pairs)
-    : DihedralBending(std::move(hinges), "bending.seams"), m_pairs(std::move(pairs)),
-      m_on(m_pairs.size(), 0) {
-    setActive(m_on);
+    : DihedralBending(std::move(hinges), "bending.seams"), m_pairs(std::move(pairs)) {
+    setActive(std::vector<char>(m_pairs.size(), 0));
     m_fullStiffness = stiffness();
 }
 
@@ -195,26 +194,27 @@ void SeamBending::setStrength(double strength) {
     }
 }
 
-bool SeamBending::switchOff() {
-    if (std::find(m_on.begin(), m_on.end(), 1) == m_on.end()) {
-        return false;
+bool SeamBending::switchOn(const std::vector<char>& on) {
+    bool changed = false;
+    for (std::size_t h = 0; h < on.size() && !changed; ++h) {
+        changed = (on[h] != 0) != active(static_cast<int>(h));
     }
-    std::fill(m_on.begin(), m_on.end(), 0);
-    setActive(m_on);
-    return true;
+    if (changed) {
+        setActive(on);
+    }
+    return changed;
+}
+
+bool SeamBending::switchOff() {
+    return switchOn(std::vector<char>(m_pairs.size(), 0));
 }
 
 bool SeamBending::followWelds(const SeamWelds& welds) {
-    bool changed = false;
+    std::vector<char> on(m_pairs.size(), 0);
     for (std::size_t h = 0; h < m_pairs.size(); ++h) {
-        const char on = welds.welded(m_pairs[h][0]) && welds.welded(m_pairs[h][1]) ? 1 : 0;
-        changed = changed || on != m_on[h];
-        m_on[h] = on;
+        on[h] = welds.welded(m_pairs[h][0]) && welds.welded(m_pairs[h][1]) ? 1 : 0;
     }
-    if (changed) {
-        setActive(m_on);
-    }
-    return changed;
+    return switchOn(on);
 }
 
 } // namespace atelier::sim

@@ -66,8 +66,10 @@ class SeamBending : public DihedralBending {
 
   private:
     SeamBending(HingeSet hinges, std::vector<std::array<std::size_t, 2>> pairs);
+    /// Sets which hinges act (DihedralBending::setActive); returns whether any changed.
+    bool switchOn(const std::vector<char>& on);
+
     std::vector<std::array<std::size_t, 2>> m_pairs;
-    std::vector<char> m_on;
     VecX m_fullStiffness; ///< (|H|) k at strength 1 [N·m]
     double m_strength = 1;
 };
