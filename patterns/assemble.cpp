@@ -301,13 +301,9 @@ double foldAt(const sim::MatX3& x, int a, int b, int c, int d) {
 
 } // namespace
 
-FoldFigures foldFigures(const AssembledGarment& assembled, const sim::MatX3& positions) {
-    const sim::SceneSpec& scene = assembled.scene;
-    const std::vector<int>& offsets = assembled.panelOffsets;
-    // As a single-surface export writes it: each group of sewn vertices at its mean position
-    // (io::weldedSurface), whether welded yet or not.
+sim::MatX3 surfacePositions(const AssembledGarment& assembled, const sim::MatX3& positions) {
     std::vector<std::pair<int, int>> pairs;
-    for (const sim::SeamPair& p : scene.seams) {
+    for (const sim::SeamPair& p : assembled.scene.seams) {
         pairs.emplace_back(p.a, p.b);
     }
     const std::vector<int> group = sim::joinedGroups(static_cast<int>(positions.rows()), pairs);
@@ -322,6 +318,13 @@ FoldFigures foldFigures(const AssembledGarment& assembled, const sim::MatX3& pos
         const int g = group[static_cast<std::size_t>(v)];
         x.row(v) = sum.row(g) / members[g];
     }
+    return x;
+}
+
+FoldFigures foldFigures(const AssembledGarment& assembled, const sim::MatX3& positions) {
+    const sim::SceneSpec& scene = assembled.scene;
+    const std::vector<int>& offsets = assembled.panelOffsets;
+    const sim::MatX3 x = surfacePositions(assembled, positions);
     const auto panelOf = [&](int v) {
         return static_cast<int>(std::upper_bound(offsets.begin(), offsets.end(), v) -
                                 offsets.begin()) -

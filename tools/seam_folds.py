@@ -16,23 +16,7 @@ import math
 import statistics
 import sys
 
-
-def read_obj(path):
-    vertices, faces, group = [], [], None
-    with open(path, encoding="utf-8") as f:
-        for number, line in enumerate(f, 1):
-            parts = line.split()
-            if not parts:
-                continue
-            if parts[0] == "v":
-                vertices.append(tuple(float(c) for c in parts[1:4]))
-            elif parts[0] == "g":
-                group = " ".join(parts[1:])
-            elif parts[0] == "f":
-                if len(parts) != 4:
-                    sys.exit(f"{path}:{number}: only triangles are measured")
-                faces.append((tuple(int(p.split("/")[0]) - 1 for p in parts[1:]), group))
-    return vertices, faces
+from obj_triangles import read_obj
 
 
 def sub(a, b):
@@ -57,10 +41,10 @@ def main():
     parser.add_argument("obj")
     parser.add_argument("--worst", type=int, default=0, help="list the N sharpest seam edges")
     args = parser.parse_args()
-    vertices, faces = read_obj(args.obj)
+    vertices, _, faces = read_obj(args.obj)
     normals = []
     edges = {}
-    for index, (corners, group) in enumerate(faces):
+    for index, (corners, _, group) in enumerate(faces):
         a, b, c = (vertices[i] for i in corners)
         normals.append(cross(sub(b, a), sub(c, a)))
         for k in range(3):
@@ -72,9 +56,9 @@ def main():
             continue  # a border, or non-manifold
         f0, f1 = sides
         angle = fold_deg(normals[f0], normals[f1])
-        if faces[f0][1] != faces[f1][1]:
+        if faces[f0][2] != faces[f1][2]:
             height = 0.5 * (vertices[u][1] + vertices[v][1])
-            seam.append((angle, height, faces[f0][1], faces[f1][1]))
+            seam.append((angle, height, faces[f0][2], faces[f1][2]))
         else:
             cloth.append(angle)
     if not seam:

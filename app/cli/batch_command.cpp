@@ -206,7 +206,8 @@ void copyFigures(const fs::path& report, json& result) {
     for (const char* key :
          {"status", "rested", "drape_time_s", "sim_time_to_rest_s", "drape_wall_time_s",
           "intersecting_triangle_pairs", "intersecting_pairs_with_obstacles", "seam_gap_max_m",
-          "area_ratio", "max_edge_strain", "max_penetration_m", "triangles", "warnings"}) {
+          "area_ratio", "max_edge_strain", "max_penetration_m", "triangles", "warnings", "fit",
+          "fit_message"}) {
         if (r.contains(key)) {
             result["drape"][key] = r[key];
         }

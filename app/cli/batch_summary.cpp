@@ -71,13 +71,14 @@ int runSummary(const SummaryOptions& options) {
     int failed = 0;
     int rested = 0;
     int intersecting = 0;
+    int notFitting = 0;
     double wall = 0;
     double worstGap = 0;
     double worstStrain = 0;
     json jobs = json::array();
     json failures = json::array();
-    std::printf("%-32s %-7s %8s %6s %6s %10s %8s\n", "job", "status", "wall s", "rested", "pairs",
-                "seam gap", "strain");
+    std::printf("%-32s %-7s %8s %6s %6s %10s %8s  %s\n", "job", "status", "wall s", "rested",
+                "pairs", "seam gap", "strain", "fit");
     for (const auto& [name, r] : results) {
         const std::string status = r.value("status", "");
         const json drape = r.contains("drape") ? r["drape"] : json::object();
@@ -90,8 +91,12 @@ int runSummary(const SummaryOptions& options) {
         const double pairs = numberOr(drape, "intersecting_triangle_pairs", -1);
         const double gap = numberOr(drape, "seam_gap_max_m", -1);
         const double strain = numberOr(drape, "max_edge_strain", -1);
+        const std::string fit = drape.contains("fit") && drape["fit"].is_string()
+                                    ? drape["fit"].get<std::string>()
+                                    : "-";
         if (isDone) {
             rested += rest ? 1 : 0;
+            notFitting += fit == "does not fit" ? 1 : 0;
             intersecting += pairs > 0 ? 1 : 0;
             worstGap = std::max(worstGap, gap);
             worstStrain = std::max(worstStrain, strain);
@@ -105,9 +110,10 @@ int runSummary(const SummaryOptions& options) {
             }
             return std::string(text);
         };
-        std::printf("%-32s %-7s %8.1f %6s %6s %10s %8s\n", name.c_str(), status.c_str(), seconds,
-                    rest ? "yes" : "no", figure(pairs, 1, "%.0f").c_str(),
-                    figure(gap, 1000, "%.2fmm").c_str(), figure(strain, 100, "%.1f%%").c_str());
+        std::printf("%-32s %-7s %8.1f %6s %6s %10s %8s  %s\n", name.c_str(), status.c_str(),
+                    seconds, rest ? "yes" : "no", figure(pairs, 1, "%.0f").c_str(),
+                    figure(gap, 1000, "%.2fmm").c_str(), figure(strain, 100, "%.1f%%").c_str(),
+                    fit.c_str());
         json row = {{"name", name},
                     {"status", status},
                     {"body", r.value("body", "")},
@@ -130,6 +136,7 @@ int runSummary(const SummaryOptions& options) {
         {"wall_time_s_mean", count > 0 ? wall / count : 0.0},
         {"rested", rested},
         {"jobs_with_intersections", intersecting},
+        {"jobs_not_fitting", notFitting},
         {"worst_seam_gap_m", worstGap},
         {"worst_edge_strain", worstStrain},
         {"failures", failures},
@@ -141,9 +148,9 @@ int runSummary(const SummaryOptions& options) {
         return EXIT_RUN_FAILED;
     }
     std::printf("%d done, %d failed, %zu missing; %d of the done at rest, %d with intersecting "
-                "pairs; %.1f s per job (wall); %s\n",
-                done, failed, missing.size(), rested, intersecting, count > 0 ? wall / count : 0.0,
-                out.string().c_str());
+                "pairs, %d not fitting; %.1f s per job (wall); %s\n",
+                done, failed, missing.size(), rested, intersecting, notFitting,
+                count > 0 ? wall / count : 0.0, out.string().c_str());
     for (const json& f : failures) {
         std::printf("failed: %s: %s\n", f["name"].get<std::string>().c_str(),
                     f["error"].is_string() ? f["error"].get<std::string>().c_str() : "");

@@ -12,6 +12,7 @@
 
 #include "patterns/assemble.h"
 #include "patterns/drape_session.h"
+#include "patterns/fit.h"
 
 #include "sim/core/parallel.h"
 
@@ -228,6 +229,14 @@ int runDrapeBench(const DrapeBenchOptions& o) {
     j["seam_fold_median_deg"] = folds.seamMedian * 180.0 / std::numbers::pi;
     j["seam_fold_max_deg"] = folds.seamMax * 180.0 / std::numbers::pi;
     j["cloth_fold_median_deg"] = folds.clothMedian * 180.0 / std::numbers::pi;
+    double strainMax = 0, strainShare = 0; // the drape report's strain_* (patterns/fit.h)
+    for (const patterns::PanelStrain& p :
+         patterns::panelStrains(session.assembled(), session.simulation()->positions())) {
+        strainMax = std::max(strainMax, p.maxStrain);
+        strainShare = std::max(strainShare, p.over10);
+    }
+    j["strain_max"] = strainMax;
+    j["strain_beyond_10pct_share_max"] = strainShare;
     j["intersecting_triangle_pairs"] = session.simulation()->intersectingTrianglePairs();
     j["max_penetration_m"] = stats.maxPenetration;
     j["largest_forced_weld_m"] = session.simulation()->stats().largestForcedWeld;

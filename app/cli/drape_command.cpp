@@ -18,6 +18,7 @@
 
 #include "patterns/assemble.h"
 #include "patterns/drape_session.h"
+#include "patterns/fit.h"
 
 #include "sim/core/parallel.h"
 #include "sim/simulation.h"
@@ -149,7 +150,9 @@ patterns::BodyProvider projectBodies(const DrapeOptions& options, const io::Limi
 /// The figures behind the report's drape fields.
 io::ReportFields drapeReportFields(const DrapeOptions& options,
                                    const patterns::DrapeSession& session,
-                                   const patterns::DrapeFigures& f, RunEnd end, int code,
+                                   const patterns::DrapeFigures& f,
+                                   const std::vector<patterns::PanelStrain>& strains,
+                                   const patterns::FitVerdict& fit, RunEnd end, int code,
                                    const std::vector<std::string>& warnings, double wallSeconds,
                                    double totalSeconds) {
     const sim::RunStats& stats = session.simulation()->stats();
@@ -163,6 +166,18 @@ io::ReportFields drapeReportFields(const DrapeOptions& options,
     const auto orNull = [](bool have, double value) {
         return have ? io::ReportValue(value) : io::ReportValue(nullptr);
     };
+    double largestStrain = 0, largestShare = 0;
+    std::vector<std::string> panelLines;
+    for (const patterns::PanelStrain& p : strains) {
+        largestStrain = std::max(largestStrain, p.maxStrain);
+        largestShare = std::max(largestShare, p.over10);
+        char line[200];
+        std::snprintf(line, sizeof line,
+                      "%s: strain up to %.4f at %.3f m height; area beyond 5%%: %.4f, beyond "
+                      "10%%: %.4f",
+                      p.panel.c_str(), p.maxStrain, p.maxHeight, p.over5, p.over10);
+        panelLines.emplace_back(line);
+    }
     return {
         {"project", options.project},
         {"status", status},
@@ -180,6 +195,12 @@ io::ReportFields drapeReportFields(const DrapeOptions& options,
         {"seam_fold_median_deg", degrees(folds.seamMedian)},
         {"seam_fold_max_deg", degrees(folds.seamMax)},
         {"cloth_fold_median_deg", degrees(folds.clothMedian)},
+        // How far the panels are stretched and whether the garment fits (patterns/fit.h).
+        {"fit", std::string(patterns::fitName(fit.fit))},
+        {"fit_message", fit.message},
+        {"strain_max", largestStrain},
+        {"strain_beyond_10pct_share_max", largestShare},
+        {"panel_strain", panelLines},
         {"mesh_min_angle_deg", f.minAngleDeg},
         {"triangles", static_cast<std::int64_t>(f.triangles)},
         {"panels", static_cast<std::int64_t>(session.mesh().panels.size())},
@@ -220,6 +241,26 @@ std::vector<std::string> preparedWarnings(const patterns::DrapeSession& session)
     return out;
 }
 
+/// The seams with pairs still not welded once sewing is over (each weld put off because it would
+/// carry cloth through cloth), grouped by seam as forcedWelds() groups the forced ones; empty
+/// while sewing.
+std::vector<patterns::ForcedWeld> openSeams(const patterns::DrapeSession& session,
+                                            const patterns::DrapeFigures& f) {
+    const sim::Simulation& simulation = *session.simulation();
+    if (f.sewnAt < 0) {
+        return {};
+    }
+    const sim::MatX3& x = simulation.positions();
+    const auto& pairs = session.assembled().scene.seams;
+    std::vector<double> open(pairs.size(), 0.0);
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+        if (!simulation.seamPairWelded(k)) {
+            open[k] = std::max((x.row(pairs[k].a) - x.row(pairs[k].b)).norm(), 1e-12);
+        }
+    }
+    return patterns::forcedWelds(session.project().garment, session.assembled(), open);
+}
+
 /// The warnings of sewing: seams welded by force more than 5 mm apart, and, once sewing is
 /// over, seam pairs still not welded (each weld put off because it would carry cloth through
 /// cloth).
@@ -242,29 +283,16 @@ std::vector<std::string> sewingWarnings(const patterns::DrapeSession& session,
                       " (a longer sewing_time_s, panels placed closer, or more ease where the "
                       "garment is tight)");
     }
-    // The open pairs' gaps, grouped by seam as forcedWelds() groups the forced ones.
-    const sim::Simulation& simulation = *session.simulation();
-    if (f.sewnAt >= 0) {
-        const sim::MatX3& x = simulation.positions();
-        const auto& pairs = session.assembled().scene.seams;
-        std::vector<double> open(pairs.size(), 0.0);
-        for (std::size_t k = 0; k < pairs.size(); ++k) {
-            if (!simulation.seamPairWelded(k)) {
-                open[k] = std::max((x.row(pairs[k].a) - x.row(pairs[k].b)).norm(), 1e-12);
-            }
-        }
-        std::string list;
-        for (const patterns::ForcedWeld& w :
-             patterns::forcedWelds(session.project().garment, session.assembled(), open)) {
-            std::snprintf(text, sizeof text, "%s%s: %d pairs, widest %.1f mm",
-                          list.empty() ? "" : ", ", w.seam.c_str(), w.pairs, 1000 * w.widest);
-            list += text;
-        }
-        if (!list.empty()) {
-            out.push_back("seam pairs not welded after sewing (each weld would have carried "
-                          "cloth through cloth): " +
-                          list);
-        }
+    std::string list;
+    for (const patterns::ForcedWeld& w : openSeams(session, f)) {
+        std::snprintf(text, sizeof text, "%s%s: %d pairs, widest %.1f mm", list.empty() ? "" : ", ",
+                      w.seam.c_str(), w.pairs, 1000 * w.widest);
+        list += text;
+    }
+    if (!list.empty()) {
+        out.push_back("seam pairs not welded after sewing (each weld would have carried "
+                      "cloth through cloth): " +
+                      list);
     }
     return out;
 }
@@ -434,6 +462,13 @@ int runDrape(const DrapeOptions& options, const DrapeFinished& finished) {
                  "drape: %s at t = %.2f s in %.1f s wall; seam gap max %.2e m, area ratio "
                  "%.4f\n",
                  f.rested ? "at rest" : "stopped", f.time, wallSeconds, f.seamGapMax, f.areaRatio);
+    const std::vector<patterns::PanelStrain> strains =
+        patterns::panelStrains(session.assembled(), simulation.positions());
+    const patterns::FitVerdict fit =
+        patterns::fitVerdict(strains, openSeams(session, f),
+                             finite ? static_cast<int>(simulation.intersectingTrianglePairs()) : 0);
+    std::fprintf(stderr, "drape: %s%s%s\n", std::string(patterns::fitName(fit.fit)).c_str(),
+                 fit.message.empty() ? "" : ": ", fit.message.c_str());
 
     if (!options.out.empty()) {
         if (finite) {
@@ -451,9 +486,10 @@ int runDrape(const DrapeOptions& options, const DrapeFinished& finished) {
     if (!options.report.empty()) {
         const double totalSeconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        auto written = io::writeReport(
-            options.report, simulation,
-            drapeReportFields(options, session, f, end, code, warnings, wallSeconds, totalSeconds));
+        auto written =
+            io::writeReport(options.report, simulation,
+                            drapeReportFields(options, session, f, strains, fit, end, code,
+                                              warnings, wallSeconds, totalSeconds));
         if (!written.ok()) {
             code = RunLoop::writeFailed(written.error(), code);
         }

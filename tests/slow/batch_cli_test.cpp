@@ -98,6 +98,12 @@ TEST(BatchCli, ShardsFailuresReRunsAndTheSummary) {
     EXPECT_EQ(s["done"], 3);
     EXPECT_EQ(s["failed"], 1);
     EXPECT_EQ(s["jobs_with_intersections"], 0);
+    EXPECT_EQ(s["jobs_not_fitting"], 0);
+    for (const auto& job : s["jobs"]) {
+        if (job["status"] == "done") {
+            EXPECT_EQ(job["fit"], "fits") << job["name"] << ": " << job["fit_message"];
+        }
+    }
     ASSERT_EQ(s["failures"].size(), 1U);
     EXPECT_EQ(s["failures"][0]["name"], "unfit");
     EXPECT_EQ(s["jobs"].size(), 4U);

@@ -19,6 +19,8 @@
 #include <cstdlib>
 #include <fstream>
 #include <map>
+#include <sstream>
+#include <string>
 #include <unordered_map>
 
 namespace atelier {
@@ -156,7 +158,21 @@ void drapeAndCheck(const std::string& name, const std::string& args, const Bar& 
     if (bar.rest) {
         EXPECT_TRUE(r["rested"].get<bool>()) << "stopped at " << r["sim_time_to_rest_s"] << " s";
     }
+    // The panels' strains, from the written mesh by an independent tool: the same lines.
+    ASSERT_EQ(r["panel_strain"].size(), r["panels"].get<std::size_t>());
+    const fs::path strains = dir / "strains.txt";
+    const std::string tool = "python3 \"" + std::string(ATELIER_SOURCE_DIR) +
+                             "/tools/fit_strain.py\" \"" + out.string() + "\" > \"" +
+                             strains.string() + "\"";
+    ASSERT_EQ(std::system(tool.c_str()), 0) << tool;
+    std::istringstream lines(test::readText(strains));
+    std::string line;
+    for (const auto& reported : r["panel_strain"]) {
+        ASSERT_TRUE(std::getline(lines, line));
+        EXPECT_EQ(line, reported.get<std::string>());
+    }
     if (bar.noIntersections) {
+        EXPECT_EQ(r["fit"], "fits") << r["fit_message"];
         EXPECT_EQ(self, 0) << "garment with itself";
         EXPECT_EQ(withBody, 0) << "garment with the body";
     }
