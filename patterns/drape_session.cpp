@@ -432,6 +432,35 @@ DrapeFigures DrapeSession::figures() const {
     return f;
 }
 
+std::vector<ForcedWeld> DrapeSession::openSeams() const {
+    if (!m_simulation || m_sewnAt < 0) {
+        return {};
+    }
+    const sim::Simulation& s = *m_simulation;
+    const sim::MatX3& x = s.positions();
+    const auto& pairs = m_assembled.scene.seams;
+    std::vector<double> open(pairs.size(), 0.0);
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+        if (!s.seamPairWelded(k)) {
+            open[k] = std::max((x.row(pairs[k].a) - x.row(pairs[k].b)).norm(), 1e-12);
+        }
+    }
+    return forcedWelds(m_project.garment, m_assembled, open);
+}
+
+GarmentFit DrapeSession::fit() const {
+    GarmentFit out;
+    if (!m_simulation) {
+        return out;
+    }
+    const sim::Simulation& s = *m_simulation;
+    out.panels = panelStrains(m_assembled, s.positions());
+    const bool finite = s.stats().finite && s.positions().allFinite();
+    out.verdict = fitVerdict(out.panels, openSeams(),
+                             finite ? static_cast<int>(s.intersectingTrianglePairs()) : 0);
+    return out;
+}
+
 Result<PinnedVertex> DrapeSession::pinVertex(int vertex) {
     if (!m_simulation || m_phase.load() == DrapePhase::Failed) {
         return sessionError("nothing is draped to pin");

@@ -6,6 +6,7 @@
 
 #include "patterns/assemble.h"
 #include "patterns/body.h"
+#include "patterns/fit.h"
 #include "patterns/mesh.h"
 #include "patterns/project.h"
 #include "patterns/sewing.h"
@@ -224,6 +225,14 @@ class DrapeSession {
     // ---- Results ----
 
     DrapeFigures figures() const;
+    /// The seams with pairs still not welded once sewing is over (each weld put off because it
+    /// would carry cloth through cloth), with their widest gap now, grouped by seam as
+    /// forcedWelds() groups the forced ones; empty while sewing or before a drape.
+    std::vector<ForcedWeld> openSeams() const;
+    /// Whether the garment fits now (patterns/fit.h): its panels' strains and the verdict, with
+    /// the open seams and the intersecting triangle pairs (counted only when the state is
+    /// finite). An empty verdict (fits) before a drape.
+    GarmentFit fit() const;
     const GarmentMesh& mesh() const { return m_mesh; }
     const AssembledGarment& assembled() const { return m_assembled; }
     const Body& body() const { return m_body; }

@@ -51,4 +51,10 @@ struct FitVerdict {
 FitVerdict fitVerdict(const std::vector<PanelStrain>& strains,
                       const std::vector<ForcedWeld>& openSeams, int intersectingPairs);
 
+/// A drape's fit: its panels' strains and the verdict (DrapeSession::fit).
+struct GarmentFit {
+    std::vector<PanelStrain> panels;
+    FitVerdict verdict;
+};
+
 } // namespace atelier::patterns

@@ -150,11 +150,9 @@ patterns::BodyProvider projectBodies(const DrapeOptions& options, const io::Limi
 /// The figures behind the report's drape fields.
 io::ReportFields drapeReportFields(const DrapeOptions& options,
                                    const patterns::DrapeSession& session,
-                                   const patterns::DrapeFigures& f,
-                                   const std::vector<patterns::PanelStrain>& strains,
-                                   const patterns::FitVerdict& fit, RunEnd end, int code,
-                                   const std::vector<std::string>& warnings, double wallSeconds,
-                                   double totalSeconds) {
+                                   const patterns::DrapeFigures& f, const patterns::GarmentFit& fit,
+                                   RunEnd end, int code, const std::vector<std::string>& warnings,
+                                   double wallSeconds, double totalSeconds) {
     const sim::RunStats& stats = session.simulation()->stats();
     const patterns::FoldFigures folds =
         patterns::foldFigures(session.assembled(), session.simulation()->positions());
@@ -168,7 +166,7 @@ io::ReportFields drapeReportFields(const DrapeOptions& options,
     };
     double largestStrain = 0, largestShare = 0;
     std::vector<std::string> panelLines;
-    for (const patterns::PanelStrain& p : strains) {
+    for (const patterns::PanelStrain& p : fit.panels) {
         largestStrain = std::max(largestStrain, p.maxStrain);
         largestShare = std::max(largestShare, p.over10);
         char line[200];
@@ -196,8 +194,8 @@ io::ReportFields drapeReportFields(const DrapeOptions& options,
         {"seam_fold_max_deg", degrees(folds.seamMax)},
         {"cloth_fold_median_deg", degrees(folds.clothMedian)},
         // How far the panels are stretched and whether the garment fits (patterns/fit.h).
-        {"fit", std::string(patterns::fitName(fit.fit))},
-        {"fit_message", fit.message},
+        {"fit", std::string(patterns::fitName(fit.verdict.fit))},
+        {"fit_message", fit.verdict.message},
         {"strain_max", largestStrain},
         {"strain_beyond_10pct_share_max", largestShare},
         {"panel_strain", panelLines},
@@ -241,26 +239,6 @@ std::vector<std::string> preparedWarnings(const patterns::DrapeSession& session)
     return out;
 }
 
-/// The seams with pairs still not welded once sewing is over (each weld put off because it would
-/// carry cloth through cloth), grouped by seam as forcedWelds() groups the forced ones; empty
-/// while sewing.
-std::vector<patterns::ForcedWeld> openSeams(const patterns::DrapeSession& session,
-                                            const patterns::DrapeFigures& f) {
-    const sim::Simulation& simulation = *session.simulation();
-    if (f.sewnAt < 0) {
-        return {};
-    }
-    const sim::MatX3& x = simulation.positions();
-    const auto& pairs = session.assembled().scene.seams;
-    std::vector<double> open(pairs.size(), 0.0);
-    for (std::size_t k = 0; k < pairs.size(); ++k) {
-        if (!simulation.seamPairWelded(k)) {
-            open[k] = std::max((x.row(pairs[k].a) - x.row(pairs[k].b)).norm(), 1e-12);
-        }
-    }
-    return patterns::forcedWelds(session.project().garment, session.assembled(), open);
-}
-
 /// The warnings of sewing: seams welded by force more than 5 mm apart, and, once sewing is
 /// over, seam pairs still not welded (each weld put off because it would carry cloth through
 /// cloth).
@@ -284,7 +262,7 @@ std::vector<std::string> sewingWarnings(const patterns::DrapeSession& session,
                       "garment is tight)");
     }
     std::string list;
-    for (const patterns::ForcedWeld& w : openSeams(session, f)) {
+    for (const patterns::ForcedWeld& w : session.openSeams()) {
         std::snprintf(text, sizeof text, "%s%s: %d pairs, widest %.1f mm", list.empty() ? "" : ", ",
                       w.seam.c_str(), w.pairs, 1000 * w.widest);
         list += text;
@@ -462,13 +440,9 @@ int runDrape(const DrapeOptions& options, const DrapeFinished& finished) {
                  "drape: %s at t = %.2f s in %.1f s wall; seam gap max %.2e m, area ratio "
                  "%.4f\n",
                  f.rested ? "at rest" : "stopped", f.time, wallSeconds, f.seamGapMax, f.areaRatio);
-    const std::vector<patterns::PanelStrain> strains =
-        patterns::panelStrains(session.assembled(), simulation.positions());
-    const patterns::FitVerdict fit =
-        patterns::fitVerdict(strains, openSeams(session, f),
-                             finite ? static_cast<int>(simulation.intersectingTrianglePairs()) : 0);
-    std::fprintf(stderr, "drape: %s%s%s\n", std::string(patterns::fitName(fit.fit)).c_str(),
-                 fit.message.empty() ? "" : ": ", fit.message.c_str());
+    const patterns::GarmentFit fit = session.fit();
+    std::fprintf(stderr, "drape: %s%s%s\n", std::string(patterns::fitName(fit.verdict.fit)).c_str(),
+                 fit.verdict.message.empty() ? "" : ": ", fit.verdict.message.c_str());
 
     if (!options.out.empty()) {
         if (finite) {
@@ -486,10 +460,9 @@ int runDrape(const DrapeOptions& options, const DrapeFinished& finished) {
     if (!options.report.empty()) {
         const double totalSeconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        auto written =
-            io::writeReport(options.report, simulation,
-                            drapeReportFields(options, session, f, strains, fit, end, code,
-                                              warnings, wallSeconds, totalSeconds));
+        auto written = io::writeReport(options.report, simulation,
+                                       drapeReportFields(options, session, f, fit, end, code,
+                                                         warnings, wallSeconds, totalSeconds));
         if (!written.ok()) {
             code = RunLoop::writeFailed(written.error(), code);
         }

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <set>
 
 namespace atelier::io {
@@ -146,6 +147,21 @@ TEST(BatchManifest, LoadResolvesPathsAgainstTheManifestsFolder) {
     EXPECT_EQ(m.error().where, "/jobs/1/project");
     EXPECT_NE(m.error().message.find((dir / "missing.atelier").string()), std::string::npos)
         << m.error().message;
+}
+
+TEST(BatchManifest, TheBundledManifestsRead) {
+    const auto folder = test::GARMENTS_DIR.parent_path() / "batch";
+    int read = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+        if (entry.path().extension() != ".json") {
+            continue;
+        }
+        const auto m = loadBatchManifest(entry.path());
+        ASSERT_TRUE(m.ok()) << m.error().toString();
+        EXPECT_EQ(m.value().jobs.size(), 24U) << entry.path(); // catalogue, fit matrix
+        ++read;
+    }
+    EXPECT_GE(read, 2);
 }
 
 TEST(BatchManifest, FingerprintsDiffer) {

@@ -597,11 +597,21 @@ void DrapeController::loop() {
         if (m_session->finished() || status == patterns::DrapeStatus::Failed) {
             m_running.store(false);
             const patterns::DrapeFigures f = m_session->figures();
-            const QString how =
+            QString how =
                 f.rested ? QStringLiteral("at rest at t = %1 s").arg(f.time, 0, 'f', 2)
                 : status == patterns::DrapeStatus::Failed
                     ? QStringLiteral("failed: %1").arg(QString::fromStdString(f.error))
                     : QStringLiteral("stopped at the time limit, t = %1 s").arg(f.time, 0, 'f', 2);
+            if (status != patterns::DrapeStatus::Failed) {
+                // Whether the garment fits, and what does not (patterns/fit.h).
+                const patterns::FitVerdict fit = m_session->fit().verdict;
+                how += QStringLiteral(": %1").arg(
+                    QString::fromUtf8(patterns::fitName(fit.fit).data(),
+                                      static_cast<qsizetype>(patterns::fitName(fit.fit).size())));
+                if (!fit.message.empty()) {
+                    how += QStringLiteral(" (%1)").arg(QString::fromStdString(fit.message));
+                }
+            }
             QMetaObject::invokeMethod(this, [this, how] { Q_EMIT finished(how); });
         }
     }
