@@ -229,12 +229,15 @@ int runDrapeBench(const DrapeBenchOptions& o) {
     j["seam_fold_median_deg"] = folds.seamMedian * 180.0 / std::numbers::pi;
     j["seam_fold_max_deg"] = folds.seamMax * 180.0 / std::numbers::pi;
     j["cloth_fold_median_deg"] = folds.clothMedian * 180.0 / std::numbers::pi;
-    double strainMax = 0, strainShare = 0; // the drape report's strain_* (patterns/fit.h)
-    for (const patterns::PanelStrain& p :
-         patterns::panelStrains(session.assembled(), session.simulation()->positions())) {
+    // Whether the garment fits, as the drape report has it (patterns/fit.h).
+    const patterns::GarmentFit fit = session.fit();
+    double strainMax = 0, strainShare = 0;
+    for (const patterns::PanelStrain& p : fit.panels) {
         strainMax = std::max(strainMax, p.maxStrain);
         strainShare = std::max(strainShare, p.over10);
     }
+    j["fit"] = std::string(patterns::fitName(fit.verdict.fit));
+    j["fit_message"] = fit.verdict.message;
     j["strain_max"] = strainMax;
     j["strain_beyond_10pct_share_max"] = strainShare;
     j["intersecting_triangle_pairs"] = session.simulation()->intersectingTrianglePairs();

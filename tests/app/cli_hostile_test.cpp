@@ -132,7 +132,11 @@ TEST(CliInterrupts, SigtermStopsABenchDrape) {
     EXPECT_EQ(run.exitCode, 130) << run.stderrText;
     const std::string text = test::readText(dir / "b.json");
     ASSERT_FALSE(text.empty()) << run.stderrText;
-    EXPECT_EQ(nlohmann::json::parse(text)["interrupted"], true);
+    const auto figures = nlohmann::json::parse(text);
+    EXPECT_EQ(figures["interrupted"], true);
+    // The figures so far include whether the garment fits (here: still sewing, seams open).
+    EXPECT_TRUE(figures["fit"].is_string());
+    EXPECT_GE(figures["strain_max"].get<double>(), 0.0);
 }
 
 TEST(CliOutputs, AnOutputOverAnInputIsRefusedBeforeAnyWork) {
