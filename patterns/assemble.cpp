@@ -299,8 +299,8 @@ double foldAt(const sim::MatX3& x, int a, int b, int c, int d) {
                                        x.row(c).transpose(), x.row(d).transpose()));
 }
 
-} // namespace
-
+/// Positions as a single-surface export writes them (io::weldedSurface): each group of sewn
+/// vertices at its mean position, whether welded yet or not.
 sim::MatX3 surfacePositions(const AssembledGarment& assembled, const sim::MatX3& positions) {
     std::vector<std::pair<int, int>> pairs;
     for (const sim::SeamPair& p : assembled.scene.seams) {
@@ -320,6 +320,8 @@ sim::MatX3 surfacePositions(const AssembledGarment& assembled, const sim::MatX3&
     }
     return x;
 }
+
+} // namespace
 
 FoldFigures foldFigures(const AssembledGarment& assembled, const sim::MatX3& positions) {
     const sim::SceneSpec& scene = assembled.scene;

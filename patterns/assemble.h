@@ -77,10 +77,6 @@ double seamGapMax(const AssembledGarment& assembled, const sim::MatX3& x);
 /// Total triangle area of the cloths at positions x over their total rest area [-].
 double areaRatio(const sim::SceneSpec& scene, const sim::MatX3& x);
 
-/// Positions x (global, |V|×3) as a single-surface export writes them (io::weldedSurface):
-/// each group of sewn vertices at its mean position, whether welded yet or not.
-sim::MatX3 surfacePositions(const AssembledGarment& assembled, const sim::MatX3& x);
-
 /// How sharply a drape folds: the angle between the normals of the two triangles on either side
 /// of an edge (|θ| of `sim::dihedralAngle`, 0 = flat) across the seams between panels and
 /// inside the panels (their own hinges, and those of seams sewn within a panel: darts), at

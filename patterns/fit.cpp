@@ -108,4 +108,20 @@ FitVerdict fitVerdict(const std::vector<PanelStrain>& strains,
     return v;
 }
 
+double GarmentFit::largestStrain() const {
+    double largest = 0;
+    for (const PanelStrain& p : panels) {
+        largest = std::max(largest, p.maxStrain);
+    }
+    return largest;
+}
+
+double GarmentFit::largestShareBeyond10() const {
+    double largest = 0;
+    for (const PanelStrain& p : panels) {
+        largest = std::max(largest, p.over10);
+    }
+    return largest;
+}
+
 } // namespace atelier::patterns

@@ -55,6 +55,12 @@ FitVerdict fitVerdict(const std::vector<PanelStrain>& strains,
 struct GarmentFit {
     std::vector<PanelStrain> panels;
     FitVerdict verdict;
+
+    /// Largest strain of any panel [-] (the report's `strain_max`).
+    double largestStrain() const;
+    /// Largest share of a panel's area beyond 10% strain [-]
+    /// (`strain_beyond_10pct_share_max`).
+    double largestShareBeyond10() const;
 };
 
 } // namespace atelier::patterns

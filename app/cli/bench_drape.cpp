@@ -231,15 +231,10 @@ int runDrapeBench(const DrapeBenchOptions& o) {
     j["cloth_fold_median_deg"] = folds.clothMedian * 180.0 / std::numbers::pi;
     // Whether the garment fits, as the drape report has it (patterns/fit.h).
     const patterns::GarmentFit fit = session.fit();
-    double strainMax = 0, strainShare = 0;
-    for (const patterns::PanelStrain& p : fit.panels) {
-        strainMax = std::max(strainMax, p.maxStrain);
-        strainShare = std::max(strainShare, p.over10);
-    }
     j["fit"] = std::string(patterns::fitName(fit.verdict.fit));
     j["fit_message"] = fit.verdict.message;
-    j["strain_max"] = strainMax;
-    j["strain_beyond_10pct_share_max"] = strainShare;
+    j["strain_max"] = fit.largestStrain();
+    j["strain_beyond_10pct_share_max"] = fit.largestShareBeyond10();
     j["intersecting_triangle_pairs"] = session.simulation()->intersectingTrianglePairs();
     j["max_penetration_m"] = stats.maxPenetration;
     j["largest_forced_weld_m"] = session.simulation()->stats().largestForcedWeld;

@@ -164,11 +164,8 @@ io::ReportFields drapeReportFields(const DrapeOptions& options,
     const auto orNull = [](bool have, double value) {
         return have ? io::ReportValue(value) : io::ReportValue(nullptr);
     };
-    double largestStrain = 0, largestShare = 0;
     std::vector<std::string> panelLines;
     for (const patterns::PanelStrain& p : fit.panels) {
-        largestStrain = std::max(largestStrain, p.maxStrain);
-        largestShare = std::max(largestShare, p.over10);
         char line[200];
         std::snprintf(line, sizeof line,
                       "%s: strain up to %.4f at %.3f m height; area beyond 5%%: %.4f, beyond "
@@ -196,8 +193,8 @@ io::ReportFields drapeReportFields(const DrapeOptions& options,
         // How far the panels are stretched and whether the garment fits (patterns/fit.h).
         {"fit", std::string(patterns::fitName(fit.verdict.fit))},
         {"fit_message", fit.verdict.message},
-        {"strain_max", largestStrain},
-        {"strain_beyond_10pct_share_max", largestShare},
+        {"strain_max", fit.largestStrain()},
+        {"strain_beyond_10pct_share_max", fit.largestShareBeyond10()},
         {"panel_strain", panelLines},
         {"mesh_min_angle_deg", f.minAngleDeg},
         {"triangles", static_cast<std::int64_t>(f.triangles)},

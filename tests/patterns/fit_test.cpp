@@ -58,6 +58,10 @@ TEST(PanelStrains, ReadTheLargestPrincipalStretchWhateverTheRotation) {
     EXPECT_DOUBLE_EQ(strains[1].over5, 1.0); // 5.1%
     EXPECT_DOUBLE_EQ(strains[1].over10, 0.0);
     EXPECT_NEAR(strains[1].maxHeight, 2.0, 0.1);
+
+    const GarmentFit fit{strains, {}};
+    EXPECT_DOUBLE_EQ(fit.largestStrain(), strains[0].maxStrain);
+    EXPECT_DOUBLE_EQ(fit.largestShareBeyond10(), 1.0);
 }
 
 TEST(PanelStrains, ACompressedPanelIsNotStretched) {

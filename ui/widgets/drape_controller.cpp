@@ -606,8 +606,7 @@ void DrapeController::loop() {
                 // Whether the garment fits, and what does not (patterns/fit.h).
                 const patterns::FitVerdict fit = m_session->fit().verdict;
                 how += QStringLiteral(": %1").arg(
-                    QString::fromUtf8(patterns::fitName(fit.fit).data(),
-                                      static_cast<qsizetype>(patterns::fitName(fit.fit).size())));
+                    QString::fromStdString(std::string(patterns::fitName(fit.fit))));
                 if (!fit.message.empty()) {
                     how += QStringLiteral(" (%1)").arg(QString::fromStdString(fit.message));
                 }
