@@ -8,6 +8,8 @@
 #include "ui/widgets/main_window.h"
 #include "ui/widgets/viewport.h"
 
+#include "sim/core/parallel.h"
+
 #include <QApplication>
 #include <QCommandLineParser>
 #include <QDir>
@@ -216,13 +218,25 @@ int main(int argc, char** argv) {
         "Open the project, drape it for --drape-seconds (or to rest) as the window does, write "
         "the 3D view's frames per second and the event loop's longest block as JSON and quit",
         "json");
+    const QCommandLineOption threads(QStringList{"j", "threads"},
+                                     "Engine threads (default: all cores)", "n");
     parser.addOption(screenshot);
     parser.addOption(measure);
+    parser.addOption(threads);
     parser.addOption(seconds);
     parser.addOption(recoveryDir);
     parser.addOption(autosaveSeconds);
     parser.process(app);
 
+    if (parser.isSet(threads)) {
+        bool ok = false;
+        const int n = parser.value(threads).toInt(&ok);
+        if (!ok || n < 1) {
+            std::fputs("error: --threads must be a whole number >= 1\n", stderr);
+            return 2;
+        }
+        atelier::sim::setThreadCount(n);
+    }
     atelier::ui::MainWindow window(samplesDir());
     if (parser.isSet(recoveryDir)) {
         window.setRecoveryDirectory(parser.value(recoveryDir));

@@ -5,6 +5,7 @@
 #include "ui/render/pin_markers.h"
 #include "ui/render/shaders.h"
 
+#include "sim/collision/obstacle.h"
 #include "sim/mesh/vertex_normals.h"
 
 #include <epoxy/gl.h>
@@ -137,6 +138,9 @@ struct GpuMesh {
     GLuint vao = 0;
     std::array<GLuint, 6> buffers{}; ///< positions, normals, colours, indices, uvs, occlusion
     float weavePeriodMm = 0;
+    /// A closed body, consistently oriented outwards: its back faces are never seen, so they
+    /// are culled instead of shaded and then hidden by the depth test.
+    bool cullBackFaces = false;
     GLuint triangleColourBuffer = 0; ///< texture buffer contents, or 0
     GLuint triangleColourTexture = 0;
     GLsizei indexCount = 0;
@@ -155,11 +159,29 @@ template <class T> void uploadBuffer(GLenum target, GLuint buffer, const std::ve
                  GL_STATIC_DRAW);
 }
 
+/// Whether the mesh is watertight, consistently oriented and encloses a positive volume (its
+/// triangles counter-clockwise seen from outside).
+bool closedOutwards(const sim::MatX3& positions, const sim::MatX3i& triangles) {
+    if (!sim::isClosedOriented(triangles, static_cast<int>(positions.rows()))) {
+        return false;
+    }
+    double volume6 = 0; // six times the signed volume (divergence theorem)
+    for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
+        const Eigen::Vector3d a = positions.row(triangles(t, 0));
+        const Eigen::Vector3d b = positions.row(triangles(t, 1));
+        const Eigen::Vector3d c = positions.row(triangles(t, 2));
+        volume6 += a.dot(b.cross(c));
+    }
+    return volume6 > 0;
+}
+
 GpuMesh upload(const DrawMesh& mesh) {
     GpuMesh gpu;
     gpu.kind = mesh.kind;
     gpu.positions = mesh.positions;
     gpu.triangles = mesh.triangles;
+    gpu.cullBackFaces =
+        mesh.kind == MeshKind::Body && closedOutwards(mesh.positions, mesh.triangles);
     const auto n = static_cast<std::size_t>(mesh.positions.rows());
     sim::MatX3 normals = mesh.normals;
     if (normals.rows() == 0) {
@@ -273,8 +295,31 @@ struct Targets {
 
 } // namespace
 
+/// The variants of the meshes' fragment shader (shaders::MESH_FRAGMENT), by what they draw.
+enum MeshVariant : std::size_t {
+    PLAIN,
+    TRIANGLE_COLOURS,
+    WEAVE,
+    TRIANGLE_COLOURS_AND_WEAVE,
+    WIRE,
+    MESH_VARIANTS
+};
+
+/// The `#define` lines of each variant, in MeshVariant's order.
+constexpr std::array<const char*, MESH_VARIANTS> MESH_VARIANT_DEFINES = {
+    "", "#define TRIANGLE_COLOURS\n", "#define WEAVE\n",
+    "#define TRIANGLE_COLOURS\n#define WEAVE\n", "#define WIRE\n"};
+
+/// `source` with `defines` inserted after its first line (the `#version` line).
+std::string withDefines(const char* source, const char* defines) {
+    std::string text = source;
+    const std::size_t lineEnd = text.find('\n');
+    text.insert(lineEnd == std::string::npos ? text.size() : lineEnd + 1, defines);
+    return text;
+}
+
 struct Renderer::Impl {
-    GLuint meshProgram = 0;
+    std::array<GLuint, MESH_VARIANTS> meshPrograms{};
     GLuint groundProgram = 0;
     GLuint lineProgram = 0;
     GLuint groundVao = 0;
@@ -291,7 +336,9 @@ struct Renderer::Impl {
         targets.release();
         glDeleteBuffers(1, &groundBuffer);
         glDeleteVertexArrays(1, &groundVao);
-        glDeleteProgram(meshProgram);
+        for (const GLuint program : meshPrograms) {
+            glDeleteProgram(program);
+        }
         glDeleteProgram(groundProgram);
         glDeleteProgram(lineProgram);
     }
@@ -323,11 +370,14 @@ Result<std::unique_ptr<Renderer>> Renderer::create() {
         return glError("the current context is not desktop OpenGL 3.3 or newer");
     }
     auto impl = std::make_unique<Impl>();
-    auto mesh = buildProgram(shaders::MESH_VERTEX, shaders::MESH_FRAGMENT);
-    if (!mesh.ok()) {
-        return mesh.error();
+    for (std::size_t v = 0; v < MESH_VARIANTS; ++v) {
+        const std::string fragment = withDefines(shaders::MESH_FRAGMENT, MESH_VARIANT_DEFINES[v]);
+        auto mesh = buildProgram(shaders::MESH_VERTEX, fragment.c_str());
+        if (!mesh.ok()) {
+            return mesh.error();
+        }
+        impl->meshPrograms[v] = mesh.value();
     }
-    impl->meshProgram = mesh.value();
     auto ground = buildProgram(shaders::GROUND_VERTEX, shaders::GROUND_FRAGMENT);
     if (!ground.ok()) {
         return ground.error();
@@ -533,27 +583,37 @@ Result<void> Renderer::Impl::prepareTargets(int width, int height, int samples) 
 }
 
 void Renderer::Impl::drawMeshes(const Camera& camera, bool wire) {
-    glUseProgram(meshProgram);
-    const auto at = [&](const char* name) { return glGetUniformLocation(meshProgram, name); };
-    glUniformMatrix4fv(at("uView"), 1, GL_FALSE, camera.view.data());
-    glUniformMatrix4fv(at("uProjection"), 1, GL_FALSE, camera.projection.data());
     const Eigen::Matrix3f rotation = camera.view.topLeftCorner<3, 3>();
-    glUniformMatrix3fv(at("uViewRotation"), 1, GL_FALSE, rotation.data());
-    glUniform1i(at("uTriangleColours"), 0);
-    glUniform1i(at("uWire"), wire ? 1 : 0);
-    glUniform4f(at("uWireColour"), 0.0f, 0.0f, 0.0f, 0.35f);
     for (const GpuMesh& m : meshes) {
         if (wire && m.kind != MeshKind::Garment) {
             continue;
         }
+        const bool coloured = m.triangleColourTexture != 0;
+        const bool woven = m.weavePeriodMm > 0;
+        const GLuint program =
+            meshPrograms[wire       ? WIRE
+                         : coloured ? (woven ? TRIANGLE_COLOURS_AND_WEAVE : TRIANGLE_COLOURS)
+                         : woven    ? WEAVE
+                                    : PLAIN];
+        glUseProgram(program);
+        const auto at = [&](const char* name) { return glGetUniformLocation(program, name); };
+        glUniformMatrix4fv(at("uView"), 1, GL_FALSE, camera.view.data());
+        glUniformMatrix4fv(at("uProjection"), 1, GL_FALSE, camera.projection.data());
+        glUniformMatrix3fv(at("uViewRotation"), 1, GL_FALSE, rotation.data());
+        glUniform1i(at("uTriangleColours"), 0);
+        glUniform4f(at("uWireColour"), 0.0f, 0.0f, 0.0f, 0.35f);
         glUniform1i(at("uGarment"), m.kind == MeshKind::Garment ? 1 : 0);
-        glUniform1i(at("uTriangleColoured"), m.triangleColourTexture != 0 ? 1 : 0);
         glUniform1f(at("uWeavePeriodMm"), m.weavePeriodMm);
+        if (m.cullBackFaces) {
+            glEnable(GL_CULL_FACE);
+            glCullFace(GL_BACK);
+        }
         glActiveTexture(GL_TEXTURE0);
         glBindTexture(GL_TEXTURE_BUFFER, m.triangleColourTexture);
         glBindVertexArray(m.vao);
         glVertexAttrib1f(4, 1.0f); // the visibility where a mesh has no occlusion array
         glDrawElements(GL_TRIANGLES, m.indexCount, GL_UNSIGNED_INT, nullptr);
+        glDisable(GL_CULL_FACE);
     }
     glBindVertexArray(0);
 }

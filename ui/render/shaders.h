@@ -29,7 +29,19 @@ void main() {
 }
 )";
 
+/// The meshes' fragment shader, compiled in variants (renderer.cpp puts the `#define`s after
+/// the version line): TRIANGLE_COLOURS (a colour per triangle from uTriangleColours), WEAVE (the
+/// plain weave through the UVs), WIRE (the wireframe overlay's flat colour). Mesa's llvmpipe
+/// pays for the texel fetch and the weave even where a uniform switches them off, so what a mesh
+/// does not use is left out of its variant.
 inline constexpr const char* MESH_FRAGMENT = R"(#version 330 core
+#ifdef WIRE
+uniform vec4 uWireColour;
+out vec4 outColour;
+void main() {
+    outColour = uWireColour;
+}
+#else
 in vec3 vWorldNormal;
 in vec3 vViewPosition;
 in vec4 vColour;
@@ -37,11 +49,8 @@ in vec2 vUvMm;
 in float vVisibility;
 uniform float uWeavePeriodMm;
 uniform mat3 uViewRotation;
-uniform bool uTriangleColoured;
 uniform samplerBuffer uTriangleColours;
 uniform bool uGarment;
-uniform bool uWire;
-uniform vec4 uWireColour;
 out vec4 outColour;
 
 const vec3 KEY_DIR = vec3(-0.52, 0.62, 0.59);
@@ -64,6 +73,7 @@ vec3 light(vec3 albedo, vec3 n, vec3 v, vec3 l, vec3 colour) {
     return colour * (albedo * diffuse + vec3(specular));
 }
 
+#ifdef WEAVE
 // A plain weave: threads one period apart, warp along v (the grain), weft along u, each
 // passing over one thread and under the next. A thread is brightest along its middle; where it
 // is on top it hides the crossing one. Where a thread is narrower than about two pixels the
@@ -79,17 +89,18 @@ float weave(vec2 uvMm) {
     float detail = clamp(1.5 - 2.0 * max(w.x, w.y), 0.0, 1.0);
     return mix(1.0, shade, detail);
 }
+#endif
 
 void main() {
-    if (uWire) {
-        outColour = uWireColour;
-        return;
-    }
-    vec4 base = uTriangleColoured ? texelFetch(uTriangleColours, gl_PrimitiveID) : vColour;
+#ifdef TRIANGLE_COLOURS
+    vec4 base = texelFetch(uTriangleColours, gl_PrimitiveID);
+#else
+    vec4 base = vColour;
+#endif
     vec3 albedo = pow(base.rgb, vec3(2.2));
-    if (uWeavePeriodMm > 0.0) {
-        albedo *= weave(vUvMm);
-    }
+#ifdef WEAVE
+    albedo *= weave(vUvMm);
+#endif
     vec3 nWorld = normalize(vWorldNormal);
     if (!gl_FrontFacing) {
         nWorld = -nWorld;
@@ -117,6 +128,7 @@ void main() {
     }
     outColour = vec4(pow(colour, vec3(1.0 / 2.2)), 1.0);
 }
+#endif
 )";
 
 inline constexpr const char* GROUND_VERTEX = R"(#version 330 core
