@@ -61,7 +61,7 @@ void takeScreenshot(MainWindow& window, double until, const QString& out, int& c
                 QElapsedTimer clock;
                 clock.start();
                 for (int k = 0; k < 10; ++k) {
-                    window.viewport().repaint();
+                    window.viewport().drawNow();
                 }
                 const double pausedMs = double(clock.nsecsElapsed()) * 1e-6 / 10;
                 QSaveFile file(out);

@@ -924,7 +924,8 @@ void MainWindow::savePicture() {
     if (path.isEmpty()) {
         return;
     }
-    QSaveFile out(path); // written whole or not at all
+    m_viewport->drawNow(); // the scene as it is, not the last frame handed back
+    QSaveFile out(path);   // written whole or not at all
     if (!out.open(QIODevice::WriteOnly) || !m_viewport->picture().save(&out, "PNG") ||
         !out.commit()) {
         QMessageBox::warning(this, tr("Atelier"),

@@ -217,6 +217,20 @@ void Viewport::poll() {
     if (m_drape->snapshot(m_snapshot) && m_snapshot.version != m_drawnVersion) {
         requestFrame();
     }
+    // The drape stopped: the draft drawn while it ran gives way to a full-quality picture.
+    const bool running = m_drape->running();
+    if (m_wasRunning && !running) {
+        requestFrame();
+    }
+    m_wasRunning = running;
+}
+
+void Viewport::drawNow() {
+    if (m_static && ensureRenderer()) {
+        m_frameWanted = false;
+        draw(true);
+    }
+    update();
 }
 
 void Viewport::draw(bool wait) {
@@ -373,12 +387,10 @@ QImage Viewport::renderImage(int width, int height, QString* error) {
 void Viewport::paintEvent(QPaintEvent* /*event*/) {
     QPainter painter(this);
     if (m_static && ensureRenderer()) {
-        if (!m_drape->running()) {
-            m_frameWanted = false;
-            draw(true); // at rest or paused: every paint draws the scene as it is, at once
-        } else if (m_frameWanted || !m_completionPaint) {
-            // While the drape runs the render thread draws; the picture there is shown until
-            // the next one arrives, and a new frame waits for the one being drawn.
+        if (m_frameWanted || !m_completionPaint) {
+            // The render thread draws, running or at rest (an orbit, an edit): the picture
+            // there is shown until the next one arrives, and a new frame waits for the one
+            // being drawn, so the event loop never waits for a draw (drawNow does).
             if (!m_frameInFlight) {
                 m_frameWanted = false;
                 draw(false);

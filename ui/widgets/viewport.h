@@ -48,6 +48,9 @@ class Viewport : public QWidget {
     double drawMilliseconds() const { return m_drawMs; }
     /// The last picture drawn (for File > Save picture and tests).
     QImage picture() const { return m_picture; }
+    /// Draws the scene as it is now and waits for the picture (a screenshot, a test): paints
+    /// hand their frames to the render thread and show the last picture until it arrives.
+    void drawNow();
     /// A picture of the scene as it is now, from the view's camera, at `width`×`height` pixels
     /// with 4× multisampling (File > Render image); null when it cannot, with the reason in
     /// `error`.
@@ -175,6 +178,7 @@ class Viewport : public QWidget {
     bool m_frameInFlight = false;    ///< a frame is being drawn on the render thread
     bool m_frameWanted = false;      ///< the picture is out of date
     bool m_completionPaint = false;  ///< the paint scheduled is for a frame that arrived
+    bool m_wasRunning = false;       ///< the drape ran at the last poll (its end asks a frame)
     QImage m_picture;
     std::shared_ptr<const StaticScene> m_static;
     sim::Snapshot m_snapshot;

@@ -866,7 +866,7 @@ TEST(EndToEnd, ASkirtFromScratch) {
     Viewport& view3d = f.window.viewport();
     view3d.setView(render::View::Front);
     waitFor([] { return false; }, 0.1);
-    view3d.repaint();
+    view3d.drawNow();
     const QImage picture = view3d.picture().convertToFormat(QImage::Format_RGB32);
     ASSERT_FALSE(picture.isNull()) << view3d.rendererError().toStdString();
     const render::Colour brick = render::panelColour(0);

@@ -70,7 +70,7 @@ struct DrapedSkirt {
                 break;
             }
         }
-        window.viewport().repaint();
+        window.viewport().drawNow();
         return !window.viewport().picture().isNull();
     }
     sim::Snapshot snapshot;

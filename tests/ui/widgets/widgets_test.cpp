@@ -245,7 +245,7 @@ TEST(Viewport, DrawsTheGarmentOnItsBody) {
     ASSERT_TRUE(window.drape().snapshot(s));
     EXPECT_TRUE(s.clothPositions.allFinite());
     // Paused, a paint draws at once, at full resolution.
-    window.viewport().repaint();
+    window.viewport().drawNow();
     EXPECT_NEAR(window.viewport().picture().width(), window.viewport().width() * ratio, 1);
 }
 
