@@ -193,7 +193,7 @@ def main():
                           f"{rms if rms is not None else float('nan'):.2e} m, "
                           f"{row['status']}", flush=True)
     with open(args.out, "w", newline="", encoding="utf-8") as f:
-        writer = csv.DictWriter(f, fieldnames=COLUMNS)
+        writer = csv.DictWriter(f, fieldnames=COLUMNS, lineterminator="\n")
         writer.writeheader()
         writer.writerows(rows)
     if args.plot:
