@@ -3,6 +3,8 @@
 
 #include "io/temp_dir.h"
 
+#include "slow/csv_rows.h"
+
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -35,17 +37,10 @@ struct Row {
 };
 
 std::vector<Row> readCsv(const std::filesystem::path& path) {
-    std::ifstream in(path);
-    std::string line;
-    std::getline(in, line); // header
+    const std::vector<std::vector<std::string>> lines = test::csvRows(path);
     std::vector<Row> rows;
-    while (std::getline(in, line)) {
-        std::vector<std::string> cells;
-        std::stringstream s(line);
-        std::string cell;
-        while (std::getline(s, cell, ',')) {
-            cells.push_back(cell);
-        }
+    for (std::size_t k = 1; k < lines.size(); ++k) { // after the header
+        const std::vector<std::string>& cells = lines[k];
         if (cells.size() < 12) {
             continue;
         }

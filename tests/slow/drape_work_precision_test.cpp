@@ -3,6 +3,8 @@
 
 #include "io/temp_dir.h"
 
+#include "slow/csv_rows.h"
+
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -16,23 +18,6 @@
 
 namespace atelier {
 namespace {
-
-/// The CSV's rows, each split at its commas (the tool's cells hold none).
-std::vector<std::vector<std::string>> csvRows(const std::filesystem::path& path) {
-    std::ifstream in(path);
-    std::vector<std::vector<std::string>> rows;
-    std::string line;
-    while (std::getline(in, line)) {
-        std::vector<std::string> cells;
-        std::stringstream s(line);
-        std::string cell;
-        while (std::getline(s, cell, ',')) {
-            cells.push_back(cell);
-        }
-        rows.push_back(cells);
-    }
-    return rows;
-}
 
 // The skirt at 40 mm with a 20 ms step against the same with 10 ms and CG 1e-6 (about 10 s):
 // the row says how long, how many steps and iterations, how far from the reference (a
@@ -49,7 +34,7 @@ TEST(DrapeWorkPrecision, MeasuresASettingAgainstItsReferenceFromTheMeshes) {
         (dir / "log").string() + "\" 2>&1";
     const int status = std::system(command.c_str());
     ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << command;
-    const auto rows = csvRows(dir / "wp.csv");
+    const auto rows = test::csvRows(dir / "wp.csv");
     ASSERT_EQ(rows.size(), 2u) << "a header and one setting";
     ASSERT_EQ(rows[0].size(), 13u);
     EXPECT_EQ(rows[0][8], "rms_error_m");

@@ -5,6 +5,8 @@
 #include "ui/render/pin_markers.h"
 #include "ui/render/shaders.h"
 
+#include "patterns/body_measure.h"
+
 #include "sim/collision/obstacle.h"
 #include "sim/mesh/vertex_normals.h"
 
@@ -165,14 +167,7 @@ bool closedOutwards(const sim::MatX3& positions, const sim::MatX3i& triangles) {
     if (!sim::isClosedOriented(triangles, static_cast<int>(positions.rows()))) {
         return false;
     }
-    double volume6 = 0; // six times the signed volume (divergence theorem)
-    for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
-        const Eigen::Vector3d a = positions.row(triangles(t, 0));
-        const Eigen::Vector3d b = positions.row(triangles(t, 1));
-        const Eigen::Vector3d c = positions.row(triangles(t, 2));
-        volume6 += a.dot(b.cross(c));
-    }
-    return volume6 > 0;
+    return patterns::enclosedVolume(positions, triangles) > 0; // signed: < 0 inside out
 }
 
 GpuMesh upload(const DrawMesh& mesh) {
