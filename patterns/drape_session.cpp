@@ -456,8 +456,10 @@ GarmentFit DrapeSession::fit() const {
     const sim::Simulation& s = *m_simulation;
     out.panels = panelStrains(m_assembled, s.positions());
     const bool finite = s.stats().finite && s.positions().allFinite();
-    out.verdict = fitVerdict(out.panels, openSeams(),
-                             finite ? static_cast<int>(s.intersectingTrianglePairs()) : 0);
+    long withBody = 0;
+    const long pairs = finite ? s.intersectingTrianglePairs(&withBody) : 0;
+    out.verdict =
+        fitVerdict(out.panels, openSeams(), static_cast<int>(pairs), static_cast<int>(withBody));
     return out;
 }
 

@@ -67,7 +67,8 @@ std::string_view fitName(FitLevel fit) {
 }
 
 FitVerdict fitVerdict(const std::vector<PanelStrain>& strains,
-                      const std::vector<ForcedWeld>& openSeams, int intersectingPairs) {
+                      const std::vector<ForcedWeld>& openSeams, int intersectingPairs,
+                      int withBody) {
     FitVerdict v;
     std::vector<const PanelStrain*> order;
     for (const PanelStrain& p : strains) {
@@ -99,10 +100,18 @@ FitVerdict fitVerdict(const std::vector<PanelStrain>& strains,
                       w.seam.c_str(), w.pairs, 1000 * w.widest);
         append(text);
     }
-    if (intersectingPairs > 0) {
+    const int clothPairs = intersectingPairs - withBody;
+    if (clothPairs > 0) {
         v.fit = FitLevel::DoesNotFit;
         std::snprintf(text, sizeof text, "%d intersecting triangle pairs (cloth through cloth)",
-                      intersectingPairs);
+                      clothPairs);
+        append(text);
+    }
+    if (withBody > 0) {
+        v.fit = FitLevel::DoesNotFit;
+        std::snprintf(text, sizeof text,
+                      "%d cloth triangles intersecting the body's (cloth through the body)",
+                      withBody);
         append(text);
     }
     return v;

@@ -47,9 +47,11 @@ struct FitVerdict {
 };
 
 /// The verdict from the panels' strains, the seams left open after sewing (ForcedWeld per seam:
-/// its unwelded pairs and their widest gap) and the count of intersecting triangle pairs.
+/// its unwelded pairs and their widest gap) and the count of intersecting triangle pairs, of
+/// which `withBody` are cloth–obstacle pairs (Simulation::intersectingTrianglePairs).
 FitVerdict fitVerdict(const std::vector<PanelStrain>& strains,
-                      const std::vector<ForcedWeld>& openSeams, int intersectingPairs);
+                      const std::vector<ForcedWeld>& openSeams, int intersectingPairs,
+                      int withBody);
 
 /// A drape's fit: its panels' strains and the verdict (DrapeSession::fit).
 struct GarmentFit {

@@ -75,18 +75,18 @@ TEST(PanelStrains, ACompressedPanelIsNotStretched) {
 
 TEST(FitVerdict, NamesThePanelsAndSeamsThatDoNotFit) {
     PanelStrain easy{"front", 0.15, 1.2, 0.01, 0.001};
-    EXPECT_EQ(fitVerdict({easy}, {}, 0).fit, FitLevel::Fits);
-    EXPECT_TRUE(fitVerdict({easy}, {}, 0).message.empty());
+    EXPECT_EQ(fitVerdict({easy}, {}, 0, 0).fit, FitLevel::Fits);
+    EXPECT_TRUE(fitVerdict({easy}, {}, 0, 0).message.empty());
 
     PanelStrain tight{"back", 0.08, 1.3, 0.2, 0.0};
-    const FitVerdict t = fitVerdict({easy, tight}, {}, 0);
+    const FitVerdict t = fitVerdict({easy, tight}, {}, 0, 0);
     EXPECT_EQ(t.fit, FitLevel::Tight);
     EXPECT_NE(t.message.find("back: 20.0% of its area stretched beyond 5%"), std::string::npos)
         << t.message;
     EXPECT_EQ(t.message.find("front"), std::string::npos) << t.message;
 
     PanelStrain torn{"sleeve_right", 2.68, 1.31, 0.87, 0.55};
-    const FitVerdict d = fitVerdict({easy, tight, torn}, {{"shoulder_left", 0.0234, 5}}, 44);
+    const FitVerdict d = fitVerdict({easy, tight, torn}, {{"shoulder_left", 0.0234, 5}}, 44, 0);
     EXPECT_EQ(d.fit, FitLevel::DoesNotFit);
     EXPECT_EQ(d.message.rfind("sleeve_right: 55.0% of its area stretched beyond 10% (up to 268% "
                               "at 1.31 m height)",
@@ -95,11 +95,19 @@ TEST(FitVerdict, NamesThePanelsAndSeamsThatDoNotFit) {
         << d.message; // the worst first
     EXPECT_NE(d.message.find("seam shoulder_left left open (5 pairs, widest 23.4 mm)"),
               std::string::npos);
-    EXPECT_NE(d.message.find("44 intersecting triangle pairs"), std::string::npos);
+    EXPECT_NE(d.message.find("44 intersecting triangle pairs (cloth through cloth)"),
+              std::string::npos);
     EXPECT_EQ(fitName(d.fit), "does not fit");
 
-    EXPECT_EQ(fitVerdict({easy}, {{"side", 0.01, 1}}, 0).fit, FitLevel::DoesNotFit);
-    EXPECT_EQ(fitVerdict({easy}, {}, 1).fit, FitLevel::DoesNotFit);
+    EXPECT_EQ(fitVerdict({easy}, {{"side", 0.01, 1}}, 0, 0).fit, FitLevel::DoesNotFit);
+    EXPECT_EQ(fitVerdict({easy}, {}, 1, 0).fit, FitLevel::DoesNotFit);
+    // Pairs with the body are named as such, apart from the cloth's own.
+    const FitVerdict body = fitVerdict({easy}, {}, 14, 14);
+    EXPECT_EQ(body.fit, FitLevel::DoesNotFit);
+    EXPECT_EQ(body.message, "14 cloth triangles intersecting the body's (cloth through the body)");
+    const FitVerdict both = fitVerdict({easy}, {}, 5, 2);
+    EXPECT_EQ(both.message, "3 intersecting triangle pairs (cloth through cloth); 2 cloth "
+                            "triangles intersecting the body's (cloth through the body)");
 }
 
 } // namespace
