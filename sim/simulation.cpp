@@ -234,7 +234,20 @@ void Simulation::Impl::applyCorrectionsA(double h) {
     if (scene.highDampingTimeConstant > 0) {
         applyHighDamping(allEdges, invMass, h, scene.highDampingTimeConstant, v);
     }
-    welds.merge(&x, v, mass, invMass);
+    if (collision && collision->selfCollision()) {
+        // The corrections of the last step may have left welded groups apart (weldAfterStep):
+        // bringing them together must not carry cloth through cloth either.
+        StageTimer collisionTimer(*timerCollision); // collision work (nested here)
+        welds.mergeWithoutCrossing(x, v, mass, invMass, weldCrossingTest(), mergeUnchecked);
+    } else {
+        welds.merge(&x, v, mass, invMass);
+    }
+}
+
+SeamWelds::CrossingTest Simulation::Impl::weldCrossingTest() {
+    return [this](const MatX3& before, const MatX3& after, const std::vector<int>& moved) {
+        return collision->crossingVertices(before, after, moved);
+    };
 }
 
 void Simulation::Impl::routeSeams() {
@@ -601,12 +614,8 @@ void Simulation::Impl::weldAfterStep() {
             // carries a triangle through the cloth beside the seam, the pair is not welded
             // this step (its elastic keeps pulling), so welds never make intersections.
             StageTimer collisionTimer(*timerCollision); // collision work (nested here)
-            welds.unweldCrossing(
-                xPreMerge, vPreMerge, x, v, mass, invMass,
-                [this](const MatX3& before, const MatX3& after, const std::vector<int>& moved) {
-                    return collision->crossingVertices(before, after, moved);
-                },
-                weldFigures);
+            welds.unweldCrossing(xPreMerge, vPreMerge, x, v, mass, invMass, weldCrossingTest(),
+                                 weldFigures);
         }
         if (forced) {
             double elasticAfter = 0;

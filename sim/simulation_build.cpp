@@ -13,6 +13,8 @@
 #include "sim/simulation_impl.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 namespace atelier::sim {
 
@@ -188,6 +190,13 @@ void Simulation::Impl::buildSolver() {
         // the steps' wall time.
         StageTimer timer(stats.stageSeconds["collision.setup"]);
         collision = std::make_unique<CollisionStage>(scene, offsets, x);
+        double thinnest = std::numeric_limits<double>::infinity();
+        for (const ClothSpec& c : scene.cloths) {
+            if (c.selfCollision) {
+                thinnest = std::min(thinnest, c.thickness);
+            }
+        }
+        mergeUnchecked = std::isfinite(thinnest) ? 0.5 * thinnest : 0.0;
         collision->update(0.0, 0.0, x, x, v, invMass); // resolve the start, find trapped vertices
         stats.maxPenetration = collision->penetration(x);
         stats.contacts = collision->figures().contacts;

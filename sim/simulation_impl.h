@@ -113,6 +113,9 @@ struct Simulation::Impl {
 
     /// Seam welding (sim/constraints/seam_welds.h) and its figures, copied into stats.
     SeamWelds welds;
+    /// A welded group whose members lie within this of each other [m] is merged at a step's
+    /// start unchecked for crossings: half the thinnest self-colliding cloth's thickness.
+    double mergeUnchecked = 0;
     WeldFigures weldFigures;
     MatX3 xPreMerge, vPreMerge; ///< the state before this step's merge
 
@@ -205,6 +208,8 @@ struct Simulation::Impl {
     std::string collisionStretch() const;
     /// After an accepted step: welds closed seams and merges weld groups.
     void weldAfterStep();
+    /// Whether moving the welded vertices from `before` to `after` carries cloth through cloth.
+    SeamWelds::CrossingTest weldCrossingTest();
     /// Counters, the lowest point and the next step size after an accepted step.
     void endStep(double h, double errorRatio);
     double constraintPower(const MatX3& f, const MatX3& a, const MatX3& vel) const;

@@ -210,4 +210,43 @@ void SeamWelds::unweldCrossing(const MatX3& xBefore, const MatX3& vBefore, MatX3
     }
 }
 
+void SeamWelds::putBackCrossing(const MatX3& xBefore, MatX3& x, const std::vector<int>& candidates,
+                                const CrossingTest& test) {
+    std::vector<int> moved = candidates;
+    for (int round = 0; round < 8 && !moved.empty(); ++round) {
+        const std::vector<int> crossed = test(xBefore, x, moved);
+        if (crossed.empty()) {
+            return;
+        }
+        for (int i : crossed) {
+            x.row(i) = xBefore.row(i);
+        }
+        // What is left to test: the candidates still away from where they were.
+        std::erase_if(moved, [&](int i) { return x.row(i) == xBefore.row(i); });
+    }
+    for (int i : test(xBefore, x, moved)) {
+        x.row(i) = xBefore.row(i);
+    }
+}
+
+void SeamWelds::mergeWithoutCrossing(MatX3& x, MatX3& v, const VecX& mass, const VecX& invMass,
+                                     const CrossingTest& crossing, double unchecked) {
+    m_moved.clear();
+    for (const std::vector<int>& g : m_groups) {
+        const bool apart = std::any_of(g.begin() + 1, g.end(), [&](int i) {
+            return (x.row(i) - x.row(g.front())).norm() > unchecked;
+        });
+        if (apart) {
+            m_moved.insert(m_moved.end(), g.begin(), g.end());
+        }
+    }
+    if (m_moved.empty()) {
+        merge(&x, v, mass, invMass);
+        return;
+    }
+    m_xBefore = x;
+    merge(&x, v, mass, invMass);
+    putBackCrossing(m_xBefore, x, m_moved, crossing);
+}
+
 } // namespace atelier::sim

@@ -54,6 +54,13 @@ class SeamWelds {
                         const VecX& mass, const VecX& invMass, const CrossingTest& crossing,
                         WeldFigures& figures);
 
+    /// merge(&x, v) at a step's start, where a group's members may have been left apart (see
+    /// unweldCrossing): members whose move onto their group's point would carry cloth through
+    /// cloth stay where they are (apart, one velocity). Groups whose members all lie within
+    /// `unchecked` [m] of their first member are merged without the test.
+    void mergeWithoutCrossing(MatX3& x, MatX3& v, const VecX& mass, const VecX& invMass,
+                              const CrossingTest& crossing, double unchecked);
+
     bool welded(std::size_t pair) const { return !m_pairWelded.empty() && m_pairWelded[pair]; }
     /// Groups of two or more welded vertices, each sorted.
     const std::vector<std::vector<int>>& groups() const { return m_groups; }
@@ -64,6 +71,10 @@ class SeamWelds {
     bool join(const SeamPair& p);
     void rebuildGroups();
     std::vector<int> crossings(const MatX3& xBefore, const MatX3& x, const CrossingTest& test);
+    /// Puts the crossing vertices back at `xBefore` until nothing crosses (or rounds run out:
+    /// then every vertex still crossing goes back).
+    void putBackCrossing(const MatX3& xBefore, MatX3& x, const std::vector<int>& candidates,
+                         const CrossingTest& test);
 
     const std::vector<SeamPair>* m_seams = nullptr;
     int m_vertexCount = 0;
@@ -72,6 +83,7 @@ class SeamWelds {
     std::vector<std::vector<int>> m_groups;
     std::vector<std::size_t> m_new; ///< pairs welded by the last weldClosed
     std::vector<int> m_moved;       ///< scratch: vertices a merge moved
+    MatX3 m_xBefore;                ///< scratch: positions before the start's merge
 };
 
 } // namespace atelier::sim
