@@ -142,6 +142,8 @@ Result<void> DrapeSession::prepare() {
         return r;
     }
     m_startPenetration = m_simulation->penetration();
+    long withBody = 0;
+    m_startIntersecting = m_simulation->intersectingTrianglePairs(&withBody) - withBody;
     char message[160];
     std::snprintf(message, sizeof message,
                   "%zu panels, %ld triangles, %zu seam pairs placed on the body",
@@ -424,6 +426,7 @@ DrapeFigures DrapeSession::figures() const {
     f.seamGapMax = seamGapMax(m_assembled, s.positions());
     f.areaRatio = areaRatio(m_assembled.scene, s.positions());
     f.startPenetration = m_startPenetration;
+    f.startIntersectingPairs = m_startIntersecting;
     f.forcedWelds = forcedWelds(m_project.garment, m_assembled, s.stats().forcedWeldGaps);
     f.seamPairs = static_cast<long>(m_assembled.scene.seams.size());
     const PinFigures pins = pinFigures(m_assembled, s.positions(), s.time());

@@ -65,14 +65,17 @@ struct DrapeFigures {
     DrapePhase phase = DrapePhase::Empty;
     bool rested = false;
     bool timeLimitReached = false;
-    double time = 0;                     ///< drape time [s] (simulated, across restarts)
-    double restTime = -1;                ///< drape time at which rest was reached, or −1 [s]
-    double sewnAt = -1;                  ///< drape time at which sewing ended, or −1 [s]
-    double stepSeconds = 0;              ///< wall time spent stepping [s]
-    double kineticEnergyPerVertex = 0;   ///< mean, now [J]
-    double seamGapMax = 0;               ///< largest distance between sewn pairs now [m]
-    double areaRatio = 0;                ///< cloth area over rest area now [-]
-    double startPenetration = 0;         ///< deepest cloth vertex inside the body as placed [m]
+    double time = 0;                   ///< drape time [s] (simulated, across restarts)
+    double restTime = -1;              ///< drape time at which rest was reached, or −1 [s]
+    double sewnAt = -1;                ///< drape time at which sewing ended, or −1 [s]
+    double stepSeconds = 0;            ///< wall time spent stepping [s]
+    double kineticEnergyPerVertex = 0; ///< mean, now [J]
+    double seamGapMax = 0;             ///< largest distance between sewn pairs now [m]
+    double areaRatio = 0;              ///< cloth area over rest area now [-]
+    double startPenetration = 0;       ///< deepest cloth vertex inside the body as placed [m]
+    /// Cloth triangle pairs intersecting each other as placed (panels placed through each
+    /// other: the engine keeps cloth from crossing, it cannot undo a crossing it starts with).
+    long startIntersectingPairs = 0;
     std::vector<ForcedWeld> forcedWelds; ///< seams welded by force, widest first
     long triangles = 0;
     long seamPairs = 0;
@@ -290,6 +293,7 @@ class DrapeSession {
     bool m_timeLimit = false;
     std::string m_error;
     double m_startPenetration = 0;
+    long m_startIntersecting = 0;
     double m_kineticEnergyPerVertex = 0;
 };
 

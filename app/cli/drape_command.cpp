@@ -216,6 +216,7 @@ io::ReportFields drapeReportFields(const DrapeOptions& options,
         {"drape_time_s", f.time}, // simulated time reached, however the drape ended
         {"kinetic_energy_per_vertex_j", f.kineticEnergyPerVertex},
         {"start_penetration_m", f.startPenetration},
+        {"start_intersecting_pairs", static_cast<std::int64_t>(f.startIntersectingPairs)},
         {"pins", static_cast<std::int64_t>(f.pins)},
         // Largest distance of a pinned vertex from where its pin holds it: 0 when pins hold.
         {"pin_displacement_max_m", f.pinDisplacementMax},
@@ -225,12 +226,23 @@ io::ReportFields drapeReportFields(const DrapeOptions& options,
     };
 }
 
-/// The warnings of a prepared drape: meshing (seam ease) and a start inside the body.
+/// The warnings of a prepared drape: meshing (seam ease), a start inside the body and a start
+/// crossing itself.
 std::vector<std::string> preparedWarnings(const patterns::DrapeSession& session) {
     std::vector<std::string> out = session.warnings();
-    if (const double depth = session.figures().startPenetration; depth > 0) {
-        char text[96];
-        std::snprintf(text, sizeof text, "the placed garment starts %.4f m inside the body", depth);
+    const patterns::DrapeFigures f = session.figures();
+    char text[200];
+    if (f.startPenetration > 0) {
+        std::snprintf(text, sizeof text, "the placed garment starts %.4f m inside the body",
+                      f.startPenetration);
+        out.emplace_back(text);
+    }
+    if (f.startIntersectingPairs > 0) {
+        std::snprintf(text, sizeof text,
+                      "the placed garment starts with %ld intersecting triangle pairs: panels "
+                      "placed through each other stay crossed (place them apart: slot, offset, "
+                      "clearance)",
+                      f.startIntersectingPairs);
         out.emplace_back(text);
     }
     return out;

@@ -181,6 +181,7 @@ void drapeAndCheck(const std::string& name, const std::string& args, const Bar& 
         EXPECT_EQ(line, reported.get<std::string>());
     }
     if (bar.noIntersections) {
+        EXPECT_EQ(r["start_intersecting_pairs"].get<long>(), 0);
         EXPECT_EQ(r["fit"], bar.fit) << r["fit_message"];
         EXPECT_EQ(self, 0) << "garment with itself";
         EXPECT_EQ(withBody, 0) << "garment with the body";
@@ -262,6 +263,47 @@ TEST(SampleReport, ASeamLeftOpenIsAWarningNamingIt) {
     } else {
         EXPECT_EQ(all.find("not welded"), std::string::npos) << all;
     }
+}
+
+// Panels placed through each other stay crossed (the engine keeps cloth from crossing, it
+// cannot undo a crossing it starts with): the report counts the start's pairs and a warning
+// says what to do. The trousers on a small female body: the leg slots bring the front panels
+// through each other at the crotch (24 pairs as placed).
+TEST(SampleReport, APlacementThroughItselfIsAWarning) {
+    test::TempDir dir;
+    auto p = nlohmann::json::parse(
+        test::readText(fs::path(ATELIER_SOURCE_DIR) / "assets/garments/trousers.atelier"));
+    p["body"] = {{"base", "female"},
+                 {"measurements",
+                  {{"bust", 0.84},
+                   {"under_bust", 0.71},
+                   {"waist", 0.65},
+                   {"hip", 0.91},
+                   {"neck", 0.33},
+                   {"upper_arm", 0.26},
+                   {"thigh", 0.52}}}};
+    const fs::path project = dir / "trousers-small.atelier";
+    std::ofstream(project) << p.dump(1);
+    const fs::path report = dir / "report.json";
+    const std::string command =
+        std::string("\"") + ATELIER_CLI + "\" drape \"" + project.string() +
+        "\" --particle-distance 20 --threads 1 --time-limit 0.01 --report \"" + report.string() +
+        "\" 2> \"" + (dir / "stderr.txt").string() + "\"";
+    const int status = std::system(command.c_str());
+    ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0)
+        << test::readText(dir / "stderr.txt");
+    const auto r = nlohmann::json::parse(test::readText(report));
+    const long start = r["start_intersecting_pairs"].get<long>();
+    EXPECT_GT(start, 0);
+    EXPECT_GE(r["intersecting_triangle_pairs"].get<long>(), start);
+    const std::string warning =
+        "the placed garment starts with " + std::to_string(start) + " intersecting triangle pairs";
+    bool found = false;
+    for (const auto& m : r["warning_messages"]) {
+        found = found || m.get<std::string>().rfind(warning, 0) == 0;
+    }
+    EXPECT_TRUE(found) << r["warning_messages"].dump();
+    EXPECT_NE(test::readText(dir / "stderr.txt").find(warning), std::string::npos);
 }
 
 // At the project's own 10 mm (16–25k triangles), as `atelier-cli drape` runs them.
