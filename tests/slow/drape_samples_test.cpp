@@ -116,28 +116,50 @@ struct Bar {
     std::string fit = "fits";         ///< the verdict, checked with noIntersections
 };
 
+/// The bundled sample `name`, or a copy of it in `dir` on `body` when one is given.
+fs::path sampleProject(const std::string& name, const fs::path& dir,
+                       const nlohmann::json& body = nullptr) {
+    const fs::path sample = fs::path(ATELIER_SOURCE_DIR) / "assets/garments" / (name + ".atelier");
+    if (body.is_null()) {
+        return sample;
+    }
+    auto p = nlohmann::json::parse(test::readText(sample));
+    p["body"] = body;
+    const fs::path copy = dir / (name + ".atelier");
+    std::ofstream(copy) << p.dump(1);
+    return copy;
+}
+
+/// A body of the fit matrix (assets/batch/fit-matrix.json), by its name there.
+nlohmann::json fitMatrixBody(const std::string& name) {
+    return nlohmann::json::parse(test::readText(fs::path(ATELIER_SOURCE_DIR) /
+                                                "assets/batch/fit-matrix.json"))["bodies"][name];
+}
+
+/// Runs `atelier-cli drape PROJECT --report DIR/report.json ARGS` with its stderr in
+/// DIR/stderr.txt: success when it exits with 0.
+::testing::AssertionResult runDrape(const fs::path& project, const std::string& args,
+                                    const fs::path& dir) {
+    const std::string command = std::string("\"") + ATELIER_CLI + "\" drape \"" + project.string() +
+                                "\" --report \"" + (dir / "report.json").string() + "\" " + args +
+                                " 2> \"" + (dir / "stderr.txt").string() + "\"";
+    const int status = std::system(command.c_str());
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
+        return ::testing::AssertionSuccess();
+    }
+    return ::testing::AssertionFailure() << command << "\n" << test::readText(dir / "stderr.txt");
+}
+
 /// Drapes a sample with `atelier-cli drape ARGS` (on `body` instead of its own when given),
 /// then checks the report's figures and, from the written meshes alone, the intersections with
 /// itself and with the body.
 void drapeAndCheck(const std::string& name, const std::string& args, const Bar& bar,
                    const nlohmann::json& body = nullptr) {
     test::TempDir dir;
-    fs::path project = fs::path(ATELIER_SOURCE_DIR) / "assets/garments" / (name + ".atelier");
-    if (!body.is_null()) {
-        auto p = nlohmann::json::parse(test::readText(project));
-        p["body"] = body;
-        project = dir / (name + ".atelier");
-        std::ofstream(project) << p.dump(1);
-    }
     const fs::path out = dir / "draped.obj";
     const fs::path report = dir / "report.json";
-    const std::string command = std::string("\"") + ATELIER_CLI + "\" drape \"" + project.string() +
-                                "\" --out \"" + out.string() + "\" --report \"" + report.string() +
-                                "\" " + args + " 2> \"" + (dir / "stderr.txt").string() + "\"";
-    const int status = std::system(command.c_str());
-    ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0)
-        << test::readText(dir / "stderr.txt");
-
+    ASSERT_TRUE(runDrape(sampleProject(name, dir.path(), body),
+                         "--out \"" + out.string() + "\" " + args, dir.path()));
     const auto r = nlohmann::json::parse(test::readText(report));
     EXPECT_TRUE(r["finite"].get<bool>());
     EXPECT_LT(r["seam_gap_max_m"].get<double>(), 0.002);
@@ -239,16 +261,11 @@ TEST(SampleGarmentTooSmall, EndsStretchedWithoutTearingThroughItself) {
 // open).
 TEST(SampleReport, ASeamLeftOpenIsAWarningNamingIt) {
     test::TempDir dir;
-    const fs::path project = fs::path(ATELIER_SOURCE_DIR) / "assets/garments/tshirt.atelier";
-    const fs::path report = dir / "report.json";
-    const std::string command = std::string("\"") + ATELIER_CLI + "\" drape \"" + project.string() +
-                                "\" --particle-distance 20 --threads 1 --out \"" +
-                                (dir / "t.obj").string() + "\" --report \"" + report.string() +
-                                "\" 2> \"" + (dir / "stderr.txt").string() + "\"";
-    const int status = std::system(command.c_str());
-    ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0)
-        << test::readText(dir / "stderr.txt");
-    const auto r = nlohmann::json::parse(test::readText(report));
+    ASSERT_TRUE(
+        runDrape(sampleProject("tshirt", dir.path()),
+                 "--particle-distance 20 --threads 1 --out \"" + (dir / "t.obj").string() + "\"",
+                 dir.path()));
+    const auto r = nlohmann::json::parse(test::readText(dir / "report.json"));
     const auto& messages = r["warning_messages"];
     EXPECT_EQ(r["warnings"].get<long>(), static_cast<long>(messages.size()));
     const long open = r["seam_pairs"].get<long>() - r["welded_seam_pairs"].get<long>();
@@ -267,32 +284,13 @@ TEST(SampleReport, ASeamLeftOpenIsAWarningNamingIt) {
 
 // Panels placed through each other stay crossed (the engine keeps cloth from crossing, it
 // cannot undo a crossing it starts with): the report counts the start's pairs and a warning
-// says what to do. The trousers on a small female body: the leg slots bring the front panels
-// through each other at the crotch (24 pairs as placed).
+// says what to do. The trousers on the fit matrix's small female body: the leg slots bring the
+// front panels through each other at the crotch (24 pairs as placed).
 TEST(SampleReport, APlacementThroughItselfIsAWarning) {
     test::TempDir dir;
-    auto p = nlohmann::json::parse(
-        test::readText(fs::path(ATELIER_SOURCE_DIR) / "assets/garments/trousers.atelier"));
-    p["body"] = {{"base", "female"},
-                 {"measurements",
-                  {{"bust", 0.84},
-                   {"under_bust", 0.71},
-                   {"waist", 0.65},
-                   {"hip", 0.91},
-                   {"neck", 0.33},
-                   {"upper_arm", 0.26},
-                   {"thigh", 0.52}}}};
-    const fs::path project = dir / "trousers-small.atelier";
-    std::ofstream(project) << p.dump(1);
-    const fs::path report = dir / "report.json";
-    const std::string command =
-        std::string("\"") + ATELIER_CLI + "\" drape \"" + project.string() +
-        "\" --particle-distance 20 --threads 1 --time-limit 0.01 --report \"" + report.string() +
-        "\" 2> \"" + (dir / "stderr.txt").string() + "\"";
-    const int status = std::system(command.c_str());
-    ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0)
-        << test::readText(dir / "stderr.txt");
-    const auto r = nlohmann::json::parse(test::readText(report));
+    ASSERT_TRUE(runDrape(sampleProject("trousers", dir.path(), fitMatrixBody("female-S")),
+                         "--particle-distance 20 --threads 1 --time-limit 0.01", dir.path()));
+    const auto r = nlohmann::json::parse(test::readText(dir / "report.json"));
     const long start = r["start_intersecting_pairs"].get<long>();
     EXPECT_GT(start, 0);
     EXPECT_GE(r["intersecting_triangle_pairs"].get<long>(), start);
