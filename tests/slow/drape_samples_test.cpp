@@ -114,6 +114,8 @@ struct Bar {
     bool noIntersections = false;     ///< garment free of itself and of the body (from the files)
     double maxPenetration = INFINITY; ///< [m], over all frames (report)
     std::string fit = "fits";         ///< the verdict, checked with noIntersections
+    /// Every seam pair welded; otherwise the verdict names each seam left open.
+    bool sewn = true;
 };
 
 /// The bundled sample `name`, or a copy of it in `dir` on `body` when one is given.
@@ -162,8 +164,13 @@ void drapeAndCheck(const std::string& name, const std::string& args, const Bar& 
                          "--out \"" + out.string() + "\" " + args, dir.path()));
     const auto r = nlohmann::json::parse(test::readText(report));
     EXPECT_TRUE(r["finite"].get<bool>());
-    EXPECT_LT(r["seam_gap_max_m"].get<double>(), 0.002);
-    EXPECT_EQ(r["welded_seam_pairs"].get<long>(), r["seam_pairs"].get<long>());
+    if (bar.sewn) {
+        EXPECT_LT(r["seam_gap_max_m"].get<double>(), 0.002);
+        EXPECT_EQ(r["welded_seam_pairs"].get<long>(), r["seam_pairs"].get<long>());
+    } else if (r["welded_seam_pairs"].get<long>() < r["seam_pairs"].get<long>()) {
+        EXPECT_NE(r["fit_message"].get<std::string>().find("left open"), std::string::npos)
+            << r["fit_message"];
+    }
     EXPECT_GE(r["area_ratio"].get<double>(), 0.95);
     EXPECT_LE(r["area_ratio"].get<double>(), 1.05);
     EXPECT_GE(r["mesh_min_angle_deg"].get<double>(), 25.0);
@@ -224,9 +231,10 @@ TEST_P(SampleGarmentCoarse, SewsAndDrapesToRestOnTheDefaultBody) {
 INSTANTIATE_TEST_SUITE_P(Garments, SampleGarmentCoarse,
                          ::testing::Values("skirt", "dress", "trousers"));
 
-// Open (issue 4): at 20 mm the tshirt's right shoulder seam stands up in a fin at the neck and
-// its last pair there never closes (26 mm apart at rest; README, "What is open"); run with
-// --gtest_also_run_disabled_tests.
+// Open (issue 4): at 20 mm and 10 ms steps the tshirt sews shut and ends free of intersections,
+// but its kinetic energy hovers at 1-4e-8 J per vertex, above the rest threshold, to the 4 s
+// limit (until its armholes were deepened it kept a 26 mm fin open at the right shoulder); run
+// with --gtest_also_run_disabled_tests.
 class SampleGarmentCoarseOpen : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(SampleGarmentCoarseOpen, DISABLED_SewsAndDrapesToRestOnTheDefaultBody) {
@@ -247,18 +255,20 @@ TEST_P(SampleGarmentInteractive, SewsAndDrapesToRestOnTheDefaultBody) {
 INSTANTIATE_TEST_SUITE_P(Garments, SampleGarmentInteractive,
                          ::testing::Values("tshirt", "skirt", "dress", "trousers"));
 
-// Too small a body: the tshirt, drafted for the default female mannequin, on the default male
-// one. It ends stretched and says so (its sleeves), with every seam welded, and does not tear
-// through itself: a welded group that the collision corrections left apart is not brought back
-// together through the cloth at the next step's start (7 intersecting pairs before).
+// Too small a body: the tshirt, drafted for the default female mannequin, on the fit matrix's
+// large male one. It ends stretched and says so (bodice and sleeves, and a shoulder seam that
+// could not close without carrying cloth through cloth), and does not tear through itself: a
+// welded group that the collision corrections left apart is not brought back together through
+// the cloth at the next step's start (7 intersecting pairs before, on the default male body
+// with the tshirt's earlier, tighter armholes).
 TEST(SampleGarmentTooSmall, EndsStretchedWithoutTearingThroughItself) {
-    drapeAndCheck("tshirt", "--particle-distance 20 --threads 1",
-                  {false, true, 0.001, "does not fit"}, {{"base", "male"}});
+    Bar bar{false, true, 0.001, "does not fit"};
+    bar.sewn = false;
+    drapeAndCheck("tshirt", "--particle-distance 20 --threads 1", bar, fitMatrixBody("male-L"));
 }
 
 // Whatever the drape, the report tells the truth about its seams: a seam left open at rest is a
-// warning that names it with its gap (the 20 mm tshirt's right shoulder above, while it stays
-// open).
+// warning that names it with its gap (and a drape that welds every pair has no such warning).
 TEST(SampleReport, ASeamLeftOpenIsAWarningNamingIt) {
     test::TempDir dir;
     ASSERT_TRUE(
