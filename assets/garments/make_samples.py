@@ -98,8 +98,8 @@ def tshirt():
     back = panel("back", torso(25, length, hem_half=285, armhole_y=armhole_y),
                  "torso_back", offset=(0, 75))
     # Sleeve: hem at y = 0, underarm seams up to y = 70, a cap to the top at y = 170. The cap
-    # is 465 mm round, 5 mm under the armhole (sewn, the armhole takes it in without
-    # gathers); the sleeve is 420 mm round at the underarm. A cap much longer than its
+    # is 469 mm round, as long as the armhole within a millimetre (no gathers); the sleeve is
+    # 420 mm round at the underarm. A cap much longer than its
     # armhole (433 mm against 392 once) gathered in and curled the bodice's armhole corner
     # between the two sides of the side seam. A low cap also suits the A-pose, the arm held
     # 45 degrees from the body.
@@ -174,10 +174,10 @@ def skirt():
 def dress():
     length = 1000
     front = panel("front", torso(80, length, half_width=250, hem_half=330,
-                                 armhole_y=length - int(os.environ.get('AD','230'))), "torso_front", offset=(0, -115),
+                                 armhole_y=length - 230), "torso_front", offset=(0, -115),
                   clearance=60)
     back = panel("back", torso(30, length, half_width=250, hem_half=330,
-                               armhole_y=length - int(os.environ.get('AD','230'))), "torso_back", offset=(0, -115),
+                               armhole_y=length - 230), "torso_back", offset=(0, -115),
                  clearance=60)
     seams = [
         seam("side_left", [edge("front", 1)], [edge("back", 7, 1, 0)]),
