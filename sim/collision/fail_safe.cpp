@@ -53,11 +53,9 @@ void pairCrossings(const CollisionMesh& mesh, int ta, int tb, const MatX3& xs, c
 
 } // namespace
 
-void CrossingFailSafe::markCrossings(const CollisionMesh& mesh, SurfaceBvh& clothBvh,
+void CrossingFailSafe::findCrossings(const CollisionMesh& mesh, SurfaceBvh& clothBvh,
                                      DetectionScratch& scratch, const MatX3& xs, const MatX3& xe,
-                                     const VecX* invMass, std::vector<int>& marked) {
-    std::vector<char>& back = m_putBack;
-    back.resize(static_cast<std::size_t>(xe.rows()), 0);
+                                     std::vector<int>& hits) {
     clothBvh.refit(xs, &xe, 0.0);
     scratch.pairs.clear();
     SelfQueryOptions noCulling;
@@ -68,11 +66,43 @@ void CrossingFailSafe::markCrossings(const CollisionMesh& mesh, SurfaceBvh& clot
             pairCrossings(mesh, pair.first, pair.second, xs, xe, out.hits);
         });
     for (std::size_t c = 0; c < used; ++c) {
-        for (int v : scratch.chunks[c].hits) {
-            if (!back[static_cast<std::size_t>(v)] && (invMass == nullptr || (*invMass)[v] > 0)) {
-                back[static_cast<std::size_t>(v)] = 1;
-                marked.push_back(v);
+        hits.insert(hits.end(), scratch.chunks[c].hits.begin(), scratch.chunks[c].hits.end());
+    }
+}
+
+void CrossingFailSafe::undoCrossings(const std::vector<int>& hits, const MatX3& xs, MatX3& xe,
+                                     MatX3& ve, const VecX& invMass, std::vector<int>& changed) {
+    std::vector<Undone>& undone = m_undone;
+    const auto at = [&](int v) -> Undone& { return undone[static_cast<std::size_t>(v)]; };
+    for (std::size_t i = 0; i + 3 < hits.size(); i += 4) {
+        const int* pair = &hits[i];
+        // A drive (a kinematic vertex that moves) or a vertex carried by one cannot be put
+        // back: the pair follows it, translated as one, so it crosses no more than at xs.
+        int driver = -1;
+        for (int k = 0; k < 4 && driver < 0; ++k) {
+            const int v = pair[k];
+            const bool drive = !(invMass[v] > 0) && (xe.row(v) - xs.row(v)).squaredNorm() > 0;
+            if (drive || at(v) == Undone::Carried) {
+                driver = v;
             }
+        }
+        for (int k = 0; k < 4; ++k) {
+            const int v = pair[k];
+            if (!(invMass[v] > 0) || v == driver || at(v) == Undone::Carried) {
+                continue;
+            }
+            if (driver >= 0) {
+                xe.row(v) = xs.row(v) + (xe.row(driver) - xs.row(driver));
+                ve.row(v) = ve.row(driver);
+                at(v) = Undone::Carried;
+            } else if (at(v) == Undone::No) {
+                xe.row(v) = xs.row(v);
+                ve.row(v).setZero();
+                at(v) = Undone::PutBack;
+            } else {
+                continue;
+            }
+            changed.push_back(v);
         }
     }
 }
@@ -80,34 +110,30 @@ void CrossingFailSafe::markCrossings(const CollisionMesh& mesh, SurfaceBvh& clot
 long CrossingFailSafe::rollBack(const CollisionMesh& mesh, SurfaceBvh& clothBvh,
                                 DetectionScratch& scratch, const MatX3& xs, MatX3& xe, MatX3& ve,
                                 const VecX& invMass) {
-    std::vector<int>& marked = m_putBackList;
-    std::vector<int> all; // every vertex put back this step, to clear the flags at the end
+    m_undone.resize(static_cast<std::size_t>(xe.rows()), Undone::No);
+    std::vector<int> all; // every vertex undone this step, to clear the flags at the end
     std::vector<int> changed;
-    long rolledBack = 0;
+    std::vector<int>& hits = m_crossings;
     for (int round = 0; round < 32; ++round) {
-        marked.clear();
+        hits.clear();
         if (round == 0) {
-            markCrossings(mesh, clothBvh, scratch, xs, xe, &invMass, marked);
+            findCrossings(mesh, clothBvh, scratch, xs, xe, hits);
         } else {
-            // Only the vertices put back last round moved since: a feature pair without one
-            // crosses now exactly as it did then, and then its vertices were marked already.
-            markCrossingsAround(mesh, clothBvh, xs, xe, changed, &invMass, marked);
+            // Only the vertices moved last round moved since: a feature pair without one
+            // crosses now exactly as it did then, and then it was undone already.
+            findCrossingsAround(mesh, clothBvh, xs, xe, changed, hits);
         }
-        if (marked.empty()) {
+        changed.clear();
+        undoCrossings(hits, xs, xe, ve, invMass, changed);
+        if (changed.empty()) {
             break;
         }
-        changed = marked;
-        for (int v : marked) {
-            xe.row(v) = xs.row(v);
-            ve.row(v).setZero();
-        }
-        all.insert(all.end(), marked.begin(), marked.end());
-        rolledBack += static_cast<long>(marked.size());
+        all.insert(all.end(), changed.begin(), changed.end());
     }
     for (int v : all) {
-        m_putBack[static_cast<std::size_t>(v)] = 0;
+        m_undone[static_cast<std::size_t>(v)] = Undone::No;
     }
-    return rolledBack;
+    return static_cast<long>(all.size());
 }
 
 std::vector<int> CrossingFailSafe::crossingVertices(const CollisionMesh& mesh, SurfaceBvh& clothBvh,
@@ -117,18 +143,18 @@ std::vector<int> CrossingFailSafe::crossingVertices(const CollisionMesh& mesh, S
     if (!mesh.anySelf || moved.empty()) {
         return marked;
     }
-    m_putBack.resize(static_cast<std::size_t>(xe.rows()), 0);
-    markCrossingsAround(mesh, clothBvh, xs, xe, moved, nullptr, marked);
-    for (int v : marked) {
-        m_putBack[static_cast<std::size_t>(v)] = 0;
-    }
+    std::vector<int>& hits = m_crossings;
+    hits.clear();
+    findCrossingsAround(mesh, clothBvh, xs, xe, moved, hits);
+    marked = hits;
+    std::sort(marked.begin(), marked.end());
+    marked.erase(std::unique(marked.begin(), marked.end()), marked.end());
     return marked;
 }
 
-void CrossingFailSafe::markCrossingsAround(const CollisionMesh& mesh, SurfaceBvh& clothBvh,
+void CrossingFailSafe::findCrossingsAround(const CollisionMesh& mesh, SurfaceBvh& clothBvh,
                                            const MatX3& xs, const MatX3& xe,
-                                           const std::vector<int>& moved, const VecX* invMass,
-                                           std::vector<int>& marked) {
+                                           const std::vector<int>& moved, std::vector<int>& hits) {
     const std::size_t nv = static_cast<std::size_t>(xe.rows());
     if (m_vertexTriangles.size() != nv) {
         m_vertexTriangles.assign(nv, {});
@@ -148,8 +174,6 @@ void CrossingFailSafe::markCrossingsAround(const CollisionMesh& mesh, SurfaceBvh
     }
     std::sort(triangles.begin(), triangles.end());
     triangles.erase(std::unique(triangles.begin(), triangles.end()), triangles.end());
-    std::vector<char>& flagged = m_putBack;
-    std::vector<int>& hits = m_hits;
     std::vector<int> candidates;
     for (int t : triangles) {
         Aabb box;
@@ -163,15 +187,7 @@ void CrossingFailSafe::markCrossingsAround(const CollisionMesh& mesh, SurfaceBvh
             if (u == t) {
                 continue;
             }
-            hits.clear();
             pairCrossings(mesh, t, u, xs, xe, hits);
-            for (int v : hits) {
-                if (!flagged[static_cast<std::size_t>(v)] &&
-                    (invMass == nullptr || (*invMass)[v] > 0)) {
-                    flagged[static_cast<std::size_t>(v)] = 1;
-                    marked.push_back(v);
-                }
-            }
         }
     }
 }

@@ -1,7 +1,10 @@
 #pragma once
 /// The fail-safe after the corrections: cloth vertices of features that still cross each other
 /// over the step are put back at their start (which was free of those crossings) and stopped,
-/// repeatedly, until no crossing is left. Exact swept tests, no curvature culling.
+/// repeatedly, until no crossing is left. A feature pair that a moving kinematic vertex (a
+/// drive) carries through the other cannot be undone that way: its movable vertices are carried
+/// along with the drive instead, the pair translated as one, so it does not cross. Exact swept
+/// tests, no curvature culling.
 
 #include "sim/collision/bvh.h"
 #include "sim/collision/collision_mesh.h"
@@ -15,8 +18,11 @@ namespace atelier::sim {
 class CrossingFailSafe {
   public:
     /// Puts back (xe = xs, ve = 0) the movable vertices of the cloth–cloth features that cross
-    /// over xs → xe, round after round, until none is left (at most 32 rounds). Refits
-    /// `clothBvh` to the swept boxes. Returns the number of vertex-steps put back.
+    /// over xs → xe, round after round, until none is left (at most 32 rounds). Where a crossing
+    /// feature pair holds a moving vertex of zero inverse mass, or one carried already, its
+    /// other movable vertices are carried with it instead (xe = xs + that vertex's displacement,
+    /// ve = its velocity). Refits `clothBvh` to the swept boxes. Returns the number of
+    /// vertex-steps put back or carried.
     long rollBack(const CollisionMesh& mesh, SurfaceBvh& clothBvh, DetectionScratch& scratch,
                   const MatX3& xs, MatX3& xe, MatX3& ve, const VecX& invMass);
 
@@ -27,22 +33,25 @@ class CrossingFailSafe {
                                       const std::vector<int>& moved);
 
   private:
-    /// One detection pass: appends to `marked` the vertices (movable ones only if `invMass` is
-    /// given) of features crossing over xs → xe that are not flagged in m_putBack yet, flagging
-    /// them.
-    void markCrossings(const CollisionMesh& mesh, SurfaceBvh& clothBvh, DetectionScratch& scratch,
-                       const MatX3& xs, const MatX3& xe, const VecX* invMass,
-                       std::vector<int>& marked);
-    /// As markCrossings, over the feature pairs of the triangles with a corner in `moved` only
+    /// One detection pass: appends to `hits` the four vertices of every feature pair crossing
+    /// over xs → xe.
+    void findCrossings(const CollisionMesh& mesh, SurfaceBvh& clothBvh, DetectionScratch& scratch,
+                       const MatX3& xs, const MatX3& xe, std::vector<int>& hits);
+    /// As findCrossings, over the feature pairs of the triangles with a corner in `moved` only
     /// (each against the triangles its swept box overlaps).
-    void markCrossingsAround(const CollisionMesh& mesh, SurfaceBvh& clothBvh, const MatX3& xs,
-                             const MatX3& xe, const std::vector<int>& moved, const VecX* invMass,
-                             std::vector<int>& marked);
+    void findCrossingsAround(const CollisionMesh& mesh, SurfaceBvh& clothBvh, const MatX3& xs,
+                             const MatX3& xe, const std::vector<int>& moved,
+                             std::vector<int>& hits);
+    /// Undoes the crossings `hits` (four vertices each) as rollBack describes, appending the
+    /// vertices it moved to `changed`.
+    void undoCrossings(const std::vector<int>& hits, const MatX3& xs, MatX3& xe, MatX3& ve,
+                       const VecX& invMass, std::vector<int>& changed);
 
-    std::vector<char> m_putBack;    ///< per vertex, put back this step (all 0 between steps)
-    std::vector<int> m_putBackList; ///< the vertices put back in the current round
+    /// What the fail-safe did to a vertex in the current step.
+    enum class Undone : char { No, PutBack, Carried };
+    std::vector<Undone> m_undone;                    ///< per vertex (all No between steps)
+    std::vector<int> m_crossings;                    ///< four vertices per crossing feature pair
     std::vector<std::vector<int>> m_vertexTriangles; ///< per cloth vertex, lazily
-    std::vector<int> m_hits;                         ///< scratch of pairCrossings
 };
 
 } // namespace atelier::sim

@@ -3,6 +3,7 @@
 // region vote putting pushed-through vertices back.
 
 #include "sim/collision/collision_stage.h"
+#include "sim/collision/fail_safe.h"
 #include "sim/collision/obstacle.h"
 #include "sim/core/parallel.h"
 #include "sim/simulation.h"
@@ -276,6 +277,42 @@ TEST(CollisionStage, FailSafeLeavesNoCrossingOverTheStep) {
     for (int i : stage.crossingVertices(xs, xs, all)) {
         ADD_FAILURE() << "the start crosses at " << i;
     }
+}
+
+TEST(CrossingFailSafe, CarriesClothAlongADriveInsteadOfLeavingItCrossed) {
+    // A drive (a held vertex: zero inverse mass) pulls the upper sheet's middle vertex 5 cm
+    // down in one step, through the lower sheet 1 cm below, and nothing else moves. Putting
+    // the lower sheet back at its start cannot undo that crossing: the fail-safe alone (no
+    // corrections before it) carries the lower sheet's vertices along with the drive, and the
+    // drive keeps its path.
+    sim::MatX3 xs;
+    const sim::SceneSpec s = twoSheets(8, xs);
+    const int n = s.cloths[0].position.rows();
+    const int driven = n + n / 2; // the upper sheet's middle vertex (9×9 grid)
+    const int below = n / 2;      // the lower sheet's, 1 cm under it
+    ASSERT_NEAR(xs(driven, 0), 0.0, 1e-12);
+    ASSERT_NEAR(xs(below, 0), 0.0, 1e-12);
+    const sim::CollisionMesh mesh(s, {0, n, 2 * n});
+    sim::SurfaceBvh bvh(mesh.triangles, xs);
+    sim::DetectionScratch scratch;
+    sim::CrossingFailSafe failSafe;
+    sim::MatX3 xe = xs;
+    xe.row(driven) += Vec3(0.004, -0.05, 0.003).transpose(); // not exactly through a vertex
+    const Vec3 drive = xe.row(driven).transpose();
+    sim::MatX3 ve = (xe - xs) / 0.01;
+    sim::VecX invMass = sim::VecX::Ones(2 * n);
+    invMass[driven] = 0;
+    std::vector<int> all(static_cast<std::size_t>(2 * n));
+    std::iota(all.begin(), all.end(), 0);
+    ASSERT_FALSE(failSafe.crossingVertices(mesh, bvh, xs, xe, all).empty());
+    EXPECT_GT(failSafe.rollBack(mesh, bvh, scratch, xs, xe, ve, invMass), 0);
+    EXPECT_TRUE(failSafe.crossingVertices(mesh, bvh, xs, xe, all).empty());
+    EXPECT_EQ(Vec3(xe.row(driven).transpose()), drive); // the drive is where its path puts it
+    // The lower sheet's middle vertex went down with it, still below it, at its velocity.
+    EXPECT_NEAR(xe(below, 1), xs(below, 1) - 0.05, 1e-12);
+    EXPECT_EQ(Vec3(ve.row(below).transpose()), Vec3(ve.row(driven).transpose()));
+    // A second call finds nothing more to do: the flags were cleared, the result is final.
+    EXPECT_EQ(failSafe.rollBack(mesh, bvh, scratch, xs, xe, ve, invMass), 0);
 }
 
 class SheetOnSphere : public ::testing::TestWithParam<sim::IntegratorKind> {};

@@ -26,6 +26,8 @@ ClothSpec sheet(const std::string& name, double x0, double width, int cellsX) {
     }
     c.material.bending = 2e-4;
     c.material.damping = 0.01;
+    // The figures below are discrete shells' (k = bending per hinge), whatever the default.
+    c.bendingModel = BendingModel::Hinge;
     return c;
 }
 
