@@ -1,6 +1,7 @@
 // The collision stage in the step loop: only when needed, no penetration on obstacles, Coulomb
-// friction against its closed form, continuous detection against tunnelling, and the contact
-// region vote putting pushed-through vertices back.
+// friction against its closed form, continuous detection against tunnelling, the contact
+// region vote putting pushed-through vertices back, and the fail-safe leaving no crossing (nor
+// one a drive makes).
 
 #include "sim/collision/collision_stage.h"
 #include "sim/collision/fail_safe.h"
@@ -311,7 +312,7 @@ TEST(CrossingFailSafe, CarriesClothAlongADriveInsteadOfLeavingItCrossed) {
     // The lower sheet's middle vertex went down with it, still below it, at its velocity.
     EXPECT_NEAR(xe(below, 1), xs(below, 1) - 0.05, 1e-12);
     EXPECT_EQ(Vec3(ve.row(below).transpose()), Vec3(ve.row(driven).transpose()));
-    // A second call finds nothing more to do: the flags were cleared, the result is final.
+    // A second call over the same step finds nothing left to undo.
     EXPECT_EQ(failSafe.rollBack(mesh, bvh, scratch, xs, xe, ve, invMass), 0);
 }
 
