@@ -5,6 +5,7 @@
 #include "sim/constraints/kinematic.h"
 #include "sim/forces/seam_bending.h"
 #include "sim/mesh/joined_vertices.h"
+#include "sim/simulation.h"
 
 #include <algorithm>
 #include <cmath>
@@ -58,7 +59,8 @@ std::vector<double> boundaryLengths(const sim::ClothMesh& mesh) {
 
 std::optional<std::string> assembleGarment(const Garment& garment, const GarmentMesh& mesh,
                                            const Body& body, const DrapeSettings& settings,
-                                           AssembledGarment& out) {
+                                           AssembledGarment& out,
+                                           const std::vector<double>& lifts) {
     out = {};
     if (mesh.panels.size() != garment.panels.size()) {
         return std::string("the mesh does not match the garment's panels");
@@ -89,8 +91,9 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
         if (auto err = sim::buildClothMesh(pm.rest, pm.triangles, cloth.mesh)) {
             return who + ": " + *err;
         }
+        const double lift = p < lifts.size() ? lifts[p] : 0.0;
         cloth.position =
-            wrapOnSlot(placementCoordinates(panel, pm), *slot, panel.placement.clearance);
+            wrapOnSlot(placementCoordinates(panel, pm), *slot, panel.placement.clearance + lift);
         cloth.material = material->material;
         cloth.model = settings.model;
         cloth.bendingModel = settings.bendingModel;
@@ -164,6 +167,96 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
     scene.duration = settings.timeLimit;
     pinGarment(garment, mesh, settings, 0.0, out);
     return std::nullopt;
+}
+
+std::vector<PanelCrossing> startCrossings(const AssembledGarment& assembled, const sim::MatX3& x) {
+    std::vector<sim::MatX3> positions;
+    std::vector<sim::MatX3i> triangles;
+    for (std::size_t p = 0; p < assembled.scene.cloths.size(); ++p) {
+        const sim::ClothSpec& cloth = assembled.scene.cloths[p];
+        positions.emplace_back(x.middleRows(assembled.panelOffsets[p], cloth.position.rows()));
+        triangles.push_back(cloth.mesh.triangles);
+    }
+    return panelCrossings(positions, triangles);
+}
+
+std::vector<double> liftCrossedPanels(const Garment& garment, const GarmentMesh& mesh,
+                                      const Body& body, const AssembledGarment& assembled,
+                                      const std::vector<PanelCrossing>& crossings,
+                                      std::vector<PlacementLift>& lifted) {
+    constexpr double STEP = 0.005;
+    constexpr int MAX_STEPS = 6;
+    const std::size_t panels = assembled.scene.cloths.size();
+    lifted.clear();
+    AssembledGarment trial = assembled; // its scene, with the tried panels' positions
+    auto crossingsWith = [&](std::size_t p, int steps) {
+        const Panel& panel = garment.panels[p];
+        trial.scene.cloths[p].position =
+            wrapOnSlot(placementCoordinates(panel, mesh.panels[p]),
+                       *body.slot(panel.placement.slot), panel.placement.clearance + steps * STEP);
+        const sim::Simulation simulation(trial.scene);
+        return startCrossings(trial, simulation.positions());
+    };
+    auto total = [](const std::vector<PanelCrossing>& c) {
+        long n = 0;
+        for (const PanelCrossing& k : c) {
+            n += k.pairs;
+        }
+        return n;
+    };
+    std::vector<int> steps(panels, 0), bestSteps = steps;
+    std::vector<PanelCrossing> now = crossings;
+    long best = total(now);
+    while (!now.empty()) {
+        const PanelCrossing worst = *std::max_element(
+            now.begin(), now.end(),
+            [](const PanelCrossing& l, const PanelCrossing& r) { return l.pairs < r.pairs; });
+        std::size_t chosen = panels;
+        std::vector<PanelCrossing> after;
+        sim::MatX3 chosenPosition;
+        for (const int p : {worst.b, worst.a}) {
+            const auto q = static_cast<std::size_t>(p);
+            if (steps[q] >= MAX_STEPS) {
+                continue;
+            }
+            sim::MatX3 before = trial.scene.cloths[q].position;
+            std::vector<PanelCrossing> c = crossingsWith(q, steps[q] + 1);
+            std::swap(before, trial.scene.cloths[q].position); // before: the lifted position
+            if (chosen == panels || total(c) < total(after)) {
+                chosen = q;
+                after = std::move(c);
+                chosenPosition = std::move(before);
+            }
+        }
+        if (chosen == panels) {
+            break; // both panels at their largest lift
+        }
+        ++steps[chosen];
+        trial.scene.cloths[chosen].position = std::move(chosenPosition);
+        now = std::move(after);
+        if (total(now) < best) {
+            best = total(now);
+            bestSteps = steps;
+        }
+    }
+    std::vector<double> lifts(panels, 0.0);
+    for (std::size_t p = 0; p < panels; ++p) {
+        if (bestSteps[p] == 0) {
+            continue;
+        }
+        lifts[p] = bestSteps[p] * STEP;
+        PlacementLift lift;
+        lift.panel = garment.panels[p].name;
+        lift.lift = lifts[p];
+        for (const PanelCrossing& c : crossings) {
+            if (c.a == static_cast<int>(p) || c.b == static_cast<int>(p)) {
+                const int other = c.a == static_cast<int>(p) ? c.b : c.a;
+                lift.crossed.push_back(garment.panels[static_cast<std::size_t>(other)].name);
+            }
+        }
+        lifted.push_back(std::move(lift));
+    }
+    return lifts;
 }
 
 void pinGarment(const Garment& garment, const GarmentMesh& mesh, const DrapeSettings& settings,

@@ -3,6 +3,7 @@
 
 #include "patterns/body.h"
 #include "patterns/mesh.h"
+#include "patterns/placement.h"
 #include "patterns/project.h"
 
 #include "sim/scene.h"
@@ -21,6 +22,13 @@ struct HeldPin {
     sim::Drive hold;
 };
 
+/// A panel placed through other panels, lifted off its slot until it clears them.
+struct PlacementLift {
+    std::string panel;                ///< the lifted panel's name
+    double lift = 0;                  ///< clearance added to the panel's own [m]
+    std::vector<std::string> crossed; ///< the panels it crossed as first placed
+};
+
 /// The scene of a drape and how its cloths map back to the garment.
 struct AssembledGarment {
     sim::SceneSpec scene;
@@ -34,12 +42,32 @@ struct AssembledGarment {
 };
 
 /// Builds the scene: one cloth per panel (rest shape in its material frame, start positions
-/// wrapped on its slot, material by name, fold angles from internal lines), the seams and
-/// darts as imposed seam pairs that weld when closed, the body as a closed static obstacle.
-/// Returns what is wrong (a panel's slot missing on the body, a material missing) or nullopt.
+/// wrapped on its slot at its clearance plus `lifts[p]` when given (liftCrossedPanels), material by
+/// name, fold angles from internal lines), the seams and darts as imposed seam pairs that weld when
+/// closed, the body as a closed static obstacle. Returns what is wrong (a panel's slot missing on
+/// the body, a material missing) or nullopt.
 std::optional<std::string> assembleGarment(const Garment& garment, const GarmentMesh& mesh,
                                            const Body& body, const DrapeSettings& settings,
-                                           AssembledGarment& out);
+                                           AssembledGarment& out,
+                                           const std::vector<double>& lifts = {});
+
+/// Panels through each other as a simulation starts from `x` (|V|×3, the assembled scene's
+/// vertices; a Simulation's positions once its collision stage has resolved the start, which
+/// pushes cloth within the contact layer of other cloth apart): per pair of panels whose
+/// triangles intersect, how many pairs do.
+std::vector<PanelCrossing> startCrossings(const AssembledGarment& assembled, const sim::MatX3& x);
+
+/// Lifts panels placed through each other off their slots, given the crossings the assembled
+/// scene starts with (startCrossings; on a small body a trouser leg's slot brings the front
+/// panels through each other at the crotch): 5 mm at a time, up to 30 mm a panel, of the
+/// worst-crossing pair the panel whose lift leaves fewer crossings as a simulation of it starts
+/// (each try builds one). Returns the lift per panel [m] (assembleGarment's `lifts`) of the
+/// placement with the fewest crossings found, all zero when no lift lessened them; `lifted`
+/// receives the lifted panels with the panels each crossed.
+std::vector<double> liftCrossedPanels(const Garment& garment, const GarmentMesh& mesh,
+                                      const Body& body, const AssembledGarment& assembled,
+                                      const std::vector<PanelCrossing>& crossings,
+                                      std::vector<PlacementLift>& lifted);
 
 /// Holds the garment's pins on `out`'s scene, whose cloths start where the simulation starts,
 /// at drape time `drapeTime` [s] (0 for a new drape; later when a drape is rebuilt from where

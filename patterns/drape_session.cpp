@@ -138,12 +138,33 @@ Result<void> DrapeSession::prepare() {
     m_stepSecondsBefore = 0;
     m_sewnAt = -1;
     m_sewingStart = 0;
+    m_lifts.clear();
+    m_placementLifts.clear();
+    m_placedCrossings = 0;
     if (auto r = build(Start{}); !r.ok()) {
         return r;
     }
-    m_startPenetration = m_simulation->penetration();
     long withBody = 0;
     m_startIntersecting = m_simulation->intersectingTrianglePairs(&withBody) - withBody;
+    if (m_startIntersecting > 0) {
+        // Panels placed through each other: lifted off their slots where that clears them.
+        const std::vector<PanelCrossing> crossings =
+            startCrossings(m_assembled, m_simulation->positions());
+        for (const PanelCrossing& c : crossings) {
+            m_placedCrossings += c.pairs;
+        }
+        std::vector<double> lifts = liftCrossedPanels(m_project.garment, m_mesh, m_body,
+                                                      m_assembled, crossings, m_placementLifts);
+        if (!m_placementLifts.empty()) {
+            m_lifts = std::move(lifts);
+            m_simulation.reset();
+            if (auto r = build(Start{}); !r.ok()) {
+                return r;
+            }
+            m_startIntersecting = m_simulation->intersectingTrianglePairs(&withBody) - withBody;
+        }
+    }
+    m_startPenetration = m_simulation->penetration();
     char message[160];
     std::snprintf(message, sizeof message,
                   "%zu panels, %ld triangles, %zu seam pairs placed on the body",
@@ -163,7 +184,10 @@ Result<void> DrapeSession::build(const Start& start) {
         }
         settings.dt = interactiveStep(finest);
     }
-    if (auto err = assembleGarment(m_project.garment, m_mesh, m_body, settings, assembled)) {
+    const std::vector<double> noLifts;
+    const bool lifted = m_lifts.size() == m_project.garment.panels.size();
+    if (auto err = assembleGarment(m_project.garment, m_mesh, m_body, settings, assembled,
+                                   lifted ? m_lifts : noLifts)) {
         return sessionError(*err);
     }
     sim::SceneSpec& scene = assembled.scene;
@@ -427,6 +451,8 @@ DrapeFigures DrapeSession::figures() const {
     f.areaRatio = areaRatio(m_assembled.scene, s.positions());
     f.startPenetration = m_startPenetration;
     f.startIntersectingPairs = m_startIntersecting;
+    f.placedCrossings = m_placedCrossings;
+    f.placementLifts = m_placementLifts;
     f.forcedWelds = forcedWelds(m_project.garment, m_assembled, s.stats().forcedWeldGaps);
     f.seamPairs = static_cast<long>(m_assembled.scene.seams.size());
     const PinFigures pins = pinFigures(m_assembled, s.positions(), s.time());

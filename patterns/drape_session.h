@@ -76,7 +76,12 @@ struct DrapeFigures {
     /// Cloth triangle pairs intersecting each other as placed (panels placed through each
     /// other: the engine keeps cloth from crossing, it cannot undo a crossing it starts with).
     long startIntersectingPairs = 0;
-    std::vector<ForcedWeld> forcedWelds; ///< seams welded by force, widest first
+    /// Triangle pairs of different panels intersecting as first placed (as the simulation
+    /// starts), before `placementLifts` cleared them (all of them when
+    /// startIntersectingPairs is 0).
+    long placedCrossings = 0;
+    std::vector<PlacementLift> placementLifts; ///< panels lifted off their slots to clear others
+    std::vector<ForcedWeld> forcedWelds;       ///< seams welded by force, widest first
     long triangles = 0;
     long seamPairs = 0;
     double meshSeconds = 0; ///< wall time of the last meshing [s]
@@ -294,6 +299,9 @@ class DrapeSession {
     std::string m_error;
     double m_startPenetration = 0;
     long m_startIntersecting = 0;
+    long m_placedCrossings = 0;
+    std::vector<double> m_lifts; ///< per panel: clearance added to clear other panels [m]
+    std::vector<PlacementLift> m_placementLifts;
     double m_kineticEnergyPerVertex = 0;
 };
 

@@ -1,7 +1,10 @@
 #include "patterns/placement.h"
 
+#include "sim/collision/intersection/triangle_triangle.h"
+
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <vector>
 
 namespace atelier::patterns {
@@ -102,6 +105,56 @@ sim::MatX3 wrapOnSlot(const sim::MatX2& coordinates, const ArrangementSlot& slot
                        .transpose();
     }
     return x;
+}
+
+std::vector<PanelCrossing> panelCrossings(const std::vector<sim::MatX3>& positions,
+                                          const std::vector<sim::MatX3i>& triangles) {
+    // Every triangle's box, swept along x: the pairs of different panels whose boxes overlap
+    // are tested exactly.
+    struct Box {
+        Vec3 lo, hi;
+        int panel, triangle;
+    };
+    std::vector<Box> boxes;
+    for (std::size_t p = 0; p < positions.size() && p < triangles.size(); ++p) {
+        const sim::MatX3& x = positions[p];
+        const sim::MatX3i& t = triangles[p];
+        for (Eigen::Index k = 0; k < t.rows(); ++k) {
+            Box b{Vec3(x.row(t(k, 0))), Vec3(x.row(t(k, 0))), static_cast<int>(p),
+                  static_cast<int>(k)};
+            for (int i = 1; i < 3; ++i) {
+                b.lo = b.lo.cwiseMin(Vec3(x.row(t(k, i))));
+                b.hi = b.hi.cwiseMax(Vec3(x.row(t(k, i))));
+            }
+            boxes.push_back(b);
+        }
+    }
+    std::sort(boxes.begin(), boxes.end(),
+              [](const Box& l, const Box& r) { return l.lo.x() < r.lo.x(); });
+    auto corner = [&](const Box& b, int i) {
+        return Vec3(positions[static_cast<std::size_t>(b.panel)].row(
+            triangles[static_cast<std::size_t>(b.panel)](b.triangle, i)));
+    };
+    std::map<std::pair<int, int>, long> count;
+    for (std::size_t i = 0; i < boxes.size(); ++i) {
+        const Box& u = boxes[i];
+        for (std::size_t j = i + 1; j < boxes.size() && boxes[j].lo.x() <= u.hi.x(); ++j) {
+            const Box& w = boxes[j];
+            if (w.panel == u.panel || w.lo.y() > u.hi.y() || u.lo.y() > w.hi.y() ||
+                w.lo.z() > u.hi.z() || u.lo.z() > w.hi.z()) {
+                continue;
+            }
+            if (sim::trianglesIntersect(corner(u, 0), corner(u, 1), corner(u, 2), corner(w, 0),
+                                        corner(w, 1), corner(w, 2))) {
+                ++count[{std::min(u.panel, w.panel), std::max(u.panel, w.panel)}];
+            }
+        }
+    }
+    std::vector<PanelCrossing> out;
+    for (const auto& [ab, pairs] : count) {
+        out.push_back({ab.first, ab.second, pairs});
+    }
+    return out;
 }
 
 } // namespace atelier::patterns

@@ -5,6 +5,8 @@
 #include "patterns/garment.h"
 #include "patterns/mesh.h"
 
+#include <vector>
+
 namespace atelier::patterns {
 
 /// Panel-plane coordinates used for placement: the pattern as drawn, mirrored in x for a
@@ -20,5 +22,16 @@ sim::MatX2 placementCoordinates(const Panel& panel, const PanelMesh& mesh);
 /// arc lengths are kept exactly: the panel starts curved around the body part, clear of it,
 /// with its front facing out.
 sim::MatX3 wrapOnSlot(const sim::MatX2& coordinates, const ArrangementSlot& slot, double clearance);
+
+/// Panels placed through each other: per pair of panels (a < b) whose triangles intersect,
+/// how many of their triangle pairs do. `positions[p]` and `triangles[p]` are panel p's
+/// placed vertices (|V_p|×3) and triangles (indices into them); a panel's own triangles are
+/// not tested against each other.
+struct PanelCrossing {
+    int a = 0, b = 0;
+    long pairs = 0;
+};
+std::vector<PanelCrossing> panelCrossings(const std::vector<sim::MatX3>& positions,
+                                          const std::vector<sim::MatX3i>& triangles);
 
 } // namespace atelier::patterns

@@ -147,6 +147,17 @@ patterns::BodyProvider projectBodies(const DrapeOptions& options, const io::Limi
     };
 }
 
+/// "front_right 10 mm (crossed front_left)": a panel lifted off its slot at placement.
+std::string liftText(const patterns::PlacementLift& l) {
+    std::string crossed;
+    for (const std::string& name : l.crossed) {
+        crossed += (crossed.empty() ? "" : ", ") + name;
+    }
+    char mm[32];
+    std::snprintf(mm, sizeof mm, " %.0f mm", l.lift * 1000);
+    return l.panel + mm + " (crossed " + crossed + ")";
+}
+
 /// The figures behind the report's drape fields.
 io::ReportFields drapeReportFields(const DrapeOptions& options,
                                    const patterns::DrapeSession& session,
@@ -164,6 +175,10 @@ io::ReportFields drapeReportFields(const DrapeOptions& options,
     const auto orNull = [](bool have, double value) {
         return have ? io::ReportValue(value) : io::ReportValue(nullptr);
     };
+    std::vector<std::string> lifts;
+    for (const patterns::PlacementLift& l : f.placementLifts) {
+        lifts.push_back(liftText(l));
+    }
     std::vector<std::string> panelLines;
     for (const patterns::PanelStrain& p : fit.panels) {
         char line[200];
@@ -217,6 +232,8 @@ io::ReportFields drapeReportFields(const DrapeOptions& options,
         {"kinetic_energy_per_vertex_j", f.kineticEnergyPerVertex},
         {"start_penetration_m", f.startPenetration},
         {"start_intersecting_pairs", static_cast<std::int64_t>(f.startIntersectingPairs)},
+        {"placed_crossings", static_cast<std::int64_t>(f.placedCrossings)},
+        {"placement_lifts", lifts},
         {"pins", static_cast<std::int64_t>(f.pins)},
         // Largest distance of a pinned vertex from where its pin holds it: 0 when pins hold.
         {"pin_displacement_max_m", f.pinDisplacementMax},
@@ -236,6 +253,17 @@ std::vector<std::string> preparedWarnings(const patterns::DrapeSession& session)
         std::snprintf(text, sizeof text, "the placed garment starts %.4f m inside the body",
                       f.startPenetration);
         out.emplace_back(text);
+    }
+    if (!f.placementLifts.empty()) {
+        std::string lifted;
+        for (const patterns::PlacementLift& l : f.placementLifts) {
+            lifted += (lifted.empty() ? "" : "; ") + liftText(l);
+        }
+        std::snprintf(text, sizeof text,
+                      "panels placed through each other (%ld intersecting triangle pairs) were "
+                      "lifted off their slots: ",
+                      f.placedCrossings);
+        out.push_back(text + lifted);
     }
     if (f.startIntersectingPairs > 0) {
         std::snprintf(text, sizeof text,

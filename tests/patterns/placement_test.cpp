@@ -194,5 +194,37 @@ TEST(Placement, FollowsTheSlotsSectionCentres) {
     }
 }
 
+// Panels through each other: the triangle pairs of different panels that intersect, counted per
+// pair of panels; a panel's own triangles and panels merely close are not counted.
+TEST(PanelCrossings, CountsIntersectingTrianglesOfDifferentPanels) {
+    auto square = [](const Vec3& o, const Vec3& u, const Vec3& v) {
+        sim::MatX3 x(4, 3);
+        x.row(0) = o.transpose();
+        x.row(1) = (o + u).transpose();
+        x.row(2) = (o + u + v).transpose();
+        x.row(3) = (o + v).transpose();
+        return x;
+    };
+    sim::MatX3i t(2, 3);
+    t << 0, 1, 2, 0, 2, 3;
+    // Panel 0 in the plane z = 0 over [0, 1]² (its diagonal from (0, 0) to (1, 1)); panel 1 in
+    // the plane x = 0.25 through it, over y from 0.3 to 0.9: only panel 0's upper triangle
+    // meets it, once per triangle of panel 1; panel 2 is panel 0 lifted by 1 mm.
+    const std::vector<sim::MatX3> x = {
+        square(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)),
+        square(Vec3(0.25, 0.3, -0.5), Vec3(0, 0.6, 0), Vec3(0, 0, 1)),
+        square(Vec3(0, 0, 0.001), Vec3(1, 0, 0), Vec3(0, 1, 0)),
+    };
+    const std::vector<PanelCrossing> c = panelCrossings(x, {t, t, t});
+    ASSERT_EQ(c.size(), 2u);
+    EXPECT_EQ(c[0].a, 0);
+    EXPECT_EQ(c[0].b, 1);
+    EXPECT_EQ(c[1].a, 1);
+    EXPECT_EQ(c[1].b, 2);
+    EXPECT_EQ(c[0].pairs, 2);
+    EXPECT_EQ(c[1].pairs, 2);
+    EXPECT_TRUE(panelCrossings({x[0], x[2]}, {t, t}).empty());
+}
+
 } // namespace
 } // namespace atelier::patterns
