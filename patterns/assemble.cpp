@@ -170,14 +170,40 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
 }
 
 std::vector<PanelCrossing> startCrossings(const AssembledGarment& assembled, const sim::MatX3& x) {
+    const sim::SceneSpec& scene = assembled.scene;
+    // Seam partners within the weld distance weld at the first step: one vertex, whose
+    // triangles touch there (panels sewn edge to edge, as GarmentCode places them).
+    std::vector<int> one(static_cast<std::size_t>(x.rows()));
+    for (std::size_t v = 0; v < one.size(); ++v) {
+        one[v] = static_cast<int>(v);
+    }
+    auto find = [&](int v) {
+        while (one[static_cast<std::size_t>(v)] != v) {
+            v = one[static_cast<std::size_t>(v)] =
+                one[static_cast<std::size_t>(one[static_cast<std::size_t>(v)])];
+        }
+        return v;
+    };
+    for (const sim::SeamPair& pair : scene.seams) {
+        if ((x.row(pair.a) - x.row(pair.b)).norm() <= scene.seamWeldDistance) {
+            one[static_cast<std::size_t>(find(pair.a))] = find(pair.b);
+        }
+    }
     std::vector<sim::MatX3> positions;
     std::vector<sim::MatX3i> triangles;
-    for (std::size_t p = 0; p < assembled.scene.cloths.size(); ++p) {
-        const sim::ClothSpec& cloth = assembled.scene.cloths[p];
-        positions.emplace_back(x.middleRows(assembled.panelOffsets[p], cloth.position.rows()));
+    std::vector<std::vector<int>> joined;
+    for (std::size_t p = 0; p < scene.cloths.size(); ++p) {
+        const sim::ClothSpec& cloth = scene.cloths[p];
+        const int offset = assembled.panelOffsets[p];
+        positions.emplace_back(x.middleRows(offset, cloth.position.rows()));
         triangles.push_back(cloth.mesh.triangles);
+        std::vector<int>& names =
+            joined.emplace_back(static_cast<std::size_t>(cloth.position.rows()));
+        for (std::size_t v = 0; v < names.size(); ++v) {
+            names[v] = find(offset + static_cast<int>(v));
+        }
     }
-    return panelCrossings(positions, triangles);
+    return panelCrossings(positions, triangles, &joined);
 }
 
 std::vector<double> liftCrossedPanels(const Garment& garment, const GarmentMesh& mesh,
@@ -222,7 +248,10 @@ std::vector<double> liftCrossedPanels(const Garment& garment, const GarmentMesh&
             sim::MatX3 before = trial.scene.cloths[q].position;
             std::vector<PanelCrossing> c = crossingsWith(q, steps[q] + 1);
             std::swap(before, trial.scene.cloths[q].position); // before: the lifted position
-            if (chosen == panels || total(c) < total(after)) {
+            // On a tie, the panel lifted more goes on: lifting two crossed panels in turn
+            // keeps them as they were to each other.
+            if (chosen == panels || total(c) < total(after) ||
+                (total(c) == total(after) && steps[q] > steps[chosen])) {
                 chosen = q;
                 after = std::move(c);
                 chosenPosition = std::move(before);

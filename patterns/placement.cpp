@@ -108,7 +108,8 @@ sim::MatX3 wrapOnSlot(const sim::MatX2& coordinates, const ArrangementSlot& slot
 }
 
 std::vector<PanelCrossing> panelCrossings(const std::vector<sim::MatX3>& positions,
-                                          const std::vector<sim::MatX3i>& triangles) {
+                                          const std::vector<sim::MatX3i>& triangles,
+                                          const std::vector<std::vector<int>>* joined) {
     // Every triangle's box, swept along x: the pairs of different panels whose boxes overlap
     // are tested exactly.
     struct Box {
@@ -135,6 +136,21 @@ std::vector<PanelCrossing> panelCrossings(const std::vector<sim::MatX3>& positio
         return Vec3(positions[static_cast<std::size_t>(b.panel)].row(
             triangles[static_cast<std::size_t>(b.panel)](b.triangle, i)));
     };
+    auto shareJoined = [&](const Box& u, const Box& w) {
+        const std::vector<int>& nu = (*joined)[static_cast<std::size_t>(u.panel)];
+        const std::vector<int>& nw = (*joined)[static_cast<std::size_t>(w.panel)];
+        const sim::MatX3i& tu = triangles[static_cast<std::size_t>(u.panel)];
+        const sim::MatX3i& tw = triangles[static_cast<std::size_t>(w.panel)];
+        for (int i = 0; i < 3; ++i) {
+            for (int j = 0; j < 3; ++j) {
+                if (nu[static_cast<std::size_t>(tu(u.triangle, i))] ==
+                    nw[static_cast<std::size_t>(tw(w.triangle, j))]) {
+                    return true;
+                }
+            }
+        }
+        return false;
+    };
     std::map<std::pair<int, int>, long> count;
     for (std::size_t i = 0; i < boxes.size(); ++i) {
         const Box& u = boxes[i];
@@ -142,6 +158,9 @@ std::vector<PanelCrossing> panelCrossings(const std::vector<sim::MatX3>& positio
             const Box& w = boxes[j];
             if (w.panel == u.panel || w.lo.y() > u.hi.y() || u.lo.y() > w.hi.y() ||
                 w.lo.z() > u.hi.z() || u.lo.z() > w.hi.z()) {
+                continue;
+            }
+            if (joined != nullptr && shareJoined(u, w)) {
                 continue;
             }
             if (sim::trianglesIntersect(corner(u, 0), corner(u, 1), corner(u, 2), corner(w, 0),
