@@ -2,6 +2,7 @@
 
 #include "sim/collision/detection/detection_context.h"
 #include "sim/collision/detection/self_detection.h"
+#include "sim/collision/intersection/triangle_triangle.h"
 #include "sim/collision/measures/intersecting_pairs.h"
 #include "sim/collision/measures/penetration.h"
 #include "sim/collision/obstacle.h"
@@ -104,6 +105,11 @@ void CollisionStage::update(double t0, double t1, const MatX3& xs, MatX3& xe, Ma
         m_trapped.extract(k, o, m_mesh, m_scene.collision.extractionSpeed, h, xe, ve);
         detectObstacle(k, h, xs, xe, Detection::First);
     }
+    if (dropSqueezedFaces(m_contacts, 0, xe) > 0) {
+        m_contactKey.resize(m_contacts.size());
+        m_contactSide.resize(m_contacts.size());
+        m_contactReliable.resize(m_contacts.size());
+    }
     if (m_mesh.anySelf) {
         const DetectionContext ctx{m_scene, m_mesh, m_clothBvh, m_frictionScale};
         gather(detectSelfContacts(ctx, m_regions.memory(), xs, xe, m_scratch));
@@ -121,6 +127,7 @@ void CollisionStage::update(double t0, double t1, const MatX3& xs, MatX3& xe, Ma
         for (std::size_t k = 0; k < m_obstacles.size(); ++k) {
             detectObstacle(k, h, xe, xe, Detection::Again);
         }
+        dropSqueezedFaces(m_contacts, first, xe);
         m_contactKey.resize(m_contacts.size(), 0);
         m_contactSide.resize(m_contacts.size(), 0);
         m_contactReliable.resize(m_contacts.size(), 1);
@@ -179,7 +186,64 @@ bool CollisionStage::routeAround(const Vec3& p, const Vec3& q, double clearance,
 
 std::vector<int> CollisionStage::crossingVertices(const MatX3& xs, const MatX3& xe,
                                                   const std::vector<int>& moved) {
-    return m_failSafe.crossingVertices(m_mesh, m_clothBvh, xs, xe, moved);
+    std::vector<int> marked = m_failSafe.crossingVertices(m_mesh, m_clothBvh, xs, xe, moved);
+    // And the moved vertices of triangles the move brings into an obstacle (intersecting one
+    // of its triangles at xe, not at xs): a weld across a too-small garment's side seam at the
+    // armpit carried the cloth's triangles into the torso.
+    const std::size_t before = marked.size();
+    const MatX3i& t = m_mesh.triangles;
+    if (m_vertexTriangles.size() != static_cast<std::size_t>(xe.rows())) {
+        m_vertexTriangles.assign(static_cast<std::size_t>(xe.rows()), {});
+        for (int k = 0; k < t.rows(); ++k) {
+            for (int i = 0; i < 3; ++i) {
+                m_vertexTriangles[static_cast<std::size_t>(t(k, i))].push_back(k);
+            }
+        }
+    }
+    std::vector<int> triangles;
+    for (int v : moved) {
+        const auto& incident = m_vertexTriangles[static_cast<std::size_t>(v)];
+        triangles.insert(triangles.end(), incident.begin(), incident.end());
+    }
+    std::sort(triangles.begin(), triangles.end());
+    triangles.erase(std::unique(triangles.begin(), triangles.end()), triangles.end());
+    std::vector<int> candidates;
+    auto enters = [&](const ObstacleData& o, int k) {
+        const MatX3i& f = o.spec->triangles;
+        Aabb box;
+        for (int i = 0; i < 3; ++i) {
+            box.add(row(xs, t(k, i)));
+            box.add(row(xe, t(k, i)));
+        }
+        candidates.clear();
+        o.bvh.query(box, candidates);
+        bool inStart = false, inEnd = false;
+        for (int q : candidates) {
+            const Vec3 a = row(o.x1, f(q, 0)), b = row(o.x1, f(q, 1)), c = row(o.x1, f(q, 2));
+            inStart = inStart || trianglesIntersect(row(xs, t(k, 0)), row(xs, t(k, 1)),
+                                                    row(xs, t(k, 2)), a, b, c);
+            inEnd = inEnd || trianglesIntersect(row(xe, t(k, 0)), row(xe, t(k, 1)),
+                                                row(xe, t(k, 2)), a, b, c);
+        }
+        return inEnd && !inStart;
+    };
+    for (int k : triangles) {
+        for (const ObstacleData& o : m_obstacles) {
+            if (enters(o, k)) {
+                for (int i = 0; i < 3; ++i) {
+                    if (row(xs, t(k, i)) != row(xe, t(k, i))) {
+                        marked.push_back(t(k, i));
+                    }
+                }
+                break;
+            }
+        }
+    }
+    if (marked.size() > before) {
+        std::sort(marked.begin(), marked.end());
+        marked.erase(std::unique(marked.begin(), marked.end()), marked.end());
+    }
+    return marked;
 }
 
 } // namespace atelier::sim

@@ -104,8 +104,10 @@ class CollisionStage {
 
     /// Vertices of the cloth–cloth features (self-colliding cloths) that cross each other when
     /// the cloth moves in a straight line from xs to xe, exactly (swept tests, as the
-    /// fail-safe's). Empty without self-collision. For motions outside a step: welding.
-    /// Only the triangles around `moved` (the vertices whose position differs) are tested.
+    /// fail-safe's), and the moved vertices of triangles the move brings into an obstacle
+    /// (intersecting it at xe and not at xs, against its positions of the last update). For
+    /// motions outside a step: welding. Only the triangles around `moved` (the vertices whose
+    /// position differs) are tested.
     std::vector<int> crossingVertices(const MatX3& xs, const MatX3& xe,
                                       const std::vector<int>& moved);
 
@@ -149,6 +151,7 @@ class CollisionStage {
     TrappedCloth m_trapped;
     CrossingFailSafe m_failSafe;
     DetectionScratch m_scratch;
+    std::vector<std::vector<int>> m_vertexTriangles; ///< per cloth vertex (crossingVertices)
     std::vector<std::pair<int, std::size_t>> m_pinchScratch; ///< (vertex, contact) for markPinches
     std::vector<double> m_depthScratch; ///< penetration(): per vertex, depth beyond the thickness
     double m_frictionScale = 1.0; ///< multiplies the friction of contacts found (sewing phase)

@@ -1,8 +1,10 @@
 #include "sim/collision/response/pinch.h"
 
 #include "sim/collision/indexing.h"
+#include "sim/collision/response/contact_correction.h"
 
 #include <algorithm>
+#include <array>
 
 namespace atelier::sim {
 
@@ -66,6 +68,61 @@ void markPinches(std::vector<Contact>& contacts, std::size_t obstacleCount, cons
         }
         a = b;
     }
+}
+
+std::size_t dropSqueezedFaces(std::vector<Contact>& contacts, std::size_t first, const MatX3& x) {
+    // The face–vertex contacts, grouped by obstacle and face (its vertices as the detection
+    // lists them, the same for every contact of one face).
+    std::vector<std::size_t> faces;
+    for (std::size_t i = first; i < contacts.size(); ++i) {
+        if (contacts[i].obstacle >= 0 && contacts[i].kind == Contact::Kind::FaceVertex) {
+            faces.push_back(i);
+        }
+    }
+    auto key = [&](std::size_t i) {
+        const Contact& c = contacts[i];
+        return std::array<int, 4>{c.obstacle, c.vertex[0], c.vertex[1], c.vertex[2]};
+    };
+    std::sort(faces.begin(), faces.end(), [&](std::size_t l, std::size_t r) {
+        return key(l) < key(r) || (key(l) == key(r) && l < r);
+    });
+    std::vector<char> drop(contacts.size(), 0);
+    std::size_t dropped = 0;
+    for (std::size_t a = 0; a < faces.size();) {
+        std::size_t b = a + 1;
+        while (b < faces.size() && key(faces[b]) == key(faces[a])) {
+            ++b;
+        }
+        bool squeezed = false;
+        for (std::size_t i = a; i < b && !squeezed; ++i) {
+            for (std::size_t j = i + 1; j < b && !squeezed; ++j) {
+                const Contact& ci = contacts[faces[i]];
+                const Contact& cj = contacts[faces[j]];
+                squeezed = ci.normal.dot(cj.normal) < -0.5 &&
+                           (ci.obstaclePoint - cj.obstaclePoint).dot(cj.normal) <
+                               ci.distance + cj.distance &&
+                           ci.normal.dot(combination(ci, x) - ci.obstaclePoint) < 0 &&
+                           cj.normal.dot(combination(cj, x) - cj.obstaclePoint) < 0;
+            }
+        }
+        if (squeezed) {
+            for (std::size_t i = a; i < b; ++i) {
+                drop[faces[i]] = 1;
+                ++dropped;
+            }
+        }
+        a = b;
+    }
+    if (dropped > 0) {
+        std::size_t out = first;
+        for (std::size_t i = first; i < contacts.size(); ++i) {
+            if (drop[i] == 0) {
+                contacts[out++] = contacts[i];
+            }
+        }
+        contacts.resize(out);
+    }
+    return dropped;
 }
 
 } // namespace atelier::sim

@@ -158,6 +158,31 @@ TEST(CollisionStage, CrossingVerticesFindsAMotionThroughTheCloth) {
     EXPECT_TRUE(stage.crossingVertices(x, short_, {centre}).empty());
 }
 
+TEST(CollisionStage, CrossingVerticesFindsAMotionIntoAnObstacle) {
+    // A self-colliding sheet 1 cm above the top of a sphere: moving its middle vertex 2 cm down
+    // brings its triangles into the sphere (a weld's merge carrying cloth into the body); 5 mm
+    // down does not, nor does the way back out.
+    sim::SceneSpec s = sheetAbove(0.2, 4, 0.31);
+    s.cloths[0].selfCollision = true;
+    s.obstacles.push_back(sphereObstacle(0.3, Vec3(0, 0, 0)));
+    const sim::MatX3 x = s.cloths[0].position;
+    const int n = static_cast<int>(x.rows());
+    sim::CollisionStage stage(s, {0, n}, x);
+    sim::MatX3 xe = x, ve = sim::MatX3::Zero(n, 3);
+    stage.update(0.0, 0.0, x, xe, ve, sim::VecX::Ones(n));
+    ASSERT_EQ(xe, x);      // clear of the sphere: the start is left as it is
+    const int centre = 12; // the middle vertex of the 5×5 grid
+    ASSERT_NEAR(x(centre, 0), 0.0, 1e-12);
+    sim::MatX3 into = x;
+    into(centre, 1) -= 0.02;
+    const std::vector<int> crossing = stage.crossingVertices(x, into, {centre});
+    EXPECT_EQ(crossing, std::vector<int>{centre});
+    EXPECT_TRUE(stage.crossingVertices(into, x, {centre}).empty()); // out again
+    sim::MatX3 short_ = x;
+    short_(centre, 1) -= 0.005;
+    EXPECT_TRUE(stage.crossingVertices(x, short_, {centre}).empty());
+}
+
 TEST(CollisionStage, DetectionInParallelGivesExactlyTheSerialResult) {
     // A self-colliding sheet falling onto a sphere, large enough for detection to run in
     // parallel pieces: positions after the contacts begin must be bitwise those of one thread.
