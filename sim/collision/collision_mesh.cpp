@@ -49,6 +49,7 @@ CollisionMesh::CollisionMesh(const SceneSpec& scene, const std::vector<int>& off
     neighbours.assign(static_cast<std::size_t>(n), {});
     std::vector<char> owned(static_cast<std::size_t>(n), 0);
     vertexTriangle.assign(static_cast<std::size_t>(n), 0);
+    vertexTriangles.assign(static_cast<std::size_t>(n), {});
     int t0 = 0, e0 = 0;
     for (std::size_t ci = 0; ci < scene.cloths.size(); ++ci) {
         const ClothSpec& c = scene.cloths[ci];
@@ -65,6 +66,7 @@ CollisionMesh::CollisionMesh(const SceneSpec& scene, const std::vector<int>& off
             for (int k = 0; k < 3; ++k) {
                 const int v = c.mesh.triangles(t, k) + off;
                 triangles(t0 + t, k) = v;
+                vertexTriangles[static_cast<std::size_t>(v)].push_back(t0 + t);
                 if (!owned[static_cast<std::size_t>(v)]) {
                     owned[static_cast<std::size_t>(v)] = 1;
                     vertexTriangle[static_cast<std::size_t>(v)] = t0 + t;
@@ -83,6 +85,17 @@ CollisionMesh::CollisionMesh(const SceneSpec& scene, const std::vector<int>& off
         t0 += c.mesh.triangleCount();
         e0 += static_cast<int>(c.mesh.edges.rows());
     }
+}
+
+std::vector<int> CollisionMesh::trianglesAround(const std::vector<int>& vertices) const {
+    std::vector<int> out;
+    for (int v : vertices) {
+        const std::vector<int>& incident = vertexTriangles[static_cast<std::size_t>(v)];
+        out.insert(out.end(), incident.begin(), incident.end());
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
 }
 
 } // namespace atelier::sim

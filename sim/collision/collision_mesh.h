@@ -26,11 +26,12 @@ struct CollisionMesh {
     MatX2i edges;                   ///< all cloth edges, global (|E|×2)
     std::vector<std::vector<int>> ownedVertices, ownedEdges; ///< per triangle
     std::vector<std::vector<int>> neighbours;                ///< per vertex: adjacent vertices
-    std::vector<int> vertexTriangle; ///< per vertex: one triangle holding it
-    std::vector<char> selfCloth;     ///< per cloth: self-collision on
-    bool anySelf = false;            ///< some cloth has self-collision on
-    double maxThickness = 0;         ///< largest cloth thickness [m]
-    std::vector<int> alias;          ///< (|V|) representative of each vertex's sewn group
+    std::vector<int> vertexTriangle;               ///< per vertex: one triangle holding it
+    std::vector<std::vector<int>> vertexTriangles; ///< per vertex: every triangle holding it
+    std::vector<char> selfCloth;                   ///< per cloth: self-collision on
+    bool anySelf = false;                          ///< some cloth has self-collision on
+    double maxThickness = 0;                       ///< largest cloth thickness [m]
+    std::vector<int> alias; ///< (|V|) representative of each vertex's sewn group
 
     /// Whether two cloth vertices are the same vertex or sewn together (scene seams, chained
     /// through corners): such vertices count as shared for adjacency, so the triangles on
@@ -43,6 +44,9 @@ struct CollisionMesh {
         return selfCloth[static_cast<std::size_t>(triangleCloth[static_cast<std::size_t>(ta)])] &&
                selfCloth[static_cast<std::size_t>(triangleCloth[static_cast<std::size_t>(tb)])];
     }
+
+    /// The triangles holding any of `vertices`, sorted, each once.
+    std::vector<int> trianglesAround(const std::vector<int>& vertices) const;
 };
 
 } // namespace atelier::sim

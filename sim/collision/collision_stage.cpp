@@ -192,21 +192,7 @@ std::vector<int> CollisionStage::crossingVertices(const MatX3& xs, const MatX3& 
     // armpit carried the cloth's triangles into the torso.
     const std::size_t before = marked.size();
     const MatX3i& t = m_mesh.triangles;
-    if (m_vertexTriangles.size() != static_cast<std::size_t>(xe.rows())) {
-        m_vertexTriangles.assign(static_cast<std::size_t>(xe.rows()), {});
-        for (int k = 0; k < t.rows(); ++k) {
-            for (int i = 0; i < 3; ++i) {
-                m_vertexTriangles[static_cast<std::size_t>(t(k, i))].push_back(k);
-            }
-        }
-    }
-    std::vector<int> triangles;
-    for (int v : moved) {
-        const auto& incident = m_vertexTriangles[static_cast<std::size_t>(v)];
-        triangles.insert(triangles.end(), incident.begin(), incident.end());
-    }
-    std::sort(triangles.begin(), triangles.end());
-    triangles.erase(std::unique(triangles.begin(), triangles.end()), triangles.end());
+    const std::vector<int> triangles = m_mesh.trianglesAround(moved);
     std::vector<int> candidates;
     auto enters = [&](const ObstacleData& o, int k) {
         const MatX3i& f = o.spec->triangles;

@@ -151,7 +151,6 @@ class CollisionStage {
     TrappedCloth m_trapped;
     CrossingFailSafe m_failSafe;
     DetectionScratch m_scratch;
-    std::vector<std::vector<int>> m_vertexTriangles; ///< per cloth vertex (crossingVertices)
     std::vector<std::pair<int, std::size_t>> m_pinchScratch; ///< (vertex, contact) for markPinches
     std::vector<double> m_depthScratch; ///< penetration(): per vertex, depth beyond the thickness
     double m_frictionScale = 1.0; ///< multiplies the friction of contacts found (sewing phase)

@@ -155,25 +155,10 @@ std::vector<int> CrossingFailSafe::crossingVertices(const CollisionMesh& mesh, S
 void CrossingFailSafe::findCrossingsAround(const CollisionMesh& mesh, SurfaceBvh& clothBvh,
                                            const MatX3& xs, const MatX3& xe,
                                            const std::vector<int>& moved, std::vector<int>& hits) {
-    const std::size_t nv = static_cast<std::size_t>(xe.rows());
-    if (m_vertexTriangles.size() != nv) {
-        m_vertexTriangles.assign(nv, {});
-        for (int f = 0; f < mesh.triangles.rows(); ++f) {
-            for (int k = 0; k < 3; ++k) {
-                m_vertexTriangles[static_cast<std::size_t>(mesh.triangles(f, k))].push_back(f);
-            }
-        }
-    }
     // Only triangles with a moved corner can cross anything: each is tested against the
     // triangles its swept box overlaps.
     clothBvh.refit(xs, &xe, 0.0);
-    std::vector<int> triangles;
-    for (int v : moved) {
-        const auto& incident = m_vertexTriangles[static_cast<std::size_t>(v)];
-        triangles.insert(triangles.end(), incident.begin(), incident.end());
-    }
-    std::sort(triangles.begin(), triangles.end());
-    triangles.erase(std::unique(triangles.begin(), triangles.end()), triangles.end());
+    const std::vector<int> triangles = mesh.trianglesAround(moved);
     std::vector<int> candidates;
     for (int t : triangles) {
         Aabb box;

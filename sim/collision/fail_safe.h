@@ -49,9 +49,8 @@ class CrossingFailSafe {
 
     /// What the fail-safe did to a vertex in the current step.
     enum class Undone : char { No, PutBack, Carried };
-    std::vector<Undone> m_undone;                    ///< per vertex (all No between steps)
-    std::vector<int> m_crossings;                    ///< four vertices per crossing feature pair
-    std::vector<std::vector<int>> m_vertexTriangles; ///< per cloth vertex, lazily
+    std::vector<Undone> m_undone; ///< per vertex (all No between steps)
+    std::vector<int> m_crossings; ///< four vertices per crossing feature pair
 };
 
 } // namespace atelier::sim
