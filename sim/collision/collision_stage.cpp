@@ -203,15 +203,14 @@ std::vector<int> CollisionStage::crossingVertices(const MatX3& xs, const MatX3& 
         }
         candidates.clear();
         o.bvh.query(box, candidates);
-        bool inStart = false, inEnd = false;
-        for (int q : candidates) {
-            const Vec3 a = row(o.x1, f(q, 0)), b = row(o.x1, f(q, 1)), c = row(o.x1, f(q, 2));
-            inStart = inStart || trianglesIntersect(row(xs, t(k, 0)), row(xs, t(k, 1)),
-                                                    row(xs, t(k, 2)), a, b, c);
-            inEnd = inEnd || trianglesIntersect(row(xe, t(k, 0)), row(xe, t(k, 1)),
-                                                row(xe, t(k, 2)), a, b, c);
-        }
-        return inEnd && !inStart;
+        auto meets = [&](const MatX3& x) {
+            return std::any_of(candidates.begin(), candidates.end(), [&](int q) {
+                return trianglesIntersect(row(x, t(k, 0)), row(x, t(k, 1)), row(x, t(k, 2)),
+                                          row(o.x1, f(q, 0)), row(o.x1, f(q, 1)),
+                                          row(o.x1, f(q, 2)));
+            });
+        };
+        return meets(xe) && !meets(xs);
     };
     for (int k : triangles) {
         for (const ObstacleData& o : m_obstacles) {

@@ -152,6 +152,25 @@ nlohmann::json fitMatrixBody(const std::string& name) {
     return ::testing::AssertionFailure() << command << "\n" << test::readText(dir / "stderr.txt");
 }
 
+/// From a drape's written meshes alone (OUT and OUT.body.obj): the garment's triangles and its
+/// intersecting triangle pairs with itself and with the body.
+struct FileFigures {
+    long triangles = 0, self = 0, withBody = 0;
+};
+void figuresFromFiles(const fs::path& out, FileFigures& f) {
+    auto garment = io::readObj(out);
+    ASSERT_TRUE(garment.ok()) << garment.error().toString();
+    fs::path bodyPath = out;
+    bodyPath.replace_extension(".body.obj");
+    auto body = io::readObj(bodyPath);
+    ASSERT_TRUE(body.ok()) << body.error().toString();
+    const auto& g = garment.value();
+    const auto& b = body.value();
+    f.triangles = static_cast<long>(g.triangles.rows());
+    f.self = intersections(g.positions, g.triangles, g.positions, g.triangles, true);
+    f.withBody = intersections(g.positions, g.triangles, b.positions, b.triangles, false);
+}
+
 /// Drapes a sample with `atelier-cli drape ARGS` (on `body` instead of its own when given),
 /// then checks the report's figures and, from the written meshes alone, the intersections with
 /// itself and with the body.
@@ -176,17 +195,11 @@ void drapeAndCheck(const std::string& name, const std::string& args, const Bar& 
     EXPECT_GE(r["mesh_min_angle_deg"].get<double>(), 25.0);
 
     // Independently, from the written files.
-    auto garment = io::readObj(out);
-    ASSERT_TRUE(garment.ok()) << garment.error().toString();
-    fs::path bodyPath = out;
-    bodyPath.replace_extension(".body.obj");
-    auto body = io::readObj(bodyPath);
-    ASSERT_TRUE(body.ok()) << body.error().toString();
-    const auto& g = garment.value();
-    const auto& b = body.value();
-    EXPECT_EQ(g.triangles.rows(), r["triangles"].get<long>());
-    const long self = intersections(g.positions, g.triangles, g.positions, g.triangles, true);
-    const long withBody = intersections(g.positions, g.triangles, b.positions, b.triangles, false);
+    FileFigures files;
+    ASSERT_NO_FATAL_FAILURE(figuresFromFiles(out, files));
+    EXPECT_EQ(files.triangles, r["triangles"].get<long>());
+    const long self = files.self;
+    const long withBody = files.withBody;
     // The engine's count is exact too: both must agree.
     EXPECT_EQ(self + withBody, r["intersecting_triangle_pairs"].get<long>());
     std::printf("%s: rested %d, intersecting pairs %ld with itself and %ld with the body, max "
@@ -338,17 +351,10 @@ void drapeFreeOfTheBody(const std::string& name, const std::string& body, double
                              std::to_string(seconds) + " --out \"" + out.string() + "\"",
                          dir.path()));
     const auto r = nlohmann::json::parse(test::readText(dir / "report.json"));
-    auto garment = io::readObj(out);
-    ASSERT_TRUE(garment.ok()) << garment.error().toString();
-    fs::path bodyPath = out;
-    bodyPath.replace_extension(".body.obj");
-    auto b = io::readObj(bodyPath);
-    ASSERT_TRUE(b.ok()) << b.error().toString();
-    const auto& g = garment.value();
-    EXPECT_EQ(intersections(g.positions, g.triangles, g.positions, g.triangles, true), 0);
-    EXPECT_EQ(
-        intersections(g.positions, g.triangles, b.value().positions, b.value().triangles, false),
-        0);
+    FileFigures files;
+    ASSERT_NO_FATAL_FAILURE(figuresFromFiles(out, files));
+    EXPECT_EQ(files.self, 0);
+    EXPECT_EQ(files.withBody, 0);
     EXPECT_EQ(r["intersecting_triangle_pairs"].get<long>(), 0);
     EXPECT_LT(r["max_penetration_m"].get<double>(), 0.001);
 }

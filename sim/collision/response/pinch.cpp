@@ -71,58 +71,62 @@ void markPinches(std::vector<Contact>& contacts, std::size_t obstacleCount, cons
 }
 
 std::size_t dropSqueezedFaces(std::vector<Contact>& contacts, std::size_t first, const MatX3& x) {
-    // The face–vertex contacts, grouped by obstacle and face (its vertices as the detection
-    // lists them, the same for every contact of one face).
-    std::vector<std::size_t> faces;
-    for (std::size_t i = first; i < contacts.size(); ++i) {
-        if (contacts[i].obstacle >= 0 && contacts[i].kind == Contact::Kind::FaceVertex) {
-            faces.push_back(i);
-        }
-    }
+    // A face (obstacle and cloth vertices, as the detection lists them for every contact of
+    // one face) is squeezed when two of its face–vertex contacts are pierced and push it apart.
+    // Only pierced contacts can make a pair, and they are rare: only they are gathered (a step
+    // without any allocates nothing), grouped by face so that the pair test stays linear in
+    // their number (a sheet dragged through the body pierces thousands at once).
+    using Key = std::array<int, 4>;
     auto key = [&](std::size_t i) {
         const Contact& c = contacts[i];
-        return std::array<int, 4>{c.obstacle, c.vertex[0], c.vertex[1], c.vertex[2]};
+        return Key{c.obstacle, c.vertex[0], c.vertex[1], c.vertex[2]};
     };
-    std::sort(faces.begin(), faces.end(), [&](std::size_t l, std::size_t r) {
+    std::vector<std::size_t> pierced;
+    for (std::size_t i = first; i < contacts.size(); ++i) {
+        const Contact& c = contacts[i];
+        if (c.obstacle >= 0 && c.kind == Contact::Kind::FaceVertex &&
+            c.normal.dot(combination(c, x) - c.obstaclePoint) < 0) {
+            pierced.push_back(i);
+        }
+    }
+    std::sort(pierced.begin(), pierced.end(), [&](std::size_t l, std::size_t r) {
         return key(l) < key(r) || (key(l) == key(r) && l < r);
     });
-    std::vector<char> drop(contacts.size(), 0);
-    std::size_t dropped = 0;
-    for (std::size_t a = 0; a < faces.size();) {
+    std::vector<Key> squeezed;
+    for (std::size_t a = 0; a < pierced.size();) {
         std::size_t b = a + 1;
-        while (b < faces.size() && key(faces[b]) == key(faces[a])) {
+        while (b < pierced.size() && key(pierced[b]) == key(pierced[a])) {
             ++b;
         }
-        bool squeezed = false;
-        for (std::size_t i = a; i < b && !squeezed; ++i) {
-            for (std::size_t j = i + 1; j < b && !squeezed; ++j) {
-                const Contact& ci = contacts[faces[i]];
-                const Contact& cj = contacts[faces[j]];
-                squeezed = ci.normal.dot(cj.normal) < -0.5 &&
-                           (ci.obstaclePoint - cj.obstaclePoint).dot(cj.normal) <
-                               ci.distance + cj.distance &&
-                           ci.normal.dot(combination(ci, x) - ci.obstaclePoint) < 0 &&
-                           cj.normal.dot(combination(cj, x) - cj.obstaclePoint) < 0;
+        bool found = false;
+        for (std::size_t i = a; i < b && !found; ++i) {
+            for (std::size_t j = i + 1; j < b && !found; ++j) {
+                const Contact& ci = contacts[pierced[i]];
+                const Contact& cj = contacts[pierced[j]];
+                found = ci.normal.dot(cj.normal) < -0.5 &&
+                        (ci.obstaclePoint - cj.obstaclePoint).dot(cj.normal) <
+                            ci.distance + cj.distance;
             }
         }
-        if (squeezed) {
-            for (std::size_t i = a; i < b; ++i) {
-                drop[faces[i]] = 1;
-                ++dropped;
-            }
+        if (found) {
+            squeezed.push_back(key(pierced[a])); // sorted, as the groups are
         }
         a = b;
     }
-    if (dropped > 0) {
-        std::size_t out = first;
-        for (std::size_t i = first; i < contacts.size(); ++i) {
-            if (drop[i] == 0) {
-                contacts[out++] = contacts[i];
-            }
-        }
-        contacts.resize(out);
+    if (squeezed.empty()) {
+        return 0;
     }
-    return dropped;
+    // Every face–vertex contact of a squeezed face goes.
+    const std::size_t before = contacts.size();
+    const auto kept = std::remove_if(
+        contacts.begin() + static_cast<std::ptrdiff_t>(first), contacts.end(),
+        [&](const Contact& c) {
+            return c.obstacle >= 0 && c.kind == Contact::Kind::FaceVertex &&
+                   std::binary_search(squeezed.begin(), squeezed.end(),
+                                      Key{c.obstacle, c.vertex[0], c.vertex[1], c.vertex[2]});
+        });
+    contacts.erase(kept, contacts.end());
+    return before - contacts.size();
 }
 
 } // namespace atelier::sim
