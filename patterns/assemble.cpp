@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <utility>
 
@@ -204,6 +205,16 @@ std::vector<PanelCrossing> startCrossings(const AssembledGarment& assembled, con
         }
     }
     return panelCrossings(positions, triangles, &joined);
+}
+
+std::string liftText(const PlacementLift& lift) {
+    std::string crossed;
+    for (const std::string& name : lift.crossed) {
+        crossed += (crossed.empty() ? "" : ", ") + name;
+    }
+    char mm[32];
+    std::snprintf(mm, sizeof mm, " %.0f mm", lift.lift * 1000);
+    return lift.panel + mm + " (crossed " + crossed + ")";
 }
 
 std::vector<double> liftCrossedPanels(const Garment& garment, const GarmentMesh& mesh,

@@ -28,6 +28,9 @@ struct PlacementLift {
     double lift = 0;                  ///< clearance added to the panel's own [m]
     std::vector<std::string> crossed; ///< the panels it crossed as first placed
 };
+/// "front_right 10 mm (crossed front_left)": a lift as the report, the warnings and the window
+/// say it.
+std::string liftText(const PlacementLift& lift);
 
 /// The scene of a drape and how its cloths map back to the garment.
 struct AssembledGarment {

@@ -165,10 +165,15 @@ Result<void> DrapeSession::prepare() {
         }
     }
     m_startPenetration = m_simulation->penetration();
-    char message[160];
-    std::snprintf(message, sizeof message,
+    char placed[160];
+    std::snprintf(placed, sizeof placed,
                   "%zu panels, %ld triangles, %zu seam pairs placed on the body",
                   m_mesh.panels.size(), m_mesh.triangleCount, m_assembled.scene.seams.size());
+    std::string message = placed;
+    for (std::size_t k = 0; k < m_placementLifts.size(); ++k) {
+        message += (k == 0 ? "; placed through each other, lifted off their slots: " : "; ") +
+                   liftText(m_placementLifts[k]);
+    }
     raise(DrapeEvent::Kind::Placed, message);
     return {};
 }

@@ -243,6 +243,10 @@ class DrapeSession {
     GarmentFit fit() const;
     const GarmentMesh& mesh() const { return m_mesh; }
     const AssembledGarment& assembled() const { return m_assembled; }
+    /// Panels the last prepare lifted off their slots to clear panels they were placed
+    /// through (DrapeFigures::placementLifts), and the triangle pairs crossing before it.
+    const std::vector<PlacementLift>& placementLifts() const { return m_placementLifts; }
+    long placedCrossings() const { return m_placedCrossings; }
     const Body& body() const { return m_body; }
     const std::vector<std::string>& warnings() const { return m_mesh.warnings; }
     /// Drape time [s]: simulated time across restarts.

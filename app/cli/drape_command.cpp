@@ -147,17 +147,6 @@ patterns::BodyProvider projectBodies(const DrapeOptions& options, const io::Limi
     };
 }
 
-/// "front_right 10 mm (crossed front_left)": a panel lifted off its slot at placement.
-std::string liftText(const patterns::PlacementLift& l) {
-    std::string crossed;
-    for (const std::string& name : l.crossed) {
-        crossed += (crossed.empty() ? "" : ", ") + name;
-    }
-    char mm[32];
-    std::snprintf(mm, sizeof mm, " %.0f mm", l.lift * 1000);
-    return l.panel + mm + " (crossed " + crossed + ")";
-}
-
 /// The figures behind the report's drape fields.
 io::ReportFields drapeReportFields(const DrapeOptions& options,
                                    const patterns::DrapeSession& session,
@@ -177,7 +166,7 @@ io::ReportFields drapeReportFields(const DrapeOptions& options,
     };
     std::vector<std::string> lifts;
     for (const patterns::PlacementLift& l : f.placementLifts) {
-        lifts.push_back(liftText(l));
+        lifts.push_back(patterns::liftText(l));
     }
     std::vector<std::string> panelLines;
     for (const patterns::PanelStrain& p : fit.panels) {
@@ -257,7 +246,7 @@ std::vector<std::string> preparedWarnings(const patterns::DrapeSession& session)
     if (!f.placementLifts.empty()) {
         std::string lifted;
         for (const patterns::PlacementLift& l : f.placementLifts) {
-            lifted += (lifted.empty() ? "" : "; ") + liftText(l);
+            lifted += (lifted.empty() ? "" : "; ") + patterns::liftText(l);
         }
         std::snprintf(text, sizeof text,
                       "panels placed through each other (%ld intersecting triangle pairs) were "

@@ -402,7 +402,9 @@ bool DrapeController::prepareSession() {
         QMetaObject::invokeMethod(this, [this, message] { Q_EMIT failed(message); });
         return false;
     }
-    m_session->takeEvents(); // Placed: the window learns it from opened()/rebuilt()
+    // Placed: the window learns it, and the panels lifted apart, from the static scene with
+    // opened() or rebuilt().
+    m_session->takeEvents();
     return true;
 }
 
@@ -560,6 +562,8 @@ void DrapeController::publishScene() {
     scene->garment = garment;
     scene->bodySlots = m_session->body().slots;
     scene->seamLines = seamLines(mesh, assembled.panelOffsets, scene->garmentTriangles);
+    scene->placementLifts = m_session->placementLifts();
+    scene->placedCrossings = m_session->placedCrossings();
     m_phase.store(static_cast<int>(m_session->phase()));
     publishPins();
     const std::lock_guard lock(m_mutex);

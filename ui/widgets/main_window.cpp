@@ -206,8 +206,8 @@ MainWindow::MainWindow(QString samplesDir, QWidget* parent)
 
     connect(m_drape, &DrapeController::opened, this, [this](const QString& /*path*/) {
         m_viewport->sceneChanged();
-        if (m_drape->staticScene()) {
-            statusBar()->showMessage(tr("Placed: press Space to drape"), 5000);
+        if (const auto scene = m_drape->staticScene()) {
+            showPlaced(*scene, false);
         }
         m_lastSteps = 0;
         m_lastWall = 0;
@@ -215,8 +215,8 @@ MainWindow::MainWindow(QString samplesDir, QWidget* parent)
     });
     connect(m_drape, &DrapeController::rebuilt, this, [this](bool continued) {
         m_viewport->sceneChanged(true);
-        if (!continued) {
-            statusBar()->showMessage(tr("Placed again: press Space to drape"), 5000);
+        if (const auto scene = m_drape->staticScene(); scene && !continued) {
+            showPlaced(*scene, true);
         }
         Q_EMIT documentApplied();
     });
@@ -855,6 +855,24 @@ void MainWindow::toggleRun() {
     } else {
         m_drape->start();
     }
+}
+
+void MainWindow::showPlaced(const StaticScene& scene, bool again) {
+    const QString placed = again ? tr("Placed again") : tr("Placed");
+    if (scene.placementLifts.empty()) {
+        statusBar()->showMessage(tr("%1: press Space to drape").arg(placed), 5000);
+        return;
+    }
+    QStringList lifts;
+    for (const patterns::PlacementLift& l : scene.placementLifts) {
+        lifts << QString::fromStdString(patterns::liftText(l));
+    }
+    statusBar()->showMessage(tr("%1, panels placed through each other (%2 triangle pairs) lifted "
+                                "off their slots: %3; press Space to drape")
+                                 .arg(placed)
+                                 .arg(scene.placedCrossings)
+                                 .arg(lifts.join(QStringLiteral("; "))),
+                             20000);
 }
 
 void MainWindow::updateStatus() {

@@ -188,6 +188,9 @@ class MainWindow : public QMainWindow {
     /// The pattern view's tools in a Tools menu and a tool bar; its edits on the undo stack.
     void buildPatternTools();
     void updateStatus();
+    /// "Placed: press Space to drape" (`again`: "Placed again"), naming the panels the drape
+    /// lifted off their slots because they were placed through others (shown longer then).
+    void showPlaced(const StaticScene& scene, bool again);
     void exportMesh();
     void savePicture();
     void toggleRun();

@@ -29,11 +29,13 @@
 #include <QSignalSpy>
 #include <QSplitter>
 #include <QStandardPaths>
+#include <QStatusBar>
 #include <QTemporaryDir>
 #include <QTest>
 #include <QToolButton>
 #include <QUndoStack>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cstdio>
 #include <fstream>
@@ -598,6 +600,36 @@ TEST(MainWindow, ACorruptProjectIsAnErrorAndTheWindowKeepsItsProject) {
     ASSERT_TRUE(window.mirrorSelectedPanel());
     ASSERT_TRUE(waitFor([&] { return rebuilt.count() >= 1; }, 120));
     EXPECT_TRUE(window.drape().staticScene());
+}
+
+// Trousers on the fit matrix's small female body: the leg slots place the fronts through each
+// other at the crotch and the drape lifts one off its slot. The window says which, as the
+// command line's report does.
+TEST(MainWindow, PanelsPlacedThroughEachOtherAreNamedWhenPlaced) {
+    QTemporaryDir dir;
+    auto project = nlohmann::json::parse(bytesOf(GARMENTS + "/trousers.atelier"));
+    const auto matrix = nlohmann::json::parse(
+        bytesOf(QStringLiteral(ATELIER_SOURCE_DIR "/assets/batch/fit-matrix.json")));
+    project["body"] = matrix["bodies"]["female-S"];
+    project["simulation"]["particle_distance_mm"] = 20;
+    const QString file = dir.filePath("trousers.atelier");
+    ASSERT_TRUE(io::writeFileAtomically(file.toStdString(), project.dump(1)).ok());
+    MainWindow window(GARMENTS);
+    RecordingPrompts prompts;
+    prompts.install(window);
+    ASSERT_TRUE(openAndWait(window, file));
+    const auto scene = window.drape().staticScene();
+    ASSERT_EQ(scene->placementLifts.size(), 1U);
+    const patterns::PlacementLift& lift = scene->placementLifts.front();
+    EXPECT_EQ(lift.panel.rfind("front_", 0), 0U) << lift.panel;
+    EXPECT_GT(lift.lift, 0.0);
+    EXPECT_GT(scene->placedCrossings, 0);
+    const QString message = window.statusBar()->currentMessage();
+    EXPECT_TRUE(message.startsWith("Placed, panels placed through each other ("))
+        << message.toStdString();
+    EXPECT_TRUE(message.contains(QString::fromStdString(patterns::liftText(lift))))
+        << message.toStdString();
+    EXPECT_TRUE(prompts.errors.isEmpty());
 }
 
 TEST(MainWindow, ADroppedProjectFileIsOpened) {
