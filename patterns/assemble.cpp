@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <utility>
 
@@ -56,12 +57,20 @@ std::vector<double> boundaryLengths(const sim::ClothMesh& mesh) {
     return length;
 }
 
+/// The panel wrapped on its slot as placed, moved by `shift`.
+sim::MatX3 shiftedOnSlot(const Panel& panel, const PanelMesh& mesh, const ArrangementSlot& slot,
+                         const SlotShift& shift) {
+    sim::MatX2 coordinates = placementCoordinates(panel, mesh);
+    coordinates.col(0).array() += shift.around;
+    return wrapOnSlot(coordinates, slot, panel.placement.clearance + shift.lift);
+}
+
 } // namespace
 
 std::optional<std::string> assembleGarment(const Garment& garment, const GarmentMesh& mesh,
                                            const Body& body, const DrapeSettings& settings,
                                            AssembledGarment& out,
-                                           const std::vector<double>& lifts) {
+                                           const std::vector<SlotShift>& shifts) {
     out = {};
     if (mesh.panels.size() != garment.panels.size()) {
         return std::string("the mesh does not match the garment's panels");
@@ -92,9 +101,8 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
         if (auto err = sim::buildClothMesh(pm.rest, pm.triangles, cloth.mesh)) {
             return who + ": " + *err;
         }
-        const double lift = p < lifts.size() ? lifts[p] : 0.0;
         cloth.position =
-            wrapOnSlot(placementCoordinates(panel, pm), *slot, panel.placement.clearance + lift);
+            shiftedOnSlot(panel, pm, *slot, p < shifts.size() ? shifts[p] : SlotShift{});
         cloth.material = material->material;
         cloth.model = settings.model;
         cloth.bendingModel = settings.bendingModel;
@@ -212,25 +220,39 @@ std::string liftText(const PlacementLift& lift) {
     for (const std::string& name : lift.crossed) {
         crossed += (crossed.empty() ? "" : ", ") + name;
     }
-    char mm[32];
-    std::snprintf(mm, sizeof mm, " %.0f mm", lift.lift * 1000);
-    return lift.panel + mm + " (crossed " + crossed + ")";
+    char text[64];
+    if (lift.around == 0) {
+        std::snprintf(text, sizeof text, " %.0f mm out", lift.lift * 1000);
+    } else if (lift.lift == 0) {
+        std::snprintf(text, sizeof text, " %.0f mm around", lift.around * 1000);
+    } else {
+        std::snprintf(text, sizeof text, " %.0f mm out, %.0f mm around", lift.lift * 1000,
+                      lift.around * 1000);
+    }
+    return lift.panel + text + " (crossed " + crossed + ")";
 }
 
-std::vector<double> liftCrossedPanels(const Garment& garment, const GarmentMesh& mesh,
-                                      const Body& body, const AssembledGarment& assembled,
-                                      const std::vector<PanelCrossing>& crossings,
-                                      std::vector<PlacementLift>& lifted) {
+std::vector<SlotShift> liftCrossedPanels(const Garment& garment, const GarmentMesh& mesh,
+                                         const Body& body, const AssembledGarment& assembled,
+                                         const std::vector<PanelCrossing>& crossings,
+                                         std::vector<PlacementLift>& lifted) {
     constexpr double STEP = 0.005;
     constexpr int MAX_STEPS = 6;
     const std::size_t panels = assembled.scene.cloths.size();
     lifted.clear();
+    // A panel's moves in steps: out from its slot (≥ 0), round it (either way, then on the same
+    // way only).
+    struct Steps {
+        int out = 0;
+        int around = 0;
+        int count() const { return out + std::abs(around); }
+        SlotShift shift() const { return {out * STEP, around * STEP}; }
+    };
     AssembledGarment trial = assembled; // its scene, with the tried panels' positions
-    auto crossingsWith = [&](std::size_t p, int steps) {
+    auto crossingsWith = [&](std::size_t p, const Steps& steps) {
         const Panel& panel = garment.panels[p];
         trial.scene.cloths[p].position =
-            wrapOnSlot(placementCoordinates(panel, mesh.panels[p]),
-                       *body.slot(panel.placement.slot), panel.placement.clearance + steps * STEP);
+            shiftedOnSlot(panel, mesh.panels[p], *body.slot(panel.placement.slot), steps.shift());
         const sim::Simulation simulation(trial.scene);
         return startCrossings(trial, simulation.positions());
     };
@@ -241,7 +263,7 @@ std::vector<double> liftCrossedPanels(const Garment& garment, const GarmentMesh&
         }
         return n;
     };
-    std::vector<int> steps(panels, 0), bestSteps = steps;
+    std::vector<Steps> steps(panels), bestSteps = steps;
     std::vector<PanelCrossing> now = crossings;
     long best = total(now);
     while (!now.empty()) {
@@ -249,29 +271,40 @@ std::vector<double> liftCrossedPanels(const Garment& garment, const GarmentMesh&
             now.begin(), now.end(),
             [](const PanelCrossing& l, const PanelCrossing& r) { return l.pairs < r.pairs; });
         std::size_t chosen = panels;
+        Steps chosenSteps;
         std::vector<PanelCrossing> after;
         sim::MatX3 chosenPosition;
         for (const int p : {worst.b, worst.a}) {
             const auto q = static_cast<std::size_t>(p);
-            if (steps[q] >= MAX_STEPS) {
-                continue;
+            const Steps& s = steps[q];
+            std::vector<Steps> moves;
+            if (s.out < MAX_STEPS) {
+                moves.push_back({s.out + 1, s.around});
             }
-            sim::MatX3 before = trial.scene.cloths[q].position;
-            std::vector<PanelCrossing> c = crossingsWith(q, steps[q] + 1);
-            std::swap(before, trial.scene.cloths[q].position); // before: the lifted position
-            // On a tie, the panel lifted more goes on: lifting two crossed panels in turn
-            // keeps them as they were to each other.
-            if (chosen == panels || total(c) < total(after) ||
-                (total(c) == total(after) && steps[q] > steps[chosen])) {
-                chosen = q;
-                after = std::move(c);
-                chosenPosition = std::move(before);
+            for (const int way : {1, -1}) {
+                if (s.around * way >= 0 && std::abs(s.around) < MAX_STEPS) {
+                    moves.push_back({s.out, s.around + way});
+                }
+            }
+            for (const Steps& m : moves) {
+                sim::MatX3 before = trial.scene.cloths[q].position;
+                std::vector<PanelCrossing> c = crossingsWith(q, m);
+                std::swap(before, trial.scene.cloths[q].position); // before: the moved position
+                // On a tie, the panel moved more goes on: moving two crossed panels in turn
+                // keeps them as they were to each other.
+                if (chosen == panels || total(c) < total(after) ||
+                    (total(c) == total(after) && s.count() > steps[chosen].count())) {
+                    chosen = q;
+                    chosenSteps = m;
+                    after = std::move(c);
+                    chosenPosition = std::move(before);
+                }
             }
         }
         if (chosen == panels) {
-            break; // both panels at their largest lift
+            break; // both panels as far as they go
         }
-        ++steps[chosen];
+        steps[chosen] = chosenSteps;
         trial.scene.cloths[chosen].position = std::move(chosenPosition);
         now = std::move(after);
         if (total(now) < best) {
@@ -279,15 +312,16 @@ std::vector<double> liftCrossedPanels(const Garment& garment, const GarmentMesh&
             bestSteps = steps;
         }
     }
-    std::vector<double> lifts(panels, 0.0);
+    std::vector<SlotShift> shifts(panels);
     for (std::size_t p = 0; p < panels; ++p) {
-        if (bestSteps[p] == 0) {
+        if (bestSteps[p].count() == 0) {
             continue;
         }
-        lifts[p] = bestSteps[p] * STEP;
+        shifts[p] = bestSteps[p].shift();
         PlacementLift lift;
         lift.panel = garment.panels[p].name;
-        lift.lift = lifts[p];
+        lift.lift = shifts[p].lift;
+        lift.around = shifts[p].around;
         for (const PanelCrossing& c : crossings) {
             if (c.a == static_cast<int>(p) || c.b == static_cast<int>(p)) {
                 const int other = c.a == static_cast<int>(p) ? c.b : c.a;
@@ -296,7 +330,7 @@ std::vector<double> liftCrossedPanels(const Garment& garment, const GarmentMesh&
         }
         lifted.push_back(std::move(lift));
     }
-    return lifts;
+    return shifts;
 }
 
 void pinGarment(const Garment& garment, const GarmentMesh& mesh, const DrapeSettings& settings,

@@ -22,14 +22,24 @@ struct HeldPin {
     sim::Drive hold;
 };
 
-/// A panel placed through other panels, lifted off its slot until it clears them.
+/// How far a panel is moved from where its placement puts it, to clear panels it was placed
+/// through (liftCrossedPanels): out from its slot, and round it.
+struct SlotShift {
+    double lift = 0;   ///< clearance added to the panel's own [m]
+    double around = 0; ///< added to the placement's offset along the slot's circumference [m]
+    bool operator==(const SlotShift&) const = default;
+};
+
+/// A panel placed through other panels, moved on its slot until it clears them.
 struct PlacementLift {
-    std::string panel;                ///< the lifted panel's name
+    std::string panel;                ///< the moved panel's name
     double lift = 0;                  ///< clearance added to the panel's own [m]
+    double around = 0;                ///< moved round its slot (SlotShift::around) [m]
     std::vector<std::string> crossed; ///< the panels it crossed as first placed
 };
-/// "front_right 10 mm (crossed front_left)": a lift as the report, the warnings and the window
-/// say it.
+/// "front_right 10 mm out (crossed front_left)", "back_left -5 mm around (crossed back_right)":
+/// a move as the report, the warnings and the window say it (out: clearance added; around:
+/// added to the placement's offset around the slot, as a project's `offset_mm` says it).
 std::string liftText(const PlacementLift& lift);
 
 /// The scene of a drape and how its cloths map back to the garment.
@@ -45,14 +55,14 @@ struct AssembledGarment {
 };
 
 /// Builds the scene: one cloth per panel (rest shape in its material frame, start positions
-/// wrapped on its slot at its clearance plus `lifts[p]` when given (liftCrossedPanels), material by
-/// name, fold angles from internal lines), the seams and darts as imposed seam pairs that weld when
-/// closed, the body as a closed static obstacle. Returns what is wrong (a panel's slot missing on
-/// the body, a material missing) or nullopt.
+/// wrapped on its slot at its clearance, moved by `shifts[p]` when given (liftCrossedPanels),
+/// material by name, fold angles from internal lines), the seams and darts as imposed seam pairs
+/// that weld when closed, the body as a closed static obstacle. Returns what is wrong (a panel's
+/// slot missing on the body, a material missing) or nullopt.
 std::optional<std::string> assembleGarment(const Garment& garment, const GarmentMesh& mesh,
                                            const Body& body, const DrapeSettings& settings,
                                            AssembledGarment& out,
-                                           const std::vector<double>& lifts = {});
+                                           const std::vector<SlotShift>& shifts = {});
 
 /// Panels through each other as a simulation starts from `x` (|V|×3, the assembled scene's
 /// vertices; a Simulation's positions once its collision stage has resolved the start, which
@@ -60,17 +70,18 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
 /// triangles intersect, how many pairs do.
 std::vector<PanelCrossing> startCrossings(const AssembledGarment& assembled, const sim::MatX3& x);
 
-/// Lifts panels placed through each other off their slots, given the crossings the assembled
-/// scene starts with (startCrossings; on a small body a trouser leg's slot brings the front
-/// panels through each other at the crotch): 5 mm at a time, up to 30 mm a panel, of the
-/// worst-crossing pair the panel whose lift leaves fewer crossings as a simulation of it starts
-/// (each try builds one). Returns the lift per panel [m] (assembleGarment's `lifts`) of the
-/// placement with the fewest crossings found, all zero when no lift lessened them; `lifted`
-/// receives the lifted panels with the panels each crossed.
-std::vector<double> liftCrossedPanels(const Garment& garment, const GarmentMesh& mesh,
-                                      const Body& body, const AssembledGarment& assembled,
-                                      const std::vector<PanelCrossing>& crossings,
-                                      std::vector<PlacementLift>& lifted);
+/// Moves panels placed through each other apart on their slots, given the crossings the
+/// assembled scene starts with (startCrossings; on a small body a trouser leg's slot brings the
+/// front panels through each other at the crotch, on a body with spread legs the backs): 5 mm
+/// at a time, out from the slot (a lift) or round it, up to 30 mm each way a panel; of the
+/// worst-crossing pair, the panel and move that leave the fewest crossings as a simulation of
+/// them starts (each try builds one). Returns the shift per panel (assembleGarment's `shifts`)
+/// of the placement with the fewest crossings found, all zero when no move lessened them;
+/// `lifted` receives the moved panels with the panels each crossed.
+std::vector<SlotShift> liftCrossedPanels(const Garment& garment, const GarmentMesh& mesh,
+                                         const Body& body, const AssembledGarment& assembled,
+                                         const std::vector<PanelCrossing>& crossings,
+                                         std::vector<PlacementLift>& lifted);
 
 /// Holds the garment's pins on `out`'s scene, whose cloths start where the simulation starts,
 /// at drape time `drapeTime` [s] (0 for a new drape; later when a drape is rebuilt from where

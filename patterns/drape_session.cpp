@@ -138,7 +138,7 @@ Result<void> DrapeSession::prepare() {
     m_stepSecondsBefore = 0;
     m_sewnAt = -1;
     m_sewingStart = 0;
-    m_lifts.clear();
+    m_shifts.clear();
     m_placementLifts.clear();
     m_placedCrossings = 0;
     if (auto r = build(Start{}); !r.ok()) {
@@ -147,16 +147,16 @@ Result<void> DrapeSession::prepare() {
     long withBody = 0;
     m_startIntersecting = m_simulation->intersectingTrianglePairs(&withBody) - withBody;
     if (m_startIntersecting > 0) {
-        // Panels placed through each other: lifted off their slots where that clears them.
+        // Panels placed through each other: moved apart on their slots where that clears them.
         const std::vector<PanelCrossing> crossings =
             startCrossings(m_assembled, m_simulation->positions());
         for (const PanelCrossing& c : crossings) {
             m_placedCrossings += c.pairs;
         }
-        std::vector<double> lifts = liftCrossedPanels(m_project.garment, m_mesh, m_body,
-                                                      m_assembled, crossings, m_placementLifts);
+        std::vector<SlotShift> shifts = liftCrossedPanels(m_project.garment, m_mesh, m_body,
+                                                          m_assembled, crossings, m_placementLifts);
         if (!m_placementLifts.empty()) {
-            m_lifts = std::move(lifts);
+            m_shifts = std::move(shifts);
             m_simulation.reset();
             if (auto r = build(Start{}); !r.ok()) {
                 return r;
@@ -171,7 +171,7 @@ Result<void> DrapeSession::prepare() {
                   m_mesh.panels.size(), m_mesh.triangleCount, m_assembled.scene.seams.size());
     std::string message = placed;
     for (std::size_t k = 0; k < m_placementLifts.size(); ++k) {
-        message += (k == 0 ? "; placed through each other, lifted off their slots: " : "; ") +
+        message += (k == 0 ? "; placed through each other, moved apart on their slots: " : "; ") +
                    liftText(m_placementLifts[k]);
     }
     raise(DrapeEvent::Kind::Placed, message);
@@ -189,10 +189,10 @@ Result<void> DrapeSession::build(const Start& start) {
         }
         settings.dt = interactiveStep(finest);
     }
-    const std::vector<double> noLifts;
-    const bool lifted = m_lifts.size() == m_project.garment.panels.size();
+    const std::vector<SlotShift> noShifts;
+    const bool shifted = m_shifts.size() == m_project.garment.panels.size();
     if (auto err = assembleGarment(m_project.garment, m_mesh, m_body, settings, assembled,
-                                   lifted ? m_lifts : noLifts)) {
+                                   shifted ? m_shifts : noShifts)) {
         return sessionError(*err);
     }
     sim::SceneSpec& scene = assembled.scene;

@@ -80,7 +80,7 @@ struct DrapeFigures {
     /// starts), before `placementLifts` cleared them (all of them when
     /// startIntersectingPairs is 0).
     long placedCrossings = 0;
-    std::vector<PlacementLift> placementLifts; ///< panels lifted off their slots to clear others
+    std::vector<PlacementLift> placementLifts; ///< panels moved on their slots to clear others
     std::vector<ForcedWeld> forcedWelds;       ///< seams welded by force, widest first
     long triangles = 0;
     long seamPairs = 0;
@@ -243,7 +243,7 @@ class DrapeSession {
     GarmentFit fit() const;
     const GarmentMesh& mesh() const { return m_mesh; }
     const AssembledGarment& assembled() const { return m_assembled; }
-    /// Panels the last prepare lifted off their slots to clear panels they were placed
+    /// Panels the last prepare moved apart on their slots to clear panels they were placed
     /// through (DrapeFigures::placementLifts), and the triangle pairs crossing before it.
     const std::vector<PlacementLift>& placementLifts() const { return m_placementLifts; }
     long placedCrossings() const { return m_placedCrossings; }
@@ -304,7 +304,7 @@ class DrapeSession {
     double m_startPenetration = 0;
     long m_startIntersecting = 0;
     long m_placedCrossings = 0;
-    std::vector<double> m_lifts; ///< per panel: clearance added to clear other panels [m]
+    std::vector<SlotShift> m_shifts; ///< per panel: moved on its slot to clear other panels
     std::vector<PlacementLift> m_placementLifts;
     double m_kineticEnergyPerVertex = 0;
 };

@@ -250,7 +250,7 @@ std::vector<std::string> preparedWarnings(const patterns::DrapeSession& session)
         }
         std::snprintf(text, sizeof text,
                       "panels placed through each other (%ld intersecting triangle pairs) were "
-                      "lifted off their slots: ",
+                      "moved apart on their slots: ",
                       f.placedCrossings);
         out.push_back(text + lifted);
     }

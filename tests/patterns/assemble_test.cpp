@@ -154,16 +154,16 @@ TEST(Assemble, APanelPlacedThroughAnotherIsLiftedUntilItClears) {
     EXPECT_EQ(placed[0].b, 2);
     EXPECT_GT(placed[0].pairs, 0);
     std::vector<PlacementLift> lifted;
-    const std::vector<double> lifts =
+    const std::vector<SlotShift> shifts =
         liftCrossedPanels(t.garment, t.mesh, t.body, a, placed, lifted);
-    ASSERT_EQ(lifts.size(), 3u);
+    ASSERT_EQ(shifts.size(), 3u);
     ASSERT_EQ(lifted.size(), 1u);
     EXPECT_EQ(lifted[0].crossed,
               std::vector<std::string>{lifted[0].panel == "patch" ? "front" : "patch"});
-    EXPECT_EQ(lifts[1], 0.0); // the back panel crossed nothing
+    EXPECT_EQ(shifts[1], SlotShift{}); // the back panel crossed nothing
     EXPECT_GT(lifted[0].lift, 0.0);
     EXPECT_LE(lifted[0].lift, 0.03 + 1e-12);
-    ASSERT_FALSE(assembleGarment(t.garment, t.mesh, t.body, {}, a, lifts).has_value());
+    ASSERT_FALSE(assembleGarment(t.garment, t.mesh, t.body, {}, a, shifts).has_value());
     EXPECT_TRUE(crossingsAtStart(a).empty());
     const sim::Simulation simulation(a.scene);
     EXPECT_EQ(simulation.intersectingTrianglePairs(), 0);
@@ -312,6 +312,76 @@ TEST(Drape, ForcedWeldsOfDartsNameTheirPanel) {
     EXPECT_EQ(forced[0].seam, "dart of bodice");
     EXPECT_EQ(forced[0].pairs, 2);
     EXPECT_EQ(forced[0].widest, 0.02);
+}
+
+/// Two panels of `width` × 0.1 m on the backs of two capsules of radius 0.1 m side by side,
+/// 20 mm apart (legs): wrapped on their own capsules, their inner edges reach round into each
+/// other between the two, as the trousers' backs do on a body whose legs are spread.
+Tube twoLegs(double width) {
+    Tube t;
+    for (const char* name : {"left", "right"}) {
+        Panel p;
+        p.name = name;
+        p.material = "cotton";
+        p.placement.slot = name;
+        p.placement.clearance = 0.02;
+        t.garment.panels.push_back(p);
+        t.mesh.panels.push_back(rectanglePanel(width, 0.1, 24, 6));
+    }
+    GarmentMaterial m;
+    m.name = "cotton";
+    m.material.density = 0.15;
+    t.garment.materials.push_back(m);
+    for (const double x : {0.11, -0.11}) {
+        sim::MatX3 v;
+        sim::MatX3i f;
+        sim::makeCapsuleMesh(0.1, 0.4, 32, v, f);
+        v.col(0).array() += x;
+        const auto base = static_cast<int>(t.body.vertices.rows());
+        t.body.vertices.conservativeResize(base + v.rows(), 3);
+        t.body.vertices.bottomRows(v.rows()) = v;
+        t.body.triangles.conservativeResize(t.body.triangles.rows() + f.rows(), 3);
+        t.body.triangles.bottomRows(f.rows()) = f.array() + base;
+        ArrangementSlot s;
+        s.name = x > 0 ? "left" : "right";
+        s.origin = sim::Vec3(x, 0.05, 0);
+        s.axis = sim::Vec3::UnitY();
+        s.facing = sim::Vec3(0, 0, -1);
+        s.radius = 0.1;
+        t.body.slots.push_back(s);
+    }
+    return t;
+}
+
+// Panels that reach round into each other between two slots are turned apart round their slots
+// when that clears them sooner than a lift (which wraps a panel wider, reaching further round):
+// here a 5 mm turn clears what a 5 mm lift does not.
+TEST(Assemble, PanelsReachingRoundIntoEachOtherAreTurnedApart) {
+    const Tube t = twoLegs(0.3);
+    AssembledGarment a;
+    ASSERT_FALSE(assembleGarment(t.garment, t.mesh, t.body, {}, a).has_value());
+    const std::vector<PanelCrossing> placed = crossingsAtStart(a);
+    ASSERT_EQ(placed.size(), 1u);
+    EXPECT_GT(placed[0].pairs, 0);
+    for (std::size_t p = 0; p < 2; ++p) {
+        std::vector<SlotShift> out(2);
+        out[p].lift = 0.005;
+        ASSERT_FALSE(assembleGarment(t.garment, t.mesh, t.body, {}, a, out).has_value());
+        EXPECT_FALSE(crossingsAtStart(a).empty()) << t.garment.panels[p].name;
+    }
+    ASSERT_FALSE(assembleGarment(t.garment, t.mesh, t.body, {}, a).has_value());
+    std::vector<PlacementLift> lifted;
+    const std::vector<SlotShift> shifts =
+        liftCrossedPanels(t.garment, t.mesh, t.body, a, placed, lifted);
+    ASSERT_EQ(lifted.size(), 1u);
+    EXPECT_EQ(lifted[0].lift, 0.0);
+    EXPECT_NE(lifted[0].around, 0.0);
+    EXPECT_NEAR(std::abs(lifted[0].around), 0.005, 1e-12);
+    EXPECT_EQ(liftText(lifted[0]),
+              lifted[0].panel + " " + std::to_string(std::lround(lifted[0].around * 1000)) +
+                  " mm around (crossed " + (lifted[0].panel == "left" ? "right" : "left") + ")");
+    ASSERT_FALSE(assembleGarment(t.garment, t.mesh, t.body, {}, a, shifts).has_value());
+    EXPECT_TRUE(crossingsAtStart(a).empty());
 }
 
 } // namespace

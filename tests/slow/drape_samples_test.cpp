@@ -321,10 +321,10 @@ TEST(SampleReport, APlacementThroughItselfIsLiftedApart) {
     ASSERT_EQ(r["placement_lifts"].size(), 1u);
     const std::string lift = r["placement_lifts"][0].get<std::string>();
     EXPECT_TRUE(lift.rfind("front_right", 0) == 0 || lift.rfind("front_left", 0) == 0) << lift;
-    EXPECT_NE(lift.find(" mm (crossed front_"), std::string::npos) << lift;
+    EXPECT_NE(lift.find(" mm out (crossed front_"), std::string::npos) << lift;
     const std::string warning =
         "panels placed through each other (" + std::to_string(placed) +
-        " intersecting triangle pairs) were lifted off their slots: " + lift;
+        " intersecting triangle pairs) were moved apart on their slots: " + lift;
     bool found = false;
     for (const auto& m : r["warning_messages"]) {
         found = found || m.get<std::string>() == warning;

@@ -48,7 +48,7 @@ struct StaticScene {
     std::vector<patterns::ArrangementSlot> bodySlots;
     /// Each seam's lines (the 3D view draws them in the seam's colour, following the cloth).
     std::vector<SeamLine> seamLines;
-    /// Panels lifted off their slots because they were placed through others
+    /// Panels moved apart on their slots because they were placed through others
     /// (patterns::DrapeSession::placementLifts), and the triangle pairs that crossed before.
     std::vector<patterns::PlacementLift> placementLifts;
     long placedCrossings = 0;

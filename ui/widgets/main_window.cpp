@@ -867,8 +867,8 @@ void MainWindow::showPlaced(const StaticScene& scene, bool again) {
     for (const patterns::PlacementLift& l : scene.placementLifts) {
         lifts << QString::fromStdString(patterns::liftText(l));
     }
-    statusBar()->showMessage(tr("%1, panels placed through each other (%2 triangle pairs) lifted "
-                                "off their slots: %3; press Space to drape")
+    statusBar()->showMessage(tr("%1, panels placed through each other (%2 triangle pairs) moved "
+                                "apart on their slots: %3; press Space to drape")
                                  .arg(placed)
                                  .arg(scene.placedCrossings)
                                  .arg(lifts.join(QStringLiteral("; "))),

@@ -189,7 +189,7 @@ class MainWindow : public QMainWindow {
     void buildPatternTools();
     void updateStatus();
     /// "Placed: press Space to drape" (`again`: "Placed again"), naming the panels the drape
-    /// lifted off their slots because they were placed through others (shown longer then).
+    /// moved apart on their slots because they were placed through others (shown longer then).
     void showPlaced(const StaticScene& scene, bool again);
     void exportMesh();
     void savePicture();
