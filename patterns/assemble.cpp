@@ -178,7 +178,8 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
     return std::nullopt;
 }
 
-std::vector<PanelCrossing> startCrossings(const AssembledGarment& assembled, const sim::MatX3& x) {
+std::vector<PanelCrossing> startCrossings(const AssembledGarment& assembled, const sim::MatX3& x,
+                                          bool withinPanels) {
     const sim::SceneSpec& scene = assembled.scene;
     // Seam partners within the weld distance weld at the first step: one vertex, whose
     // triangles touch there (panels sewn edge to edge, as GarmentCode places them).
@@ -212,7 +213,7 @@ std::vector<PanelCrossing> startCrossings(const AssembledGarment& assembled, con
             names[v] = find(offset + static_cast<int>(v));
         }
     }
-    return panelCrossings(positions, triangles, &joined);
+    return panelCrossings(positions, triangles, &joined, withinPanels);
 }
 
 std::string liftText(const PlacementLift& lift) {

@@ -67,8 +67,11 @@ std::optional<std::string> assembleGarment(const Garment& garment, const Garment
 /// Panels through each other as a simulation starts from `x` (|V|×3, the assembled scene's
 /// vertices; a Simulation's positions once its collision stage has resolved the start, which
 /// pushes cloth within the contact layer of other cloth apart): per pair of panels whose
-/// triangles intersect, how many pairs do.
-std::vector<PanelCrossing> startCrossings(const AssembledGarment& assembled, const sim::MatX3& x);
+/// triangles intersect, how many pairs do, seam partners within the weld distance taken as one
+/// vertex (they weld at the first step; panels sewn edge to edge touch there). `withinPanels`:
+/// a panel's own triangle pairs too (entries with a == b).
+std::vector<PanelCrossing> startCrossings(const AssembledGarment& assembled, const sim::MatX3& x,
+                                          bool withinPanels = false);
 
 /// Moves panels placed through each other apart on their slots, given the crossings the
 /// assembled scene starts with (startCrossings; on a small body a trouser leg's slot brings the

@@ -144,8 +144,18 @@ Result<void> DrapeSession::prepare() {
     if (auto r = build(Start{}); !r.ok()) {
         return r;
     }
-    long withBody = 0;
-    m_startIntersecting = m_simulation->intersectingTrianglePairs(&withBody) - withBody;
+    // Cloth through cloth as the simulation starts, seam partners about to weld taken as one
+    // vertex: panels sewn edge to edge touch there (GarmentCode places them so), which the
+    // engine's count, welding nothing yet, takes for crossings.
+    auto crossingPairs = [this] {
+        long n = 0;
+        for (const PanelCrossing& c :
+             startCrossings(m_assembled, m_simulation->positions(), true)) {
+            n += c.pairs;
+        }
+        return n;
+    };
+    m_startIntersecting = crossingPairs();
     if (m_startIntersecting > 0) {
         // Panels placed through each other: moved apart on their slots where that clears them.
         const std::vector<PanelCrossing> crossings =
@@ -161,7 +171,7 @@ Result<void> DrapeSession::prepare() {
             if (auto r = build(Start{}); !r.ok()) {
                 return r;
             }
-            m_startIntersecting = m_simulation->intersectingTrianglePairs(&withBody) - withBody;
+            m_startIntersecting = crossingPairs();
         }
     }
     m_startPenetration = m_simulation->penetration();

@@ -109,9 +109,10 @@ sim::MatX3 wrapOnSlot(const sim::MatX2& coordinates, const ArrangementSlot& slot
 
 std::vector<PanelCrossing> panelCrossings(const std::vector<sim::MatX3>& positions,
                                           const std::vector<sim::MatX3i>& triangles,
-                                          const std::vector<std::vector<int>>* joined) {
-    // Every triangle's box, swept along x: the pairs of different panels whose boxes overlap
-    // are tested exactly.
+                                          const std::vector<std::vector<int>>* joined,
+                                          bool withinPanels) {
+    // Every triangle's box, swept along x: the pairs of different panels (and of one panel,
+    // withinPanels) whose boxes overlap are tested exactly.
     struct Box {
         Vec3 lo, hi;
         int panel, triangle;
@@ -136,15 +137,18 @@ std::vector<PanelCrossing> panelCrossings(const std::vector<sim::MatX3>& positio
         return Vec3(positions[static_cast<std::size_t>(b.panel)].row(
             triangles[static_cast<std::size_t>(b.panel)](b.triangle, i)));
     };
-    auto shareJoined = [&](const Box& u, const Box& w) {
-        const std::vector<int>& nu = (*joined)[static_cast<std::size_t>(u.panel)];
-        const std::vector<int>& nw = (*joined)[static_cast<std::size_t>(w.panel)];
+    // Whether two triangles share a vertex: its name when joined, else (one panel) its index.
+    auto share = [&](const Box& u, const Box& w) {
         const sim::MatX3i& tu = triangles[static_cast<std::size_t>(u.panel)];
         const sim::MatX3i& tw = triangles[static_cast<std::size_t>(w.panel)];
+        auto name = [&](const Box& b, int v) {
+            return joined != nullptr
+                       ? (*joined)[static_cast<std::size_t>(b.panel)][static_cast<std::size_t>(v)]
+                       : v;
+        };
         for (int i = 0; i < 3; ++i) {
             for (int j = 0; j < 3; ++j) {
-                if (nu[static_cast<std::size_t>(tu(u.triangle, i))] ==
-                    nw[static_cast<std::size_t>(tw(w.triangle, j))]) {
+                if (name(u, tu(u.triangle, i)) == name(w, tw(w.triangle, j))) {
                     return true;
                 }
             }
@@ -156,11 +160,11 @@ std::vector<PanelCrossing> panelCrossings(const std::vector<sim::MatX3>& positio
         const Box& u = boxes[i];
         for (std::size_t j = i + 1; j < boxes.size() && boxes[j].lo.x() <= u.hi.x(); ++j) {
             const Box& w = boxes[j];
-            if (w.panel == u.panel || w.lo.y() > u.hi.y() || u.lo.y() > w.hi.y() ||
-                w.lo.z() > u.hi.z() || u.lo.z() > w.hi.z()) {
+            if ((w.panel == u.panel && !withinPanels) || w.lo.y() > u.hi.y() ||
+                u.lo.y() > w.hi.y() || w.lo.z() > u.hi.z() || u.lo.z() > w.hi.z()) {
                 continue;
             }
-            if (joined != nullptr && shareJoined(u, w)) {
+            if ((joined != nullptr || w.panel == u.panel) && share(u, w)) {
                 continue;
             }
             if (sim::trianglesIntersect(corner(u, 0), corner(u, 1), corner(u, 2), corner(w, 0),

@@ -26,15 +26,16 @@ sim::MatX3 wrapOnSlot(const sim::MatX2& coordinates, const ArrangementSlot& slot
 /// Panels placed through each other: per pair of panels (a < b) whose triangles intersect,
 /// how many of their triangle pairs do. `positions[p]` and `triangles[p]` are panel p's
 /// placed vertices (|V_p|×3) and triangles (indices into them); a panel's own triangles are
-/// not tested against each other. `joined`, if given, names each vertex (joined[p][v]):
-/// triangles sharing a name touch where they are joined (seam partners about to weld) and are
-/// not counted.
+/// tested against each other only `withinPanels` (entries with a == b), those sharing a vertex
+/// left out. `joined`, if given, names each vertex (joined[p][v]): triangles sharing a name
+/// touch where they are joined (seam partners about to weld) and are not counted.
 struct PanelCrossing {
     int a = 0, b = 0;
     long pairs = 0;
 };
 std::vector<PanelCrossing> panelCrossings(const std::vector<sim::MatX3>& positions,
                                           const std::vector<sim::MatX3i>& triangles,
-                                          const std::vector<std::vector<int>>* joined = nullptr);
+                                          const std::vector<std::vector<int>>* joined = nullptr,
+                                          bool withinPanels = false);
 
 } // namespace atelier::patterns

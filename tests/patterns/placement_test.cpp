@@ -226,5 +226,38 @@ TEST(PanelCrossings, CountsIntersectingTrianglesOfDifferentPanels) {
     EXPECT_TRUE(panelCrossings({x[0], x[2]}, {t, t}).empty());
 }
 
+// A panel through itself counts only when its own pairs are asked for (withinPanels); panels
+// sewn edge to edge touch along the seam, which counts unless the seam partners are joined.
+TEST(PanelCrossings, APanelThroughItselfAndPanelsJoinedAtASeam) {
+    // One panel of two separate triangles, the second through the first.
+    sim::MatX3 self(6, 3);
+    self << 0, 0, 0, 1, 0, 0, 0, 1, 0, //
+        0.25, 0.1, -0.5, 0.25, 0.4, -0.5, 0.25, 0.1, 0.5;
+    sim::MatX3i two(2, 3);
+    two << 0, 1, 2, 3, 4, 5;
+    EXPECT_TRUE(panelCrossings({self}, {two}).empty());
+    const std::vector<PanelCrossing> within = panelCrossings({self}, {two}, nullptr, true);
+    ASSERT_EQ(within.size(), 1u);
+    EXPECT_EQ(within[0].a, 0);
+    EXPECT_EQ(within[0].b, 0);
+    EXPECT_EQ(within[0].pairs, 1);
+    // A panel's own neighbours (sharing a vertex) never count.
+    sim::MatX3 flat(4, 3);
+    flat << 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0;
+    sim::MatX3i quad(2, 3);
+    quad << 0, 1, 2, 0, 2, 3;
+    EXPECT_TRUE(panelCrossings({flat}, {quad}, nullptr, true).empty());
+    // A second panel sewn to the first's edge x = 1, folded up 45° from it: its triangles touch
+    // the first's along the seam.
+    sim::MatX3 folded(4, 3);
+    folded << 1, 0, 0, 1.7, 0, 0.7, 1.7, 1, 0.7, 1, 1, 0;
+    const std::vector<PanelCrossing> touching = panelCrossings({flat, folded}, {quad, quad});
+    ASSERT_EQ(touching.size(), 1u);
+    EXPECT_GT(touching[0].pairs, 0);
+    // Joined: the seam partners (flat 1 ≡ folded 0, flat 2 ≡ folded 3) are one vertex each.
+    const std::vector<std::vector<int>> joined = {{0, 1, 2, 3}, {1, 4, 5, 2}};
+    EXPECT_TRUE(panelCrossings({flat, folded}, {quad, quad}, &joined, true).empty());
+}
+
 } // namespace
 } // namespace atelier::patterns
