@@ -236,7 +236,8 @@ std::string liftText(const PlacementLift& lift) {
 std::vector<SlotShift> liftCrossedPanels(const Garment& garment, const GarmentMesh& mesh,
                                          const Body& body, const AssembledGarment& assembled,
                                          const std::vector<PanelCrossing>& crossings,
-                                         std::vector<PlacementLift>& lifted) {
+                                         std::vector<PlacementLift>& lifted,
+                                         const std::vector<char>& movable) {
     constexpr double STEP = 0.005;
     constexpr int MAX_STEPS = 6;
     const std::size_t panels = assembled.scene.cloths.size();
@@ -249,13 +250,21 @@ std::vector<SlotShift> liftCrossedPanels(const Garment& garment, const GarmentMe
         int count() const { return out + std::abs(around); }
         SlotShift shift() const { return {out * STEP, around * STEP}; }
     };
+    auto canMove = [&](int p) {
+        return movable.empty() || movable[static_cast<std::size_t>(p)] != 0;
+    };
+    // The crossings a move can undo: those of a movable panel.
+    auto ofMovable = [&](std::vector<PanelCrossing> c) {
+        std::erase_if(c, [&](const PanelCrossing& k) { return !canMove(k.a) && !canMove(k.b); });
+        return c;
+    };
     AssembledGarment trial = assembled; // its scene, with the tried panels' positions
     auto crossingsWith = [&](std::size_t p, const Steps& steps) {
         const Panel& panel = garment.panels[p];
         trial.scene.cloths[p].position =
             shiftedOnSlot(panel, mesh.panels[p], *body.slot(panel.placement.slot), steps.shift());
         const sim::Simulation simulation(trial.scene);
-        return startCrossings(trial, simulation.positions());
+        return ofMovable(startCrossings(trial, simulation.positions()));
     };
     auto total = [](const std::vector<PanelCrossing>& c) {
         long n = 0;
@@ -265,7 +274,7 @@ std::vector<SlotShift> liftCrossedPanels(const Garment& garment, const GarmentMe
         return n;
     };
     std::vector<Steps> steps(panels), bestSteps = steps;
-    std::vector<PanelCrossing> now = crossings;
+    std::vector<PanelCrossing> now = ofMovable(crossings);
     long best = total(now);
     while (!now.empty()) {
         const PanelCrossing worst = *std::max_element(
@@ -276,6 +285,9 @@ std::vector<SlotShift> liftCrossedPanels(const Garment& garment, const GarmentMe
         std::vector<PanelCrossing> after;
         sim::MatX3 chosenPosition;
         for (const int p : {worst.b, worst.a}) {
+            if (!canMove(p)) {
+                continue;
+            }
             const auto q = static_cast<std::size_t>(p);
             const Steps& s = steps[q];
             std::vector<Steps> moves;

@@ -80,11 +80,14 @@ std::vector<PanelCrossing> startCrossings(const AssembledGarment& assembled, con
 /// worst-crossing pair, the panel and move that leave the fewest crossings as a simulation of
 /// them starts (each try builds one). Returns the shift per panel (assembleGarment's `shifts`)
 /// of the placement with the fewest crossings found, all zero when no move lessened them;
-/// `lifted` receives the moved panels with the panels each crossed.
+/// `lifted` receives the moved panels with the panels each crossed. `movable` (per panel;
+/// empty: all) limits the moves to some panels (one placed again among panels that stay where
+/// they are), and the crossings to those of movable panels.
 std::vector<SlotShift> liftCrossedPanels(const Garment& garment, const GarmentMesh& mesh,
                                          const Body& body, const AssembledGarment& assembled,
                                          const std::vector<PanelCrossing>& crossings,
-                                         std::vector<PlacementLift>& lifted);
+                                         std::vector<PlacementLift>& lifted,
+                                         const std::vector<char>& movable = {});
 
 /// Holds the garment's pins on `out`'s scene, whose cloths start where the simulation starts,
 /// at drape time `drapeTime` [s] (0 for a new drape; later when a drape is rebuilt from where

@@ -698,6 +698,14 @@ Result<void> DrapeSession::placePanel(std::size_t index, const Placement& placem
     }
     const Placement previous = m_project.garment.panels[index].placement;
     m_project.garment.panels[index].placement = placement;
+    // Placed where its placement says: a move the garment's placement gave it goes, and it is
+    // moved again only if it crosses the others where they are now.
+    const std::vector<SlotShift> previousShifts = m_shifts;
+    const std::vector<PlacementLift> previousLifts = m_placementLifts;
+    const std::string& name = m_project.garment.panels[index].name;
+    std::erase_if(m_placementLifts, [&](const PlacementLift& l) { return l.panel == name; });
+    m_shifts.resize(m_project.garment.panels.size());
+    m_shifts[index] = {};
     if (!m_simulation) {
         return {};
     }
@@ -708,12 +716,42 @@ Result<void> DrapeSession::placePanel(std::size_t index, const Placement& placem
                                              : sim::MatX3(m_simulation->positions().middleRows(
                                                    offsets[p], offsets[p + 1] - offsets[p])));
     }
-    if (auto r = build(start); !r.ok()) {
+    auto undo = [&] {
         m_project.garment.panels[index].placement = previous;
+        m_shifts = previousShifts;
+        m_placementLifts = previousLifts;
+    };
+    if (auto r = build(start); !r.ok()) {
+        undo();
         return r;
     }
-    raise(DrapeEvent::Kind::Restarted,
-          "panel \"" + m_project.garment.panels[index].name + "\" placed again; sewing it anew");
+    std::vector<PanelCrossing> crossings = startCrossings(m_assembled, m_simulation->positions());
+    std::erase_if(crossings, [&](const PanelCrossing& c) {
+        return c.a != static_cast<int>(index) && c.b != static_cast<int>(index);
+    });
+    if (!crossings.empty()) {
+        std::vector<char> movable(m_project.garment.panels.size(), 0);
+        movable[index] = 1;
+        std::vector<PlacementLift> lifted;
+        const std::vector<SlotShift> shifts = liftCrossedPanels(
+            m_project.garment, m_mesh, m_body, m_assembled, crossings, lifted, movable);
+        if (!lifted.empty()) {
+            m_shifts[index] = shifts[index];
+            m_placementLifts.insert(m_placementLifts.end(), lifted.begin(), lifted.end());
+            if (auto r = build(start); !r.ok()) {
+                undo();
+                return r;
+            }
+        }
+    }
+    std::string message =
+        "panel \"" + m_project.garment.panels[index].name + "\" placed again; sewing it anew";
+    for (const PlacementLift& l : m_placementLifts) {
+        if (l.panel == m_project.garment.panels[index].name) {
+            message += "; placed through other panels, moved on its slot: " + liftText(l);
+        }
+    }
+    raise(DrapeEvent::Kind::Restarted, message);
     return {};
 }
 

@@ -227,7 +227,9 @@ class DrapeSession {
     /// where it is; changed ones are placed on their slots.
     Result<void> setPanel(std::size_t index, Panel panel);
     /// Places panel `index` on its slot again (its placement may have changed), the other
-    /// panels kept where they are, and sews it anew.
+    /// panels kept where they are, and sews it anew. A panel that crosses the others where
+    /// they are is moved on its slot until it clears them (as prepare() moves panels placed
+    /// through each other, placementLifts() naming it), the others left where they are.
     Result<void> placePanel(std::size_t index, const Placement& placement);
 
     // ---- Results ----

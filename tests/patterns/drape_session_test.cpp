@@ -10,7 +10,9 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstring>
+#include <numbers>
 #include <thread>
 
 namespace atelier::patterns {
@@ -64,6 +66,13 @@ Body capsuleBody() {
         s.radius = 0.1;
         body.slots.push_back(s);
     }
+    // A slot tilted 45° from the front's (a panel on it at the band's height crosses the
+    // front panel).
+    ArrangementSlot tilted = body.slots.front();
+    tilted.name = "tilted";
+    const double tilt = 45 * std::numbers::pi / 180;
+    tilted.axis = sim::Vec3(std::sin(tilt), std::cos(tilt), 0);
+    body.slots.push_back(tilted);
     return body;
 }
 
@@ -400,6 +409,52 @@ TEST(DrapeSession, PlacingOnePanelAgainLeavesTheOthers) {
     EXPECT_EQ(f.session.phase(), DrapePhase::Placing);
     EXPECT_EQ(f.session.step(), DrapeStatus::Running);
     EXPECT_EQ(f.session.phase(), DrapePhase::Sewing) << "sewing again";
+}
+
+// A panel placed again through the others (the patch moved onto a tilted slot, across the
+// front of the band) is moved on its slot until it clears them, the band left where it is;
+// placed again clear of them, it is where its placement says.
+TEST(DrapeSession, APanelPlacedAgainThroughTheOthersIsMovedOnItsSlotAlone) {
+    Fixture f;
+    ASSERT_TRUE(f.session.prepare().ok());
+    EXPECT_TRUE(f.session.placementLifts().empty());
+    const sim::MatX3 front = panelRows(f.session, 0);
+    Placement across;
+    across.slot = "tilted";
+    across.clearance = 0.02;
+    across.offset = Vec2(0, 0.03);
+    // As placed, the patch crosses the front where it is now.
+    {
+        Project crossed = f.session.project();
+        crossed.garment.panels[2].placement = across;
+        DrapeSession check([](const BodySource&) -> Result<Body> { return capsuleBody(); });
+        check.setProject(crossed);
+        ASSERT_TRUE(check.prepare().ok());
+        ASSERT_EQ(check.placementLifts().size(), 1u) << "crossed as placed";
+    }
+    ASSERT_TRUE(f.session.placePanel(2, across).ok());
+    // The front stays where it was (not moved on its slot: a 5 mm move would shift all of it),
+    // but for the vertices the start's contact resolution pushes out of the patch's layer.
+    const sim::VecX moved = (panelRows(f.session, 0) - front).rowwise().norm();
+    EXPECT_LT(moved.mean(), 0.001);
+    EXPECT_LT(moved.maxCoeff(), 0.005);
+    ASSERT_EQ(f.session.placementLifts().size(), 1u);
+    const PlacementLift& lift = f.session.placementLifts().front();
+    EXPECT_EQ(lift.panel, "patch");
+    EXPECT_EQ(lift.crossed, std::vector<std::string>{"front"});
+    EXPECT_GT(lift.lift + std::abs(lift.around), 0.0);
+    EXPECT_TRUE(startCrossings(f.session.assembled(), f.session.positions()).empty());
+    const std::vector<DrapeEvent> events = f.session.takeEvents();
+    ASSERT_FALSE(events.empty());
+    EXPECT_EQ(events.back().kind, DrapeEvent::Kind::Restarted);
+    EXPECT_NE(events.back().message.find("moved on its slot: " + liftText(lift)), std::string::npos)
+        << events.back().message;
+    EXPECT_EQ(f.session.step(), DrapeStatus::Running);
+
+    // Back on the front slot, high above the band: no move.
+    ASSERT_TRUE(f.session.placePanel(2, bandProject().garment.panels[2].placement).ok());
+    EXPECT_TRUE(f.session.placementLifts().empty());
+    EXPECT_TRUE(startCrossings(f.session.assembled(), f.session.positions()).empty());
 }
 
 } // namespace
