@@ -146,23 +146,22 @@ Result<void> DrapeSession::prepare() {
     }
     // Cloth through cloth as the simulation starts, seam partners about to weld taken as one
     // vertex: panels sewn edge to edge touch there (GarmentCode places them so), which the
-    // engine's count, welding nothing yet, takes for crossings.
-    auto crossingPairs = [this] {
+    // engine's count, welding nothing yet, takes for crossings. A panel's own pairs count too.
+    auto pairsIn = [](const std::vector<PanelCrossing>& crossings) {
         long n = 0;
-        for (const PanelCrossing& c :
-             startCrossings(m_assembled, m_simulation->positions(), true)) {
+        for (const PanelCrossing& c : crossings) {
             n += c.pairs;
         }
         return n;
     };
-    m_startIntersecting = crossingPairs();
-    if (m_startIntersecting > 0) {
-        // Panels placed through each other: moved apart on their slots where that clears them.
-        const std::vector<PanelCrossing> crossings =
-            startCrossings(m_assembled, m_simulation->positions());
-        for (const PanelCrossing& c : crossings) {
-            m_placedCrossings += c.pairs;
-        }
+    std::vector<PanelCrossing> crossings =
+        startCrossings(m_assembled, m_simulation->positions(), true);
+    m_startIntersecting = pairsIn(crossings);
+    // Panels placed through each other (pairs of different panels): moved apart on their
+    // slots where that clears them.
+    std::erase_if(crossings, [](const PanelCrossing& c) { return c.a == c.b; });
+    m_placedCrossings = pairsIn(crossings);
+    if (!crossings.empty()) {
         std::vector<SlotShift> shifts = liftCrossedPanels(m_project.garment, m_mesh, m_body,
                                                           m_assembled, crossings, m_placementLifts);
         if (!m_placementLifts.empty()) {
@@ -171,7 +170,8 @@ Result<void> DrapeSession::prepare() {
             if (auto r = build(Start{}); !r.ok()) {
                 return r;
             }
-            m_startIntersecting = crossingPairs();
+            m_startIntersecting =
+                pairsIn(startCrossings(m_assembled, m_simulation->positions(), true));
         }
     }
     m_startPenetration = m_simulation->penetration();
