@@ -138,6 +138,7 @@ Result<void> DrapeSession::prepare() {
     m_stepSecondsBefore = 0;
     m_sewnAt = -1;
     m_sewingStart = 0;
+    m_frameSteps = 0;
     m_shifts.clear();
     m_placementLifts.clear();
     m_placedCrossings = 0;
@@ -198,6 +199,7 @@ Result<void> DrapeSession::build(const Start& start) {
                                                panelParticleDistance(p, settings.particleDistance));
         }
         settings.dt = interactiveStep(finest);
+        m_stepDistance = finest.particleDistance;
     }
     const std::vector<SlotShift> noShifts;
     const bool shifted = m_shifts.size() == m_project.garment.panels.size();
@@ -279,6 +281,9 @@ void DrapeSession::wake() {
     m_restTime = -1;
     m_timeLimit = false;
     m_limitStart = time();
+    // A touch moves the cloth: the next step is the sewing one (chooseStep() decides again at
+    // the next frame).
+    m_simulation->setStep(m_simulation->scene().integrator.dt);
 }
 
 bool DrapeSession::finished() const {
@@ -307,6 +312,24 @@ DrapeStatus DrapeSession::finalStatus() const {
 void DrapeSession::settle() {
     if (m_interactive && m_settlingSolver) {
         m_simulation->setLinearSolver(*m_settlingSolver);
+    }
+
+}
+
+void DrapeSession::chooseStep() {
+    sim::Simulation& s = *m_simulation;
+    const double base = s.scene().integrator.dt;
+    const double frame = 1.0 / s.scene().frameRate;
+    double step = base;
+    if (m_interactive && m_settlingStep && !m_sewing.active() && s.grabCount() == 0 &&
+        frame > base && m_stepDistance > 0 && s.positions().rows() > 0) {
+        // The fastest vertex, in particle distances per frame.
+        const double moves = s.velocities().rowwise().norm().maxCoeff() * frame / m_stepDistance;
+        const bool large = s.nominalStep() > base;
+        step = moves < (large ? 2.0 : 1.0) * INTERACTIVE_SETTLING_SPEED ? frame : base;
+    }
+    if (step != s.nominalStep()) {
+        s.setStep(step);
     }
 }
 
@@ -343,6 +366,7 @@ void DrapeSession::afterStep() {
     if (!s.atFrame()) {
         return;
     }
+    chooseStep();
     const double vertices = std::max(1.0, static_cast<double>(s.positions().rows()));
     const double ke = s.kineticEnergy() / vertices;
     m_kineticEnergyPerVertex = ke;
@@ -380,6 +404,7 @@ DrapeStatus DrapeSession::stepOnce() {
     }
     const double until = m_limitStart + m_project.drape.timeLimit - m_timeOffset;
     m_sewing.beforeStep(*m_simulation);
+    const bool frameStep = m_simulation->nominalStep() > m_simulation->scene().integrator.dt;
     if (m_simulation->step(until) != sim::RunStatus::Finished) {
         const sim::RunStats& stats = m_simulation->stats();
         m_error = !m_simulation->error().empty() ? m_simulation->error() : stats.error;
@@ -387,6 +412,7 @@ DrapeStatus DrapeSession::stepOnce() {
         raise(DrapeEvent::Kind::Failed, m_error);
         return DrapeStatus::Failed;
     }
+    m_frameSteps += frameStep ? 1 : 0;
     afterStep();
     if (m_phase == DrapePhase::AtRest) {
         return DrapeStatus::AtRest;

@@ -130,6 +130,15 @@ inline constexpr double MAX_INTERACTIVE_STEP = 0.02;
 inline constexpr sim::LinearSolver INTERACTIVE_SETTLING_SOLVER =
     sim::LinearSolver::BlockIncompleteCholesky;
 
+/// Interactive drapes once sewn: while no garment vertex moves faster than this share of the
+/// particle distance per output frame, the drape steps one frame (1/30 s) at a time; above
+/// twice it, at interactiveStep() again (the gap keeps it from switching every frame). A
+/// grab held keeps interactiveStep(). At 20 mm the slow limit is 0.3 m/s, where the four
+/// samples at rest still move single vertices at 0.1-0.28 m/s (contacts): settling takes
+/// half the steps, the 20 mm tshirt and skirt drape faster than real time and the four rest
+/// clean (docs/decisions/032-interactive-settling-step.md).
+inline constexpr double INTERACTIVE_SETTLING_SPEED = 0.5;
+
 class DrapeSession {
   public:
     explicit DrapeSession(BodyProvider bodies);
@@ -196,6 +205,12 @@ class DrapeSession {
     /// next prepare() or rebuild, or the end of the sewing under way.
     void setSettlingSolver(std::optional<sim::LinearSolver> solver) { m_settlingSolver = solver; }
     std::optional<sim::LinearSolver> settlingSolver() const { return m_settlingSolver; }
+    /// Interactive drapes: one step per output frame while the sewn garment is slow
+    /// (INTERACTIVE_SETTLING_SPEED; on by default). Applies from the next frame.
+    void setSettlingStep(bool on) { m_settlingStep = on; }
+    bool settlingStep() const { return m_settlingStep; }
+    /// Steps taken one frame long so far (settlingStep()), across restarts.
+    long frameSteps() const { return m_frameSteps; }
     /// Any thread may read() the latest snapshot from here, across restarts.
     sim::SnapshotBuffer& snapshots() { return m_snapshots; }
 
@@ -266,6 +281,8 @@ class DrapeSession {
     void afterStep();
     /// Interactive drapes whose sewing has ended: the settling preconditioner.
     void settle();
+    /// Interactive drapes, at an output frame: the step for the next frame (settlingStep()).
+    void chooseStep();
     void raise(DrapeEvent::Kind kind, std::string message);
     DrapeStatus stepOnce();
     DrapeStatus finalStatus() const;
@@ -284,6 +301,9 @@ class DrapeSession {
     bool m_publishing = false;
     bool m_interactive = false;
     std::optional<sim::LinearSolver> m_settlingSolver = INTERACTIVE_SETTLING_SOLVER;
+    bool m_settlingStep = true;
+    double m_stepDistance = 0; ///< the particle distance interactiveStep() was chosen for [m]
+    long m_frameSteps = 0;
 
     std::atomic<DrapePhase> m_phase{DrapePhase::Empty};
     std::atomic<bool> m_pause{false};

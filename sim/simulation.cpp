@@ -873,6 +873,17 @@ void Simulation::setLinearSolver(LinearSolver solver) {
     m_impl->cg.setPreconditioner(solver);
 }
 
+void Simulation::setStep(double dt) {
+    if (dt > 0) {
+        m_impl->dtNominal = dt;
+        m_impl->dtNext = dt;
+    }
+}
+
+double Simulation::nominalStep() const {
+    return m_impl->dtNominal;
+}
+
 LinearSolver Simulation::linearSolver() const {
     return m_impl->cg.preconditioner();
 }

@@ -117,6 +117,8 @@ class Simulation {
     bool moveGrab(int handle, const Vec3& target);
     /// Lets go; the corners are free from the next step on. False for an unknown handle.
     bool release(int handle);
+    /// Grabs held now.
+    int grabCount() const;
     /// Holds a vertex (global index) where it is now; false if out of range or already pinned.
     bool pin(int vertex);
     /// Frees a pinned vertex; false if it was not pinned.
@@ -181,6 +183,13 @@ class Simulation {
     /// one and settle with another (patterns::DrapeSession::setSettlingSolver).
     void setLinearSolver(LinearSolver solver);
     LinearSolver linearSolver() const;
+    /// The step of fixed-step integrators from the next step on [s] (at first the scene's
+    /// IntegratorOptions::dt; ignored unless > 0); a rejected step still shrinks it and it
+    /// grows back to this. Steps still end on output frames. A drape may settle with a larger
+    /// step than it sews with (patterns::DrapeSession::setSettlingStep).
+    void setStep(double dt);
+    /// The step of fixed-step integrators [s] (setStep(), at first IntegratorOptions::dt).
+    double nominalStep() const;
 
     double time() const;
     const MatX3& positions() const;  ///< (|V|×3) over all cloths [m]

@@ -214,6 +214,10 @@ bool Simulation::unpin(int vertex) {
     return true;
 }
 
+int Simulation::grabCount() const {
+    return static_cast<int>(m_impl->grabs.size());
+}
+
 bool Simulation::pinned(int vertex) const {
     const Impl& s = *m_impl;
     return vertex >= 0 && vertex < s.n && s.pinned[static_cast<std::size_t>(vertex)] != 0;

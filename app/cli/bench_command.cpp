@@ -194,6 +194,9 @@ void addDrape(CLI::App& bench) {
                     "Implicit solve's preconditioner, throughout (default: the project's while "
                     "sewing, then block-ic0 as the window; with --dt the project's throughout)")
         ->check(CLI::IsMember({"block-jacobi", "block-ic0"}));
+    cmd->add_flag("--no-settling-step{false}", o->settlingStep,
+                  "Keep the sewing step once sewn (default: one step a frame while the garment "
+                  "is slow, as the window)");
     cmd->add_option("--threads,-j", o->threads, "Engine threads (default: all cores)")
         ->check(CLI::PositiveNumber);
     cmd->add_option("--reader-hz", o->readerHz,

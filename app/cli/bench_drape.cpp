@@ -122,6 +122,7 @@ int runDrapeBench(const DrapeBenchOptions& o) {
         return io::loadBody(source, dir, o.project, *limits);
     });
     session.setInteractive(!(o.dt > 0)); // the window's step, unless --dt sets one
+    session.setSettlingStep(o.settlingStep);
     if (!o.linearSolver.empty()) {
         session.setSettlingSolver(std::nullopt); // the one given, throughout
     }
@@ -213,6 +214,8 @@ int runDrapeBench(const DrapeBenchOptions& o) {
     j["step_longest_s"] = stepSeconds.empty() ? 0.0 : stepSeconds.back();
     j["dt_s"] = session.simulation()->scene().integrator.dt;
     j["interactive_step"] = session.interactive();
+    j["settling_step"] = session.interactive() && session.settlingStep();
+    j["frame_steps"] = session.frameSteps();
     const sim::RunStats& stats = session.simulation()->stats();
     j["linear_solver"] = std::string(sim::linearSolverName(session.project().drape.linearSolver));
     j["settling_linear_solver"] =

@@ -19,6 +19,7 @@ struct DrapeBenchOptions {
     double timeLimit = -1;          ///< override of the project's simulated time limit [s]
     double dt = -1;                 ///< step [s] (< 0: the window's, patterns::interactiveStep)
     std::string linearSolver;       ///< override of the project's linear solver; empty = keep
+    bool settlingStep = true;       ///< one step a frame once sewn and slow, as the window
     int threads = 0;                ///< engine threads (0: all cores)
     double readerHz = 0;            ///< snapshots read by another thread per second (0: none)
     int busy = 0;                   ///< processes spinning on a core each during the drape

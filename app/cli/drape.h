@@ -31,6 +31,7 @@ struct DrapeOptions {
     std::string format;             ///< --out's format (io::parseMeshFormat); empty = by extension
     bool splitPanels = false;       ///< --out keeps each panel's own vertices along the seams
     bool interactive = false;       ///< the window's step (patterns::interactiveStep)
+    bool settlingStep = true;       ///< --interactive: one step a frame once sewn and slow
     long maxVertices = DEFAULT_MAX_VERTICES; ///< refuse meshes estimated larger
     std::vector<std::string> limits;         ///< --limit NAME=VALUE
     /// Further files written once the drape ends (a caller's pictures), checked with the

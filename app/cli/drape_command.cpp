@@ -390,6 +390,7 @@ int runDrape(const DrapeOptions& options, const DrapeFinished& finished) {
 
     patterns::DrapeSession session(projectBodies(options, *limits));
     session.setInteractive(options.interactive);
+    session.setSettlingStep(options.settlingStep);
     if (!options.linearSolver.empty()) {
         session.setSettlingSolver(std::nullopt); // the one given, throughout
     }
@@ -530,7 +531,9 @@ void addDrapeCommand(CLI::App& app) {
         ->check(CLI::IsMember({"block-jacobi", "block-ic0"}));
     cmd->add_flag("--interactive", options->interactive,
                   "Step as the window does (the project's step, enlarged on coarse meshes; "
-                  "block-ic0 once sewn)");
+                  "block-ic0 once sewn; one step a frame once sewn and slow)");
+    cmd->add_flag("--no-settling-step{false}", options->settlingStep,
+                  "With --interactive: keep the sewing step once sewn");
     cmd->add_option("--frames-dir", options->framesDir,
                     "Write the garment at every output frame to DIR/frame_NNNNN.obj");
     cmd->add_option("--max-vertices", options->maxVertices,

@@ -163,6 +163,106 @@ TEST(DrapeSession, InteractiveSewsWithTheProjectsSolverAndSettlesWithItsOwn) {
     }
 }
 
+/// The fastest garment vertex, in interactive particle distances per output frame.
+double distancesPerFrame(const DrapeSession& s) {
+    const sim::Simulation& sim = *s.simulation();
+    const double frame = 1.0 / sim.scene().frameRate;
+    const double d = s.project().drape.particleDistance; // every band panel has the project's
+    return sim.velocities().rowwise().norm().maxCoeff() * frame / d;
+}
+
+/// Steps an interactive drape once, checking the settling step's rule; returns whether the
+/// step taken was one frame long.
+bool stepCheckingTheSettlingStep(DrapeSession& s) {
+    sim::Simulation& sim = *s.simulation();
+    const double base = sim.scene().integrator.dt;
+    const double frame = 1.0 / sim.scene().frameRate;
+    const bool sewing = s.phase() != DrapePhase::Settling;
+    const bool large = sim.nominalStep() > base;
+    const double before = s.time();
+    EXPECT_EQ(s.step(), DrapeStatus::Running);
+    const double taken = s.time() - before;
+    EXPECT_NEAR(taken, large ? frame : std::min(taken, base), 1e-12) << "at t = " << s.time();
+    EXPECT_FALSE(sewing && large) << "sewing keeps its step, t = " << s.time();
+    if (sim.atFrame() && s.phase() == DrapePhase::Settling && sim.grabCount() == 0) {
+        const double moves = distancesPerFrame(s);
+        const bool next = sim.nominalStep() > base;
+        if (moves < INTERACTIVE_SETTLING_SPEED) {
+            EXPECT_TRUE(next) << "slow at t = " << s.time() << ": " << moves;
+        } else if (moves > 2 * INTERACTIVE_SETTLING_SPEED) {
+            EXPECT_FALSE(next) << "fast at t = " << s.time() << ": " << moves;
+        }
+    }
+    return large;
+}
+
+TEST(DrapeSession, InteractiveSettlesOneStepAFrameWhileTheGarmentIsSlow) {
+    // The band alone: sewn, it hangs still for a while and then slides off the capsule.
+    Project band = bandProject();
+    band.garment.panels.pop_back();
+    band.drape.timeLimit = 1.5;
+    Fixture f;
+    f.session.setProject(band);
+    f.session.setInteractive(true);
+    ASSERT_TRUE(f.session.prepare().ok());
+    sim::Simulation* sim = f.session.simulation();
+    const double base = sim->scene().integrator.dt;
+    ASSERT_LT(base, 1.0 / sim->scene().frameRate);
+    while (sim->nominalStep() == base && f.session.time() < 0.5) {
+        ASSERT_FALSE(stepCheckingTheSettlingStep(f.session));
+    }
+    ASSERT_GT(sim->nominalStep(), base) << "slow once sewn";
+    EXPECT_EQ(f.session.phase(), DrapePhase::Settling);
+    EXPECT_TRUE(stepCheckingTheSettlingStep(f.session));
+    EXPECT_EQ(f.session.frameSteps(), 1);
+
+    // A grab wakes the drape at its sewing step and holds it there while it is held.
+    const sim::MatX3i& tri = sim->scene().cloths[0].mesh.triangles;
+    const sim::Vec3 at =
+        (f.session.positions().row(tri(0, 0)) + f.session.positions().row(tri(0, 1)) +
+         f.session.positions().row(tri(0, 2))) /
+        3;
+    const int handle = sim->grab(sim::ClothPoint{0, sim::Vec3::Constant(1.0 / 3)}, at);
+    ASSERT_GT(handle, 0);
+    f.session.wake();
+    EXPECT_EQ(sim->nominalStep(), base);
+    for (int k = 0; k < 12; ++k) {
+        EXPECT_FALSE(stepCheckingTheSettlingStep(f.session)) << "held, step " << k;
+    }
+    ASSERT_TRUE(sim->release(handle));
+    // Let go, it settles by the same rule.
+    while (f.session.time() < 1.4) {
+        stepCheckingTheSettlingStep(f.session);
+    }
+    EXPECT_EQ(sim->stats().maxDt, 1.0 / sim->scene().frameRate);
+
+    // Not grabbed, the band slides off the capsule: fast again, it steps the sewing step.
+    Fixture h;
+    h.session.setProject(band);
+    h.session.setInteractive(true);
+    ASSERT_TRUE(h.session.prepare().ok());
+    int back = 0;
+    bool was = false;
+    while (h.session.time() < 1.4) {
+        stepCheckingTheSettlingStep(h.session);
+        const bool large = h.session.simulation()->nominalStep() > base;
+        back += was && !large ? 1 : 0;
+        was = large;
+    }
+    EXPECT_GT(h.session.frameSteps(), 0);
+    EXPECT_GT(back, 0);
+
+    // Off: the sewing step throughout.
+    Fixture g;
+    g.session.setProject(band);
+    g.session.setInteractive(true);
+    g.session.setSettlingStep(false);
+    ASSERT_TRUE(g.session.prepare().ok());
+    g.session.runUntil();
+    EXPECT_EQ(g.session.frameSteps(), 0);
+    EXPECT_EQ(g.session.simulation()->stats().maxDt, base);
+}
+
 TEST(DrapeSession, PhasesAndEventsOfASewnBand) {
     Fixture f;
     EXPECT_EQ(f.session.phase(), DrapePhase::Empty);
