@@ -4,9 +4,14 @@
 
 #include "sim/integrators/filtered_cg.h"
 
+#include "sim/core/parallel.h"
+#include "sim/integrators/block_incomplete_cholesky.h"
+
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <numeric>
 #include <random>
 
 namespace atelier {
@@ -277,6 +282,77 @@ TEST(FilteredCg, IncompleteCholeskyFollowsANewStructure) {
     ASSERT_TRUE(r.converged);
     const Eigen::VectorXd expected = reducedReference(p.A, p.b, p.groups, p.held, p.fixedRows());
     EXPECT_LT((flat(x) - expected).norm(), 1e-9 * expected.norm());
+}
+
+/// A with its vertices renumbered: vertex i becomes newIndex[i].
+BlockSparseMatrix renumbered(const BlockSparseMatrix& A, const std::vector<int>& newIndex) {
+    std::vector<std::pair<int, int>> pairs;
+    for (int i = 0; i < A.blockRows(); ++i) {
+        for (int s = A.rowStart()[i]; s < A.rowStart()[i + 1]; ++s) {
+            if (A.columns()[s] > i) {
+                pairs.emplace_back(newIndex[i], newIndex[A.columns()[s]]);
+            }
+        }
+    }
+    BlockSparseMatrix B(A.blockRows(), pairs);
+    B.setZero();
+    for (int i = 0; i < A.blockRows(); ++i) {
+        for (int s = A.rowStart()[i]; s < A.rowStart()[i + 1]; ++s) {
+            B.add(newIndex[i], newIndex[A.columns()[s]], A.block(s));
+        }
+    }
+    return B;
+}
+
+TEST(FilteredCg, ALargeSystemSplitsItsIncompleteFactorInTwoHalvesWithTheSameBitsOnAnyThreads) {
+    // A 40×40 sheet numbered row by row: the rows before the middle and after it, and the 40
+    // unknowns of row 19, which couple to row 20, as the separator.
+    const int m = 40;
+    const std::vector<char> free(static_cast<std::size_t>(m * m), 0);
+    sim::BlockIncompleteCholesky factor;
+    ASSERT_TRUE(factor.factorize(gridMatrix(m, 9, 200.0), free, nullptr));
+    EXPECT_EQ(factor.halfUnknowns(0), 19 * m);
+    EXPECT_EQ(factor.halfUnknowns(1), 20 * m);
+    EXPECT_EQ(factor.separatorUnknowns(), m);
+    // Numbered at random (the corner kept first), no cut in vertex order is small: from the
+    // corner the breadth-first levels are the rings max(row, column) = k of 2k + 1 unknowns
+    // (the diagonal springs reach (r + 1, c + 1) in one step), k² of them before ring k. Half
+    // of 1,600 is reached in ring 28: 784 before it, its 57 the separator, 759 after it.
+    std::vector<int> newIndex(static_cast<std::size_t>(m * m));
+    std::iota(newIndex.begin(), newIndex.end(), 0);
+    std::shuffle(newIndex.begin() + 1, newIndex.end(), std::mt19937(11));
+    const BlockSparseMatrix A = renumbered(gridMatrix(m, 9, 200.0), newIndex);
+    ASSERT_TRUE(factor.factorize(A, free, nullptr));
+    EXPECT_EQ(factor.halfUnknowns(0), 784);
+    EXPECT_EQ(factor.halfUnknowns(1), 759);
+    EXPECT_EQ(factor.separatorUnknowns(), 57);
+    const MatX3 b = randomRhs(m * m, 10);
+    MatX3 reference = MatX3::Zero(m * m, 3);
+    sim::FilteredCg jacobi = solverOf(sim::LinearSolver::BlockJacobi);
+    const sim::CgResult rj = jacobi.solve(A, b, free, reference, 1e-12, 5000);
+    ASSERT_TRUE(rj.converged);
+    std::vector<MatX3> solutions;
+    std::vector<int> iterations;
+    for (const int threads : {1, 2}) {
+        sim::setThreadCount(threads);
+        sim::FilteredCg ic = solverOf(sim::LinearSolver::BlockIncompleteCholesky);
+        MatX3 x = MatX3::Zero(m * m, 3);
+        const sim::CgResult r = ic.solve(A, b, free, x, 1e-12, 5000);
+        EXPECT_TRUE(r.converged);
+        EXPECT_LT(r.iterations, rj.iterations / 2);
+        EXPECT_LT((flat(x) - flat(reference)).norm(), 1e-9 * flat(reference).norm());
+        solutions.push_back(x);
+        iterations.push_back(r.iterations);
+    }
+    sim::setThreadCount(0);
+    EXPECT_EQ(iterations[0], iterations[1]);
+    EXPECT_EQ(solutions[0], solutions[1]) << "the same bits on one thread and on two";
+
+    // Small systems keep the vertex order.
+    const GroupedProblem p;
+    ASSERT_TRUE(factor.factorize(p.A, p.held, &p.groups));
+    EXPECT_EQ(factor.halfUnknowns(0) + factor.halfUnknowns(1), 0);
+    EXPECT_EQ(factor.separatorUnknowns(), factor.unknowns());
 }
 
 TEST(FilteredCg, ASolveStoppedAtTheCapSaysSo) {
