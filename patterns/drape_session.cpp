@@ -283,7 +283,10 @@ void DrapeSession::wake() {
     m_limitStart = time();
     // A touch moves the cloth: the next step is the sewing one (chooseStep() decides again at
     // the next frame).
-    m_simulation->setStep(m_simulation->scene().integrator.dt);
+    if (const double base = m_simulation->scene().integrator.dt;
+        m_simulation->nominalStep() != base) {
+        m_simulation->setStep(base);
+    }
 }
 
 bool DrapeSession::finished() const {
@@ -313,7 +316,6 @@ void DrapeSession::settle() {
     if (m_interactive && m_settlingSolver) {
         m_simulation->setLinearSolver(*m_settlingSolver);
     }
-
 }
 
 void DrapeSession::chooseStep() {
@@ -321,8 +323,10 @@ void DrapeSession::chooseStep() {
     const double base = s.scene().integrator.dt;
     const double frame = 1.0 / s.scene().frameRate;
     double step = base;
+    // Implicit Euler only: the explicit integrators' steps are bound by their stability.
     if (m_interactive && m_settlingStep && !m_sewing.active() && s.grabCount() == 0 &&
-        frame > base && m_stepDistance > 0 && s.positions().rows() > 0) {
+        s.scene().integrator.kind == sim::IntegratorKind::ImplicitEuler && frame > base &&
+        m_stepDistance > 0 && s.positions().rows() > 0) {
         // The fastest vertex, in particle distances per frame.
         const double moves = s.velocities().rowwise().norm().maxCoeff() * frame / m_stepDistance;
         const bool large = s.nominalStep() > base;

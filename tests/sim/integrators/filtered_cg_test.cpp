@@ -2,10 +2,9 @@
 // vertex groups (welded seams) solved as the reduced system P^T A P y = P^T b; the block
 // incomplete Cholesky preconditioner against block-Jacobi; capped solves reported.
 
-#include "sim/integrators/filtered_cg.h"
-
 #include "sim/core/parallel.h"
 #include "sim/integrators/block_incomplete_cholesky.h"
+#include "sim/integrators/filtered_cg.h"
 
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
