@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <memory>
+#include <thread>
 #include <vector>
 
 namespace {
@@ -218,8 +219,9 @@ int main(int argc, char** argv) {
         "Open the project, drape it for --drape-seconds (or to rest) as the window does, write "
         "the 3D view's frames per second and the event loop's longest block as JSON and quit",
         "json");
-    const QCommandLineOption threads(QStringList{"j", "threads"},
-                                     "Engine threads (default: all cores)", "n");
+    const QCommandLineOption threads(
+        QStringList{"j", "threads"},
+        "Engine threads (default: all cores but one, which the window and its 3D view keep)", "n");
     parser.addOption(screenshot);
     parser.addOption(measure);
     parser.addOption(threads);
@@ -236,6 +238,12 @@ int main(int argc, char** argv) {
             return 2;
         }
         atelier::sim::setThreadCount(n);
+    } else {
+        // The 3D view draws on its own thread: an engine on every core makes the two fight
+        // (the 20 mm skirt on 2 cores: 22-25 frames per second with two engine threads, 28
+        // with one; docs/benchmarks.md, "Responsiveness while draping").
+        atelier::sim::setThreadCount(
+            std::max(1, static_cast<int>(std::thread::hardware_concurrency()) - 1));
     }
     atelier::ui::MainWindow window(samplesDir());
     if (parser.isSet(recoveryDir)) {
