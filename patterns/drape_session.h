@@ -131,9 +131,11 @@ inline constexpr sim::LinearSolver INTERACTIVE_SETTLING_SOLVER =
     sim::LinearSolver::BlockIncompleteCholesky;
 
 /// Interactive drapes once sewn: while no garment vertex moves faster than this share of the
-/// particle distance per output frame, the drape steps one frame (1/30 s) at a time; above
-/// twice it, at interactiveStep() again (the gap keeps it from switching every frame). A
-/// grab held keeps interactiveStep(). At 20 mm the slow limit is 0.3 m/s, where the four
+/// particle distance per output frame, the drape steps twice as long as interactiveStep() (or
+/// less, to divide a frame evenly: one frame, 1/30 s, at 20 mm; 1/60 s at 15 mm); above twice
+/// it, at interactiveStep() again (the gap keeps it from switching every frame). A grab held
+/// keeps interactiveStep(). Three times as long (a frame at 15 mm) left the 15 mm dress 116%
+/// strained at rest. At 20 mm the slow limit is 0.3 m/s, where the four
 /// samples at rest still move single vertices at 0.1-0.28 m/s (contacts): settling takes
 /// half the steps, the 20 mm tshirt and skirt drape faster than real time and the four rest
 /// clean (docs/decisions/032-interactive-settling-step.md).
@@ -205,11 +207,12 @@ class DrapeSession {
     /// next prepare() or rebuild, or the end of the sewing under way.
     void setSettlingSolver(std::optional<sim::LinearSolver> solver) { m_settlingSolver = solver; }
     std::optional<sim::LinearSolver> settlingSolver() const { return m_settlingSolver; }
-    /// Interactive drapes: one step per output frame while the sewn garment is slow
+    /// Interactive drapes: longer steps while the sewn garment is slow
     /// (INTERACTIVE_SETTLING_SPEED; on by default). Applies from the next frame.
     void setSettlingStep(bool on) { m_settlingStep = on; }
     bool settlingStep() const { return m_settlingStep; }
-    /// Steps taken one frame long so far (settlingStep()), across restarts.
+    /// Settling steps taken longer than interactiveStep() so far (settlingStep()), across
+    /// restarts.
     long frameSteps() const { return m_frameSteps; }
     /// Any thread may read() the latest snapshot from here, across restarts.
     sim::SnapshotBuffer& snapshots() { return m_snapshots; }
