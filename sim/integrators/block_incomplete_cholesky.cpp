@@ -181,27 +181,23 @@ void BlockIncompleteCholesky::order(std::vector<int>& unknownOf, const BlockSpar
     if (std::count(halves.begin(), halves.end(), 2) < perLevel[at(std::min(cut, deepest))]) {
         part = std::move(halves);
     }
+    if (std::count(part.begin(), part.end(), 2) > MAX_SEPARATOR_SHARE * m) {
+        return;
+    }
     std::vector<int> position(at(m));
     std::vector<int> vertexOf(at(m));
     int next = 0;
-    int separator = 0;
     for (int p = 0; p < 3; ++p) {
         for (int a = 0; a < m; ++a) {
             if (part[at(a)] == p) {
                 position[at(a)] = next;
                 vertexOf[at(next)] = m_vertexOfUnknown[at(a)];
                 ++next;
-                separator += p == 2 ? 1 : 0;
             }
         }
         if (p < 2) {
             m_halfEnd[p + 1] = next;
         }
-    }
-    if (separator > MAX_SEPARATOR_SHARE * m) {
-        m_halfEnd[1] = 0;
-        m_halfEnd[2] = 0;
-        return;
     }
     m_vertexOfUnknown = std::move(vertexOf);
     for (int& u : unknownOf) {

@@ -182,7 +182,11 @@ bool stepCheckingTheSettlingStep(DrapeSession& s) {
     const double before = s.time();
     EXPECT_EQ(s.step(), DrapeStatus::Running);
     const double taken = s.time() - before;
-    EXPECT_NEAR(taken, large ? frame : std::min(taken, base), 1e-12) << "at t = " << s.time();
+    if (large) {
+        EXPECT_NEAR(taken, frame, 1e-12) << "at t = " << s.time();
+    } else {
+        EXPECT_LE(taken, base + 1e-12) << "at t = " << s.time();
+    }
     EXPECT_FALSE(sewing && large) << "sewing keeps its step, t = " << s.time();
     if (sim.atFrame() && s.phase() == DrapePhase::Settling && sim.grabCount() == 0) {
         const double moves = distancesPerFrame(s);
