@@ -24,6 +24,11 @@ using Clock = std::chrono::steady_clock;
 constexpr int DEFAULT_SPIN_US = 50;
 /// Threads a loop can use (the helper count is packed in 8 bits).
 constexpr int MAX_THREADS = 256;
+/// Bits of a loop's task index in the words that tag it with the loop's generation.
+constexpr int INDEX_BITS = 40;
+constexpr std::uint64_t INDEX_MASK = (std::uint64_t{1} << INDEX_BITS) - 1;
+/// Loops this long run serially: late claims must never carry the index into the generation.
+constexpr std::int64_t MAX_TASKS = std::int64_t{1} << (INDEX_BITS - 1);
 
 /// Set on pool threads for good, and on a caller while its loop runs: loops inside loops run
 /// serially.
@@ -103,7 +108,7 @@ class Pool {
             }
         };
         int helpers = static_cast<int>(std::min<std::int64_t>(threads() - 1, tasks - 1));
-        if (t_inLoop || helpers < 1) {
+        if (t_inLoop || helpers < 1 || tasks >= MAX_TASKS) {
             serial(); // checked before the lock: this thread may hold it already
             return;
         }
@@ -128,13 +133,18 @@ class Pool {
         }
         m_task = task;
         m_context = context;
-        m_tasks = tasks;
-        m_next.store(0, std::memory_order_relaxed);
-        m_running.store(helpers, std::memory_order_relaxed);
+        m_completed.store(0, std::memory_order_relaxed);
+        m_aborted.store(false, std::memory_order_relaxed);
         bool wake = false;
         {
             const std::lock_guard lock(m_mutex);
             const std::uint64_t generation = (m_state.load(std::memory_order_relaxed) >> 8) + 1;
+            // The loop's task count, then its claim counter, both tagged with the generation:
+            // a helper that wakes late claims from whichever loop is current and can tell
+            // whether its claim is a task of the loop whose fields it reads.
+            m_loop.store(generation << INDEX_BITS | static_cast<std::uint64_t>(tasks),
+                         std::memory_order_release);
+            m_claim.store(generation << INDEX_BITS, std::memory_order_release);
             m_state.store(generation << 8 | static_cast<std::uint64_t>(helpers),
                           std::memory_order_release);
             wake = m_sleepers > 0;
@@ -143,9 +153,13 @@ class Pool {
             m_wake.notify_all();
         }
         t_inLoop = true;
-        workCatching();
+        work();
         t_inLoop = false;
-        const auto finished = [this] { return m_running.load(std::memory_order_acquire) == 0; };
+        // The loop ends when its tasks are done, not when every helper has checked in: a helper
+        // the scheduler has not run yet (the cores busy with a window's drawing) costs nothing.
+        const auto finished = [this, tasks] {
+            return m_completed.load(std::memory_order_acquire) == tasks;
+        };
         if (!spinUntil(spin(), finished)) {
             std::unique_lock lock(m_mutex);
             m_done.wait(lock, finished);
@@ -158,27 +172,34 @@ class Pool {
     }
 
   private:
+    /// Claims and runs tasks of the current loop until none is left. Each claimed task of the
+    /// loop is counted as completed once run (or skipped after another task threw).
     void work() {
         for (;;) {
-            const std::int64_t k = m_next.fetch_add(1, std::memory_order_relaxed);
-            if (k >= m_tasks) {
-                return;
+            const std::uint64_t claim = m_claim.fetch_add(1, std::memory_order_acq_rel);
+            const std::uint64_t loop = m_loop.load(std::memory_order_acquire);
+            const auto k = static_cast<std::int64_t>(claim & INDEX_MASK);
+            if ((claim >> INDEX_BITS) != (loop >> INDEX_BITS) ||
+                k >= static_cast<std::int64_t>(loop & INDEX_MASK)) {
+                return; // that loop has no task left (or has ended and another begun)
             }
-            m_task(m_context, k);
-        }
-    }
-
-    /// work(), keeping the first exception a task throws for the caller (the other
-    /// participants then stop taking tasks).
-    void workCatching() {
-        try {
-            work();
-        } catch (...) {
-            const std::lock_guard lock(m_failureMutex);
-            if (!m_failure) {
-                m_failure = std::current_exception();
+            // The loop cannot end before this task is counted, so its fields stay.
+            if (!m_aborted.load(std::memory_order_relaxed)) {
+                try {
+                    m_task(m_context, k);
+                } catch (...) {
+                    const std::lock_guard lock(m_failureMutex);
+                    if (!m_failure) {
+                        m_failure = std::current_exception();
+                    }
+                    m_aborted.store(true, std::memory_order_relaxed);
+                }
             }
-            m_next.store(m_tasks, std::memory_order_relaxed);
+            const std::int64_t tasks = static_cast<std::int64_t>(loop & INDEX_MASK);
+            if (m_completed.fetch_add(1, std::memory_order_acq_rel) + 1 == tasks) {
+                const std::lock_guard lock(m_mutex); // so the caller cannot miss the wake-up
+                m_done.notify_one();
+            }
         }
     }
 
@@ -201,11 +222,7 @@ class Pool {
             if (static_cast<std::uint64_t>(index) > (seen & 0xff)) {
                 continue; // not asked to take part in this loop
             }
-            workCatching();
-            if (m_running.fetch_sub(1, std::memory_order_acq_rel) == 1) {
-                const std::lock_guard lock(m_mutex); // so the caller cannot miss the wake-up
-                m_done.notify_one();
-            }
+            work();
         }
     }
 
@@ -219,9 +236,12 @@ class Pool {
     // The loop being run: written before m_state is published, read by the helpers after.
     void (*m_task)(void*, std::int64_t) = nullptr;
     void* m_context = nullptr;
-    std::int64_t m_tasks = 0;
-    std::atomic<std::int64_t> m_next{0};
-    std::atomic<int> m_running{0}; ///< helpers still working on the loop
+    /// The loop's generation << INDEX_BITS | its task count.
+    std::atomic<std::uint64_t> m_loop{0};
+    /// The loop's generation << INDEX_BITS | the next task to claim.
+    std::atomic<std::uint64_t> m_claim{0};
+    std::atomic<std::int64_t> m_completed{0}; ///< tasks of the loop run (or skipped)
+    std::atomic<bool> m_aborted{false};       ///< a task threw: the rest are skipped
     std::mutex m_failureMutex;
     std::exception_ptr m_failure; ///< the loop's first exception (read once helpers are done)
 

@@ -37,7 +37,11 @@ namespace detail {
 void runTasks(std::int64_t tasks, void (*task)(void*, std::int64_t), void* context);
 } // namespace detail
 
-/// Calls body(i) for every i in [0, n): in parallel (one contiguous block per thread) when
+/// Contiguous blocks a flat parallel loop is cut into per thread: a few, so that a thread the
+/// scheduler runs late (cores shared with a window's drawing) leaves its blocks to the others.
+inline constexpr std::int64_t BLOCKS_PER_THREAD = 4;
+
+/// Calls body(i) for every i in [0, n): in parallel (a few contiguous blocks per thread) when
 /// n >= PARALLEL_GRAIN, else serially. body(i) must only write what belongs to i.
 template <class Body> void parallelFor(std::int64_t n, Body&& body) {
     const int threads = threadCount();
@@ -51,9 +55,9 @@ template <class Body> void parallelFor(std::int64_t n, Body&& body) {
         Body* body;
         std::int64_t n;
         std::int64_t blocks;
-    } context{&body, n, threads};
+    } context{&body, n, std::min<std::int64_t>(threads * BLOCKS_PER_THREAD, n / 256)};
     detail::runTasks(
-        threads,
+        context.blocks,
         [](void* c, std::int64_t k) {
             const auto& ctx = *static_cast<Context*>(c);
             const std::int64_t end = ctx.n * (k + 1) / ctx.blocks;

@@ -133,6 +133,42 @@ TEST(Parallel, WorksWithoutSpinningAndAfterSleeping) {
     }
 }
 
+TEST(Parallel, ALoopEndsWhenItsTasksAreDoneAndLateHelpersJoinOnlyTheLoopTheyFind) {
+    const PoolSettings keep;
+    // More threads than cores and no spinning: helpers are often scheduled after the caller
+    // has finished a loop and begun the next. Each loop's tasks record the loop they belong
+    // to; a helper that claimed a task of an ended loop and ran it with the next loop's body
+    // would show as a task run twice or in the wrong loop.
+    setThreadCount(8);
+    constexpr int LOOPS = 3000;
+    constexpr std::int64_t TASKS = 9; // at most; loops of 2 to 9 tasks, shorter after longer
+    std::vector<std::atomic<int>> ranIn(static_cast<std::size_t>(LOOPS * TASKS));
+    for (auto& r : ranIn) {
+        r = -1;
+    }
+    for (int loop = 0; loop < LOOPS; ++loop) {
+        setSpinMicroseconds(loop % 3 == 0 ? 20 : 0);
+        const std::int64_t tasks = 2 + (loop * 5) % 8;
+        parallelForEach(tasks, true, [&, loop](std::int64_t k) {
+            // A few microseconds of work, so that helpers catch some loops and miss others.
+            const auto until = std::chrono::steady_clock::now() + std::chrono::microseconds(k);
+            while (std::chrono::steady_clock::now() < until) {
+            }
+            int expected = -1;
+            ranIn[static_cast<std::size_t>(loop * TASKS + k)].compare_exchange_strong(expected,
+                                                                                      loop);
+            if (expected != -1) {
+                ranIn[static_cast<std::size_t>(loop * TASKS + k)] = -2; // ran twice
+            }
+        });
+        for (std::int64_t k = 0; k < TASKS; ++k) {
+            ASSERT_EQ(ranIn[static_cast<std::size_t>(loop * TASKS + k)].load(),
+                      k < tasks ? loop : -1)
+                << "loop " << loop << " task " << k << " not run exactly once when it returned";
+        }
+    }
+}
+
 TEST(Parallel, AnExceptionReachesTheCaller) {
     const PoolSettings keep;
     setThreadCount(2);
