@@ -2,7 +2,7 @@
 
     blender -b --factory-startup --python tools/blender_check.py -- GARMENT.obj BODY.obj [--json out.json]
 
-Reads both OBJ files with a small parser of its own (positions and faces only; no importer
+Reads both OBJ files with tools/obj_triangles.py (positions and faces only; no importer
 settings to get wrong), builds Blender's BVH trees (mathutils.bvhtree) and prints one JSON
 line with what `atelier-cli drape --report` also states, so the two can be compared:
 
@@ -15,31 +15,22 @@ line with what `atelier-cli drape --report` also states, so the two can be compa
 """
 
 import json
+import os
 import sys
 
 from mathutils import Vector
 from mathutils.bvhtree import BVHTree
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import obj_triangles  # noqa: E402  (Atelier's own OBJ reader for the tools: triangles only)
+
 
 def read_obj(path):
-    vertices, faces = [], []
-    with open(path, encoding="utf-8") as f:
-        for number, line in enumerate(f, 1):
-            parts = line.split()
-            if not parts:
-                continue
-            if parts[0] == "v":
-                vertices.append(Vector(tuple(float(c) for c in parts[1:4])))
-            elif parts[0] == "f":
-                corners = [int(p.split("/")[0]) for p in parts[1:]]
-                corners = [c - 1 if c > 0 else len(vertices) + c for c in corners]
-                if len(corners) < 3:
-                    sys.exit(f"{path}:{number}: a face with fewer than 3 corners")
-                for k in range(1, len(corners) - 1):  # fan: Atelier writes triangles
-                    faces.append((corners[0], corners[k], corners[k + 1]))
+    """Positions as Blender vectors and faces as vertex triples, by tools/obj_triangles.py."""
+    vertices, _, faces = obj_triangles.read_obj(path)
     if not faces:
         sys.exit(f"{path}: no faces")
-    return vertices, faces
+    return [Vector(v) for v in vertices], [tuple(f[0]) for f in faces]
 
 
 def main():
