@@ -45,10 +45,8 @@ def sheet(cells, height, pinned_corners, cotton):
         x_subdivisions=cells, y_subdivisions=cells, size=1.0, location=(0, 0, height)
     )
     obj = bpy.context.active_object
-    if bpy.app.version < (3, 0, 0):
-        raise SystemExit("needs Blender 3.x")
-    # Blender's grid primitive counts vertices per side in 3.x when subdivisions < 3 differ;
-    # check the count so the comparison is of the same sheet.
+    # Blender 2.x counted the grid's subdivisions as vertices per side, 3.x as cells: check
+    # the count, so that both programs run the same sheet.
     n = len(obj.data.vertices)
     if n != (cells + 1) ** 2:
         raise SystemExit(f"grid has {n} vertices, expected {(cells + 1) ** 2}")
