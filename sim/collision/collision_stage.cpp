@@ -112,7 +112,8 @@ void CollisionStage::update(double t0, double t1, const MatX3& xs, MatX3& xe, Ma
     }
     if (m_mesh.anySelf) {
         const DetectionContext ctx{m_scene, m_mesh, m_clothBvh, m_frictionScale};
-        gather(detectSelfContacts(ctx, m_regions.memory(), xs, xe, m_scratch));
+        gather(detectSelfContacts(ctx, m_regions.memory(), xs, xe, m_scratch,
+                                  m_failSafe.watchedPairs()));
         m_figures.regionFlips +=
             m_regions.vote(m_mesh, xe, m_contacts, m_contactKey, m_contactSide, m_contactReliable);
     }

@@ -63,10 +63,16 @@ void CrossingFailSafe::findCrossings(const CollisionMesh& mesh, SurfaceBvh& clot
     clothBvh.selfOverlaps(scratch.pairs, noCulling);
     const std::size_t used =
         scratch.inChunks([&](DetectionChunk& out, const std::pair<int, int>& pair) {
+            const std::size_t before = out.hits.size();
             pairCrossings(mesh, pair.first, pair.second, xs, xe, out.hits);
+            if (out.hits.size() > before) {
+                out.crossingPairs.push_back(pair);
+            }
         });
     for (std::size_t c = 0; c < used; ++c) {
         hits.insert(hits.end(), scratch.chunks[c].hits.begin(), scratch.chunks[c].hits.end());
+        m_found.insert(m_found.end(), scratch.chunks[c].crossingPairs.begin(),
+                       scratch.chunks[c].crossingPairs.end());
     }
 }
 
@@ -111,6 +117,9 @@ long CrossingFailSafe::rollBack(const CollisionMesh& mesh, SurfaceBvh& clothBvh,
                                 DetectionScratch& scratch, const MatX3& xs, MatX3& xe, MatX3& ve,
                                 const VecX& invMass) {
     m_undone.resize(static_cast<std::size_t>(xe.rows()), Undone::No);
+    // Age the watched pairs: one step more since each was last seen crossing.
+    std::erase_if(m_watched, [](Watched& w) { return --w.stepsLeft <= 0; });
+    m_found.clear();
     std::vector<int> all; // every vertex undone this step, to clear the flags at the end
     std::vector<int> changed;
     std::vector<int>& hits = m_crossings;
@@ -133,7 +142,25 @@ long CrossingFailSafe::rollBack(const CollisionMesh& mesh, SurfaceBvh& clothBvh,
     for (int v : all) {
         m_undone[static_cast<std::size_t>(v)] = Undone::No;
     }
+    watch(m_found);
     return static_cast<long>(all.size());
+}
+
+void CrossingFailSafe::watch(const std::vector<std::pair<int, int>>& found) {
+    for (const auto& pair : found) {
+        const auto it = std::lower_bound(
+            m_watched.begin(), m_watched.end(), pair,
+            [](const Watched& w, const std::pair<int, int>& p) { return w.pair < p; });
+        if (it != m_watched.end() && it->pair == pair) {
+            it->stepsLeft = WATCH_STEPS;
+        } else {
+            m_watched.insert(it, Watched{pair, WATCH_STEPS});
+        }
+    }
+    m_watchedPairs.clear();
+    for (const Watched& w : m_watched) {
+        m_watchedPairs.push_back(w.pair);
+    }
 }
 
 std::vector<int> CrossingFailSafe::crossingVertices(const CollisionMesh& mesh, SurfaceBvh& clothBvh,
@@ -172,7 +199,11 @@ void CrossingFailSafe::findCrossingsAround(const CollisionMesh& mesh, SurfaceBvh
             if (u == t) {
                 continue;
             }
+            const std::size_t before = hits.size();
             pairCrossings(mesh, t, u, xs, xe, hits);
+            if (hits.size() > before) {
+                m_found.emplace_back(std::min(t, u), std::max(t, u));
+            }
         }
     }
 }

@@ -5,12 +5,21 @@
 /// drive) carries through the other cannot be undone that way: its movable vertices are carried
 /// along with the drive instead, the pair translated as one, so it does not cross. Exact swept
 /// tests, no curvature culling.
+///
+/// The curvature culling of the contact detection (SelfQueryOptions) rests on the normal cone
+/// alone, without Volino & Magnenat-Thalmann's contour test, so a patch whose normals fit in a
+/// cone can still be folded or wound onto itself (a corner dragged round by a drive) and meet
+/// itself unseen: every step the fail-safe would put the same vertices back, and the cloth
+/// would stay frozen there. The triangle pairs the fail-safe finds crossing are therefore
+/// watched: the detection tests them whatever the culling says (watchedPairs) until none of
+/// them has crossed for WATCH_STEPS steps, so their contacts push them apart.
 
 #include "sim/collision/bvh.h"
 #include "sim/collision/collision_mesh.h"
 #include "sim/collision/detection/detection_chunk.h"
 #include "sim/core/types.h"
 
+#include <utility>
 #include <vector>
 
 namespace atelier::sim {
@@ -32,6 +41,13 @@ class CrossingFailSafe {
                                       const MatX3& xs, const MatX3& xe,
                                       const std::vector<int>& moved);
 
+    /// Triangle pairs seen crossing in one of the last WATCH_STEPS steps, sorted, each
+    /// (smaller, larger) once: the contact detection tests them without curvature culling.
+    const std::vector<std::pair<int, int>>& watchedPairs() const { return m_watchedPairs; }
+
+    /// Steps a crossing triangle pair stays watched after it was last seen crossing.
+    static constexpr int WATCH_STEPS = 64;
+
   private:
     /// One detection pass: appends to `hits` the four vertices of every feature pair crossing
     /// over xs → xe.
@@ -47,10 +63,20 @@ class CrossingFailSafe {
     void undoCrossings(const std::vector<int>& hits, const MatX3& xs, MatX3& xe, MatX3& ve,
                        const VecX& invMass, std::vector<int>& changed);
 
+    /// Adds `found` to the watched pairs (or renews them) and rebuilds watchedPairs().
+    void watch(const std::vector<std::pair<int, int>>& found);
+
     /// What the fail-safe did to a vertex in the current step.
     enum class Undone : char { No, PutBack, Carried };
     std::vector<Undone> m_undone; ///< per vertex (all No between steps)
     std::vector<int> m_crossings; ///< four vertices per crossing feature pair
+    struct Watched {
+        std::pair<int, int> pair;
+        int stepsLeft = 0;
+    };
+    std::vector<Watched> m_watched;                  ///< sorted by pair
+    std::vector<std::pair<int, int>> m_watchedPairs; ///< the pairs of m_watched
+    std::vector<std::pair<int, int>> m_found;        ///< crossing pairs found this step
 };
 
 } // namespace atelier::sim

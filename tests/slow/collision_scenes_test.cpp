@@ -134,10 +134,10 @@ TEST(ThroughBody, TrappedClothComesOutTheSideItEnteredWithinOneSecond) {
     EXPECT_LT(simulation.maxEdgeStrain(), 0.10);
 }
 
-TEST(PulledThroughSelf, TheFoldStaysOnItsSideAndIsFreeOfIntersectionsOneSecondAfterRelease) {
-    // The curtain hangs in the plane z = 0; its bottom-left corner is dragged in front (+z) and
-    // then back to 0.15 m behind the plane, and released at 0.8 s.
-    const sim::SceneSpec scene = load("hard/pulled-through-self.json");
+/// The curtain hangs in the plane z = 0; its bottom-left corner is dragged in front (+z) and
+/// then back to 0.15 m behind the plane, and released at 0.8 s. Checked at the release and at
+/// `endTime`.
+void checkPulledThroughSelf(sim::SceneSpec scene, double endTime) {
     ASSERT_EQ(scene.drives.size(), 1u);
     const int corner = scene.drives[0].vertex;
     const sim::MatX2& rest = scene.cloths[0].mesh.rest;
@@ -170,12 +170,27 @@ TEST(PulledThroughSelf, TheFoldStaysOnItsSideAndIsFreeOfIntersectionsOneSecondAf
         EXPECT_GT(side, 0.0) << "the corner went through the curtain";
         EXPECT_EQ(simulation.intersectingTrianglePairs(), 0);
     }
-    ASSERT_EQ(simulation.run(1.8), sim::RunStatus::Finished) << simulation.stats().error;
+    ASSERT_EQ(simulation.run(endTime), sim::RunStatus::Finished) << simulation.stats().error;
     EXPECT_TRUE(simulation.stats().finite);
     EXPECT_EQ(simulation.intersectingTrianglePairs(), 0);
     // Fallen back out on the side it came from (the front), the curtain unstretched.
     EXPECT_GT(simulation.positions()(corner, 2), 0.0);
     EXPECT_LT(simulation.maxEdgeStrain(), 0.10);
+}
+
+TEST(PulledThroughSelf, TheFoldStaysOnItsSideAndIsFreeOfIntersectionsOneSecondAfterRelease) {
+    checkPulledThroughSelf(load("hard/pulled-through-self.json"), 1.8);
+}
+
+// With the continuum plate's bending (softer than the hinges at this mesh) the dragged corner
+// folds over within a cell and winds round onto the next cells, a patch whose normals still
+// fit in the culling cone: without the fail-safe's watched pairs the detection never saw that
+// pair, the fail-safe put the corner back every step, and the flap hung frozen behind the
+// curtain after the release. The softer flap takes longer to fall out: 1.5 s.
+TEST(PulledThroughSelf, WithContinuumBendingTheFoldIsNotFrozenAndFallsOutWithinOneAndAHalfSeconds) {
+    sim::SceneSpec scene = load("hard/pulled-through-self.json");
+    scene.cloths[0].bendingModel = sim::BendingModel::Continuum;
+    checkPulledThroughSelf(scene, 2.3);
 }
 
 } // namespace

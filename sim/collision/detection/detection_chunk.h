@@ -21,6 +21,7 @@ struct DetectionChunk {
     std::vector<signed char> sides;  ///< per contact: side of its face (self vertex–face)
     std::vector<char> reliable;      ///< per contact: side remembered or seen arriving (swept)
     std::vector<int> hits;           ///< fail-safe: vertices of crossing features
+    std::vector<std::pair<int, int>> crossingPairs; ///< fail-safe: triangle pairs with a hit
     /// per obstacle contact: its features (ObstaclePass::First)
     std::vector<std::array<int, 2>> features;
     long continuousHits = 0;
@@ -30,6 +31,7 @@ struct DetectionChunk {
         sides.clear();
         reliable.clear();
         hits.clear();
+        crossingPairs.clear();
         features.clear();
         continuousHits = 0;
     }

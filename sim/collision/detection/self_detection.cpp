@@ -182,9 +182,21 @@ void SelfDetector::edgeEdges(DetectionChunk& out, int ta, int tb) const {
 } // namespace
 
 DetectionResult detectSelfContacts(const DetectionContext& ctx, const ContactMemory& memory,
-                                   const MatX3& xs, const MatX3& xe, DetectionScratch& scratch) {
+                                   const MatX3& xs, const MatX3& xe, DetectionScratch& scratch,
+                                   const std::vector<std::pair<int, int>>& watched) {
     scratch.pairs.clear();
     ctx.clothBvh.selfOverlaps(scratch.pairs);
+    if (!watched.empty()) {
+        // Pairs the curvature culling skipped although the fail-safe saw them cross: each
+        // tested once (the traversal finds a pair at most once).
+        std::vector<std::pair<int, int>> found(scratch.pairs);
+        std::sort(found.begin(), found.end());
+        for (const auto& pair : watched) {
+            if (!std::binary_search(found.begin(), found.end(), pair)) {
+                scratch.pairs.push_back(pair);
+            }
+        }
+    }
     DetectionResult result;
     result.candidatePairs = static_cast<long>(scratch.pairs.size());
     const SelfDetector detector(ctx, memory, xs, xe);

@@ -14,8 +14,10 @@ namespace atelier::sim {
 /// Detects the self contacts of the cloth moving from xs to xe (swept tests only when they are
 /// different arrays) into the pieces of `scratch`, with their memory keys, sides and
 /// reliability. `memory`: the sides of the pairs in contact after the last step
-/// (ContactRegions::memory).
+/// (ContactRegions::memory). `watched`: triangle pairs tested whatever the curvature culling
+/// says (CrossingFailSafe::watchedPairs), sorted, each (smaller, larger) once.
 DetectionResult detectSelfContacts(const DetectionContext& ctx, const ContactMemory& memory,
-                                   const MatX3& xs, const MatX3& xe, DetectionScratch& scratch);
+                                   const MatX3& xs, const MatX3& xe, DetectionScratch& scratch,
+                                   const std::vector<std::pair<int, int>>& watched = {});
 
 } // namespace atelier::sim
