@@ -9,6 +9,8 @@
 #include "sim/forces/continuum_bending.h"
 
 #include <limits>
+#include <string>
+#include <tuple>
 
 namespace atelier::io {
 
@@ -57,6 +59,24 @@ void readMaterial(ObjectReader& reader, sim::Material& material, bool requireAll
     field("bending_bias_n_m", material.bendingBias, false, NO_MAX, false);
     if (sim::BendingRigidity rigidity; const auto why = sim::bendingRigidity(material, rigidity)) {
         reader.fail(material.bendingBias > 0 ? "bending_bias_n_m" : "bending_n_m", *why);
+    }
+    // The stiffening stretch law is optional (knee 0 = linear; a modulus beyond it of 0 = the
+    // small-strain one).
+    field("stretch_knee_strain", material.stretchKnee, false, 1.0, false);
+    field("stretch_weft_beyond_n_per_m", material.stretchWeftBeyond, false, NO_MAX, false);
+    field("stretch_warp_beyond_n_per_m", material.stretchWarpBeyond, false, NO_MAX, false);
+    for (const auto& [key, beyond, small, name] :
+         {std::tuple{"stretch_weft_beyond_n_per_m", material.stretchWeftBeyond,
+                     material.stretchWeft, "stretch_weft_n_per_m"},
+          std::tuple{"stretch_warp_beyond_n_per_m", material.stretchWarpBeyond,
+                     material.stretchWarp, "stretch_warp_n_per_m"}}) {
+        if (beyond > 0 && beyond < small) {
+            reader.fail(key, "must not be below " + std::string(name) + " (found " +
+                                 nlohmann::json(beyond).dump() + " < " +
+                                 nlohmann::json(small).dump() +
+                                 "): fabrics stiffen, they do "
+                                 "not soften, beyond the knee");
+        }
     }
     field("damping_s", material.damping, false, NO_MAX, requireAll);
     field("static_friction", material.staticFriction, false, NO_MAX, requireAll);

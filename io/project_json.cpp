@@ -41,9 +41,10 @@ bool sameParameters(const sim::Material& a, const sim::Material& b) {
            a.stretchWarp == b.stretchWarp && a.shear == b.shear && a.poisson == b.poisson &&
            a.bending == b.bending && a.bendingWeft == b.bendingWeft &&
            a.bendingWarp == b.bendingWarp && a.bendingBias == b.bendingBias &&
-           a.damping == b.damping && a.staticFriction == b.staticFriction &&
-           a.kineticFriction == b.kineticFriction && a.plasticYieldAngle == b.plasticYieldAngle &&
-           a.plasticRate == b.plasticRate;
+           a.stretchKnee == b.stretchKnee && a.stretchWeftBeyond == b.stretchWeftBeyond &&
+           a.stretchWarpBeyond == b.stretchWarpBeyond && a.damping == b.damping &&
+           a.staticFriction == b.staticFriction && a.kineticFriction == b.kineticFriction &&
+           a.plasticYieldAngle == b.plasticYieldAngle && a.plasticRate == b.plasticRate;
 }
 
 // Unit conversions, chosen so that whole values come out exact (10 mm → 0.01, 90° → π/2).
@@ -444,6 +445,16 @@ void appendMaterialFields(ordered_json& out, const sim::Material& m) {
                                      std::pair{"bending_bias_n_m", m.bendingBias}}) {
         if (value > 0) {
             out[key] = number(value);
+        }
+    }
+    if (m.stretchKnee > 0) { // the stiffening law only when set, as the bending directions
+        out["stretch_knee_strain"] = number(m.stretchKnee);
+        for (const auto& [key, value] :
+             {std::pair{"stretch_weft_beyond_n_per_m", m.stretchWeftBeyond},
+              std::pair{"stretch_warp_beyond_n_per_m", m.stretchWarpBeyond}}) {
+            if (value > 0) {
+                out[key] = number(value);
+            }
         }
     }
     out["damping_s"] = number(m.damping);

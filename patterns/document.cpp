@@ -522,7 +522,8 @@ std::string dumpDocument(const GarmentDocument& d) {
         for (const double v :
              {m.material.density, m.material.stretchWeft, m.material.stretchWarp, m.material.shear,
               m.material.poisson, m.material.bending, m.material.bendingWeft,
-              m.material.bendingWarp, m.material.bendingBias, m.material.damping,
+              m.material.bendingWarp, m.material.bendingBias, m.material.stretchKnee,
+              m.material.stretchWeftBeyond, m.material.stretchWarpBeyond, m.material.damping,
               m.material.staticFriction, m.material.kineticFriction, m.material.plasticYieldAngle,
               m.material.plasticRate}) {
             appendNumber(out, v);

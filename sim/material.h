@@ -27,6 +27,14 @@ struct Material {
     /// B of a strip cut on the bias (45°) [N·m]; 0 = as an isotropic plate would be between
     /// weft and warp (sim/forces/continuum_bending.h, BendingRigidity).
     double bendingBias = 0;
+    /// Stiffening stretch law (model `fem` only): the Green strain along weft or warp beyond
+    /// which the fabric's tangent modulus rises to `stretchWeftBeyond` / `stretchWarpBeyond`
+    /// (yarns straightening out of their crimp) [-]; 0 = linear.
+    double stretchKnee = 0;
+    /// Tangent 2D modulus along weft beyond the knee [N/m]; 0 = `stretchWeft` (no stiffening).
+    double stretchWeftBeyond = 0;
+    /// Tangent 2D modulus along warp beyond the knee [N/m]; 0 = `stretchWarp` (no stiffening).
+    double stretchWarpBeyond = 0;
     double damping =
         2e-4; ///< strain-rate damping: time constant of stiffness-proportional viscosity [s]
     double staticFriction = 0.4;  ///< Coulomb static friction coefficient [-]

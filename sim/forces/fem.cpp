@@ -60,6 +60,12 @@ FemStretch::FemStretch(const ClothMesh& mesh, int offset, const Material& materi
     : m_offset(offset), m_triangles(mesh.triangles), m_restArea(mesh.triangleCount()),
       m_stiffness(orthotropicStiffness(material)), m_damping(std::max(material.damping, 0.0)),
       m_gather(mesh.triangles, offset) {
+    if (material.stretchKnee > 0) {
+        m_knee = material.stretchKnee;
+        m_stiffening = Vec2(std::max(material.stretchWeftBeyond - material.stretchWeft, 0.0),
+                            std::max(material.stretchWarpBeyond - material.stretchWarp, 0.0));
+        m_biphasic = m_stiffening.maxCoeff() > 0;
+    }
     const int nf = mesh.triangleCount();
     m_shapeGradient.resize(static_cast<std::size_t>(nf));
     for (int t = 0; t < nf; ++t) {
@@ -83,6 +89,15 @@ FemStretch::FemStretch(const ClothMesh& mesh, int offset, const Material& materi
     }
 }
 
+Vec3 FemStretch::stiffeningStress(const Vec3& e) const {
+    return {m_stiffening.x() * std::max(e.x() - m_knee, 0.0),
+            m_stiffening.y() * std::max(e.y() - m_knee, 0.0), 0.0};
+}
+
+Vec2 FemStretch::stiffeningTangent(const Vec3& e) const {
+    return {e.x() > m_knee ? m_stiffening.x() : 0.0, e.y() > m_knee ? m_stiffening.y() : 0.0};
+}
+
 Eigen::Matrix<double, 3, 2> FemStretch::deformationGradient(const MatX3& x, int t) const {
     const Mat23& b = m_shapeGradient[static_cast<std::size_t>(t)];
     Mat32 F = Mat32::Zero();
@@ -97,7 +112,12 @@ Vec3 FemStretch::greenStrain(const MatX3& x, int t) const {
 }
 
 Vec3 FemStretch::stress(const MatX3& x, int t) const {
-    return m_stiffness * greenStrain(x, t);
+    const Vec3 e = greenStrain(x, t);
+    Vec3 s = m_stiffness * e;
+    if (m_biphasic) {
+        s += stiffeningStress(e);
+    }
+    return s;
 }
 
 void FemStretch::addForces(const MatX3& x, const MatX3& v, MatX3& f) const {
@@ -111,7 +131,12 @@ void FemStretch::addForces(const MatX3& x, const MatX3& v, MatX3& f) const {
         // S + S_d = C:(E + τ·Ė), Ė = sym(Fᵀ Ḟ).
         const Mat2 fdf = F.transpose() * Fdot;
         const Vec3 edot(fdf(0, 0), fdf(1, 1), fdf(0, 1) + fdf(1, 0));
-        const Mat2 S = stressMatrix(m_stiffness * (greenVoigt(F) + m_damping * edot));
+        const Vec3 e = greenVoigt(F);
+        Vec3 s = m_stiffness * (e + m_damping * edot);
+        if (m_biphasic) {
+            s += stiffeningStress(e);
+        }
+        const Mat2 S = stressMatrix(s);
         const Eigen::Matrix3d h = -m_restArea[t] * (F * S) * b; // column a = f_a
         buffer.block<3, 3>(3 * tt, 0) = h.transpose();
     });
@@ -125,6 +150,11 @@ double FemStretch::energy(const MatX3& x) const {
         const int t = static_cast<int>(tt);
         const Vec3 e = greenStrain(x, t);
         w[t] = 0.5 * m_restArea[t] * e.dot(m_stiffness * e);
+        if (m_biphasic) {
+            const Vec2 beyond((e.x() - m_knee) * (e.x() > m_knee ? 1.0 : 0.0),
+                              (e.y() - m_knee) * (e.y() > m_knee ? 1.0 : 0.0));
+            w[t] += 0.5 * m_restArea[t] * beyond.dot(m_stiffening.cwiseProduct(beyond));
+        }
     });
     return w.sum();
 }
@@ -147,7 +177,17 @@ void FemStretch::addJacobian(const MatX3& x, const MatX3& v, double kx, double k
         const Mat32 Fdot = deformationGradient(v, t);
         const Mat2 fdf = F.transpose() * Fdot;
         const Vec3 edot(fdf(0, 0), fdf(1, 1), fdf(0, 1) + fdf(1, 0));
-        Mat2 S = stressMatrix(m_stiffness * (greenVoigt(F) + m_damping * edot));
+        const Vec3 e = greenVoigt(F);
+        Vec3 s = m_stiffness * (e + m_damping * edot);
+        // The stiffening's tangent where a normal strain is past the knee (elastic only: the
+        // damping's ∂f/∂v stays τ·C).
+        Vec2 extra = Vec2::Zero();
+        if (m_biphasic) {
+            s += stiffeningStress(e);
+            extra = stiffeningTangent(e);
+        }
+        const bool stiffened = extra.x() > 0 || extra.y() > 0;
+        Mat2 S = stressMatrix(s);
         if (!exact) {
             S = clampPositive(S);
         }
@@ -160,6 +200,7 @@ void FemStretch::addJacobian(const MatX3& x, const MatX3& v, double kx, double k
             // x-dependence through Ė). ∂f_a/∂v_b is τ times the material term.
             Eigen::Matrix<double, 9, 3> material; // row 3a+i, column k
             Eigen::Matrix<double, 9, 3> dampingX;
+            Eigen::Matrix<double, 9, 3> stiffening; // the same with the stiffening's tangent
             for (int k = 0; k < 3; ++k) {
                 const Vec3 dS = m_stiffness * symOuterVoigt(F.row(k).transpose(), bvec);
                 const Vec3 dSd =
@@ -170,9 +211,20 @@ void FemStretch::addJacobian(const MatX3& x, const MatX3& v, double kx, double k
                     material.block<3, 1>(3 * a, k) = -a0 * F * (dSm * b.col(a));
                     dampingX.block<3, 1>(3 * a, k) = -a0 * F * (dSdm * b.col(a));
                 }
+                if (stiffened) {
+                    const Vec3 sym = symOuterVoigt(F.row(k).transpose(), bvec);
+                    const Mat2 dSs =
+                        stressMatrix(Vec3(extra.x() * sym.x(), extra.y() * sym.y(), 0));
+                    for (int a = 0; a < 3; ++a) {
+                        stiffening.block<3, 1>(3 * a, k) = -a0 * F * (dSs * b.col(a));
+                    }
+                }
             }
             for (int a = 0; a < 3; ++a) {
                 Mat3 blk = (kx + kv * m_damping) * material.block<3, 3>(3 * a, 0);
+                if (stiffened) {
+                    blk += kx * stiffening.block<3, 3>(3 * a, 0);
+                }
                 blk.diagonal().array() += kx * geometric(a, bb);
                 if (exact) {
                     blk += kx * dampingX.block<3, 3>(3 * a, 0);

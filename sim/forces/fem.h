@@ -39,6 +39,15 @@ Mat3 orthotropicStiffness(const Material& material);
 /// where b_a is the gradient of the linear shape function of node a in the pattern
 /// (rows of D_m⁻¹ for nodes 1, 2; b₀ = −b₁ − b₂).
 ///
+/// Stiffening (`material.stretchKnee` > 0 with `stretchWeftBeyond` or `stretchWarpBeyond` above
+/// the small-strain modulus): beyond the knee strain κ the normal strains add
+/// \f[ W_s = A_0 \sum_{i \in \{xx, yy\}} \tfrac12 \Delta_i \max(0, E_{ii} - \kappa)^2,
+///     \qquad \Delta_{xx} = E_1^{\mathrm{beyond}} - E_1,\ \Delta_{yy} = E_2^{\mathrm{beyond}} - E_2
+///     \f]
+/// so S_ii gains Δ_i·max(0, E_ii − κ) and the tangent modulus along weft (warp) rises by Δ_i
+/// past κ: a biphasic law (the uniaxial tangent beyond the knee is exactly E^beyond when
+/// ν = 0, and within ν₁₂ν₂₁·Δ of it otherwise). The damping stress stays linear (C:Ė).
+///
 /// Jacobian: `Exact` holds all terms of ∂f/∂x (material, geometric with S + S_d, and the
 /// x-dependence of Ė) and ∂f/∂v = τ·(material term). `Definite` keeps the material term
 /// −A₀ Jᵀ C J with J = ∂ε/∂x (NSD for a valid material) and the geometric term with the eigenvalues
@@ -72,6 +81,14 @@ class FemStretch : public ForceModel {
     std::vector<Eigen::Matrix<double, 2, 3>> m_shapeGradient;
     VecX m_restArea;  ///< (|F|) A₀ [m²]; 0 for a degenerate rest triangle
     Mat3 m_stiffness; ///< C [N/m]
+    /// Stiffening beyond the knee: Δ_xx, Δ_yy [N/m] (zero when the law is linear).
+    Vec2 m_stiffening = Vec2::Zero();
+    double m_knee = 0;       ///< κ [-]
+    bool m_biphasic = false; ///< some Δ > 0 with κ > 0
+    /// Stress S_ii added beyond the knee at Green strain e (Voigt; zero shear).
+    Vec3 stiffeningStress(const Vec3& e) const;
+    /// The tangent of stiffeningStress at e (diagonal: Δ_i where E_ii > κ).
+    Vec2 stiffeningTangent(const Vec3& e) const;
     double m_damping; ///< τ [s]
     ElementGather m_gather;
     mutable std::vector<Mat3>

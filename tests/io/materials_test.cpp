@@ -89,5 +89,34 @@ TEST(Materials, ErrorsNameTheJsonPath) {
     EXPECT_EQ(bad.error().where.substr(0, 6), "line 2");
 }
 
+// The stiffening stretch law: optional keys, read as given; a modulus beyond the knee below the
+// small-strain one is refused at its path.
+TEST(Materials, TheStiffeningLawIsOptionalAndMustStiffen) {
+    auto plain = parseMaterialPresets(presetFile(ALL_FIELDS), "f.json");
+    ASSERT_TRUE(plain.ok());
+    EXPECT_EQ(plain.value().at("x").stretchKnee, 0.0);
+    EXPECT_EQ(plain.value().at("x").stretchWeftBeyond, 0.0);
+    auto stiff = parseMaterialPresets(presetFile(ALL_FIELDS + R"(, "stretch_knee_strain": 0.04,
+                   "stretch_weft_beyond_n_per_m": 5000, "stretch_warp_beyond_n_per_m": 8000)"),
+                                      "f.json");
+    ASSERT_TRUE(stiff.ok()) << stiff.error().toString();
+    EXPECT_EQ(stiff.value().at("x").stretchKnee, 0.04);
+    EXPECT_EQ(stiff.value().at("x").stretchWeftBeyond, 5000.0);
+    EXPECT_EQ(stiff.value().at("x").stretchWarpBeyond, 8000.0);
+    auto softer = parseMaterialPresets(
+        presetFile(ALL_FIELDS +
+                   R"(, "stretch_knee_strain": 0.04, "stretch_warp_beyond_n_per_m": 500)"),
+        "f.json");
+    ASSERT_FALSE(softer.ok());
+    EXPECT_EQ(softer.error().where, "/presets/x/stretch_warp_beyond_n_per_m");
+    EXPECT_NE(softer.error().message.find("must not be below stretch_warp_n_per_m"),
+              std::string::npos)
+        << softer.error().message;
+    auto knee =
+        parseMaterialPresets(presetFile(ALL_FIELDS + R"(, "stretch_knee_strain": 1.5)"), "f.json");
+    ASSERT_FALSE(knee.ok());
+    EXPECT_EQ(knee.error().where, "/presets/x/stretch_knee_strain");
+}
+
 } // namespace
 } // namespace atelier::io

@@ -437,6 +437,29 @@ TEST(ProjectFile, FormatParseFormatIsByteIdentical) {
     EXPECT_NEAR(second.garment.panels[0].grainAngle, first.garment.panels[0].grainAngle, 1e-15);
 }
 
+// A fabric's stiffening law is written with its material and read back the same; a preset
+// given one is no longer the preset, so it is written in full.
+TEST(ProjectFile, AStiffeningStretchLawSurvivesTheTrip) {
+    patterns::Project project = parseShirt(FULL).value();
+    sim::Material& lining = project.document.materials[1].material;
+    lining.stretchKnee = 0.05;
+    lining.stretchWeftBeyond = 6000;
+    sim::Material& shell = project.document.materials[0].material;
+    shell.stretchKnee = 0.03;
+    shell.stretchWarpBeyond = 4 * shell.stretchWarp;
+    const std::string text = formatProject(project);
+    const json doc = json::parse(text);
+    EXPECT_EQ(doc["materials"][1]["stretch_knee_strain"], 0.05);
+    EXPECT_EQ(doc["materials"][1]["stretch_weft_beyond_n_per_m"], 6000);
+    EXPECT_FALSE(doc["materials"][1].contains("stretch_warp_beyond_n_per_m"));
+    EXPECT_FALSE(doc["materials"][0].contains("fabric"));
+    const patterns::Project back = expectStableText(text);
+    EXPECT_EQ(back.garment.materials[1].material.stretchKnee, 0.05);
+    EXPECT_EQ(back.garment.materials[1].material.stretchWeftBeyond, 6000);
+    EXPECT_EQ(back.garment.materials[1].material.stretchWarpBeyond, 0);
+    EXPECT_EQ(back.garment.materials[0].material.stretchWarpBeyond, shell.stretchWarpBeyond);
+}
+
 TEST(ProjectFile, SaveLoadSaveOnDiskIsByteIdentical) {
     const test::TempDir dir;
     const auto first = parseShirt(FULL);

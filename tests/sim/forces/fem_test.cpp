@@ -19,11 +19,21 @@ Material anisotropicMaterial() {
     return m;
 }
 
+/// The anisotropic material stiffening 4× (weft) and 6× (warp) beyond 1% Green strain, a knee
+/// the random states of the force checks cross.
+Material stiffeningMaterial() {
+    Material m = anisotropicMaterial();
+    m.stretchKnee = 0.01;
+    m.stretchWeftBeyond = 4 * m.stretchWeft;
+    m.stretchWarpBeyond = 6 * m.stretchWarp;
+    return m;
+}
+
 class FemStretchTest : public ::testing::TestWithParam<Triangulation> {};
 
 TEST_P(FemStretchTest, PassesForceChecks) {
     const PlacedCloth c = test::placeCloth(test::makeTestMesh(GetParam()));
-    for (const Material& m : {anisotropicMaterial(), Material{}}) {
+    for (const Material& m : {anisotropicMaterial(), Material{}, stiffeningMaterial()}) {
         const FemStretch model(c.mesh, c.offset, m);
         for (std::uint32_t seed : {1u, 2u}) {
             SCOPED_TRACE("seed " + std::to_string(seed));
@@ -97,6 +107,58 @@ TEST(FemStretch, UniaxialWeftTensionGivesTheAnalyticStress) {
             }
         }
     }
+}
+
+// Beyond the knee the tangent modulus is the one given for large strain (exactly, with ν = 0),
+// below it the small-strain one; the stress is continuous at the knee. Warp stays linear
+// where only the weft stiffens.
+TEST(FemStretch, StiffensBeyondTheKneeToTheGivenModulus) {
+    Material m = anisotropicMaterial();
+    m.poisson = 0.0;
+    m.stretchKnee = 0.03;
+    m.stretchWeftBeyond = 5 * m.stretchWeft;
+    const PlacedCloth c = test::placeCloth(test::makeTestMesh(Triangulation::Irregular));
+    const FemStretch model(c.mesh, c.offset, m);
+    const auto weftStress = [&](double exx) {
+        MatX3 x = test::restPositions(c);
+        for (int i = 0; i < c.mesh.vertexCount(); ++i) {
+            x(c.offset + i, 0) *= std::sqrt(1 + 2 * exx);
+        }
+        const Vec3 s = model.stress(x, 0);
+        EXPECT_NEAR(s.y(), 0.0, 1e-9 * m.stretchWeftBeyond);
+        return s.x();
+    };
+    const double h = 1e-4;
+    EXPECT_NEAR((weftStress(0.01 + h) - weftStress(0.01 - h)) / (2 * h), m.stretchWeft,
+                1e-6 * m.stretchWeft);
+    EXPECT_NEAR((weftStress(0.06 + h) - weftStress(0.06 - h)) / (2 * h), m.stretchWeftBeyond,
+                1e-6 * m.stretchWeftBeyond);
+    EXPECT_NEAR(weftStress(0.03), m.stretchWeft * 0.03, 1e-9 * m.stretchWeft);
+    EXPECT_NEAR(weftStress(0.05), m.stretchWeft * 0.05 + 4 * m.stretchWeft * 0.02,
+                1e-9 * m.stretchWeft);
+    // Warp: linear at any strain.
+    MatX3 x = test::restPositions(c);
+    for (int i = 0; i < c.mesh.vertexCount(); ++i) {
+        x(c.offset + i, 1) *= std::sqrt(1 + 2 * 0.08);
+    }
+    EXPECT_NEAR(model.stress(x, 0).y(), m.stretchWarp * 0.08, 1e-9 * m.stretchWarp);
+    // Energy: the stiffening's share beyond the knee, ½Δ(E − κ)² per area.
+    x = test::restPositions(c);
+    for (int i = 0; i < c.mesh.vertexCount(); ++i) {
+        x(c.offset + i, 0) *= std::sqrt(1 + 2 * 0.05);
+    }
+    Material linear = m;
+    linear.stretchKnee = 0;
+    const FemStretch linearModel(c.mesh, c.offset, linear);
+    double area = 0;
+    for (int t = 0; t < c.mesh.triangleCount(); ++t) {
+        const Vec2 a = c.mesh.rest.row(c.mesh.triangles(t, 0)).transpose();
+        const Vec2 b = c.mesh.rest.row(c.mesh.triangles(t, 1)).transpose();
+        const Vec2 d = c.mesh.rest.row(c.mesh.triangles(t, 2)).transpose();
+        area += 0.5 * std::abs((b - a).x() * (d - a).y() - (b - a).y() * (d - a).x());
+    }
+    EXPECT_NEAR(model.energy(x) - linearModel.energy(x),
+                0.5 * 4 * m.stretchWeft * 0.02 * 0.02 * area, 1e-9 * m.stretchWeft * area);
 }
 
 TEST(FemStretch, WarpTensionAndShearUseTheirModuli) {
