@@ -9,12 +9,15 @@
 #include "app/cli/commands.h"
 #include "app/cli/limits_option.h"
 
+#include "io/materials.h"
+
 #include "sim/simulation.h"
 
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <array>
+#include <iostream>
 #include <memory>
 #include <string>
 
@@ -153,6 +156,24 @@ void addMaterial(CLI::App& bench) {
     cmd->add_option("--poisson", t.material.poisson, "Poisson ratio nu12 [-]")
         ->capture_default_str()
         ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--knee", t.material.stretchKnee,
+                    "Stiffening law (fem): Green strain beyond which it stiffens [-] (0 = linear)")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 0.999999));
+    cmd->add_option("--weft-beyond", t.material.stretchWeftBeyond,
+                    "Stiffening law (fem): weft tangent stiffness beyond the knee [N/m]")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--warp-beyond", t.material.stretchWarpBeyond,
+                    "Stiffening law (fem): warp tangent stiffness beyond the knee [N/m]")
+        ->check(CLI::NonNegativeNumber);
+    CLI::Option* fabric =
+        cmd->add_option("--fabric", o->fabric,
+                        "Take the stretch parameters (and stiffening law) from this built-in "
+                        "preset instead of --weft, --warp, --shear, --poisson and the law's");
+    for (const char* name :
+         {"--weft", "--warp", "--shear", "--poisson", "--knee", "--weft-beyond", "--warp-beyond"}) {
+        fabric->excludes(name);
+    }
     cmd->add_option("--cells", t.cellsLong, "Cells along the pull (half as many across)")
         ->capture_default_str()
         ->check(CLI::PositiveNumber)
@@ -166,6 +187,16 @@ void addMaterial(CLI::App& bench) {
         o->test.direction = (*names)[2] == "warp"   ? PullDirection::Warp
                             : (*names)[2] == "bias" ? PullDirection::Bias
                                                     : PullDirection::Weft;
+        if (!o->fabric.empty()) {
+            const io::MaterialPresets& presets = io::builtinMaterialPresets();
+            const auto it = presets.find(o->fabric);
+            if (it == presets.end()) {
+                std::cerr << "error: bench tensile: no built-in preset '" << o->fabric
+                          << "' (assets/materials/fabrics.json)\n";
+                throw CLI::RuntimeError(EXIT_BAD_INPUT);
+            }
+            o->test.material = it->second;
+        }
         if (const int code = runMaterialBench(*o); code != EXIT_OK) {
             throw CLI::RuntimeError(code);
         }

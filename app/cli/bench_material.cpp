@@ -316,6 +316,16 @@ patterns::StripResponse orthotropicResponse(const sim::Material& m, PullDirectio
     return patterns::biasTensile(m);
 }
 
+double uniaxialLawStretch(const sim::Material& m, PullDirection direction, double strain) {
+    const bool weft = direction == PullDirection::Weft;
+    const double e = strain + 0.5 * strain * strain; // Green strain along the pull
+    const double small = weft ? m.stretchWeft : m.stretchWarp;
+    const double beyond = weft ? m.stretchWeftBeyond : m.stretchWarpBeyond;
+    const double delta = m.stretchKnee > 0 ? std::max(beyond - small, 0.0) : 0.0;
+    const double s = small * e + delta * std::max(e - m.stretchKnee, 0.0);
+    return (1.0 + strain) * s / strain;
+}
+
 /// Boundary conditions (frictionless grips, in-plane test):
 /// - every vertex is held in z: the strip stays in its plane (no wrinkling or buckling modes);
 /// - the vertices of the fixed edge (pull coordinate 0) are held along the pull at 0, those of
@@ -393,6 +403,10 @@ TensionTestResult runTensionTest(const TensionTestOptions& o) {
     const double restWidth = rest(b.midHigh, side) - rest(b.midLow, side);
     result.lateralStrain = widthNow / restWidth - 1.0;
     result.measuredPoisson = -result.lateralStrain / o.strain;
+    if (o.model == sim::StretchModel::Fem && o.direction != PullDirection::Bias &&
+        o.material.stretchKnee > 0) {
+        result.lawStretch = uniaxialLawStretch(o.material, o.direction, o.strain);
+    }
     return result;
 }
 
@@ -439,6 +453,14 @@ int runMaterialBench(const MaterialBenchOptions& options) {
                      {"warp_n_per_m", m.stretchWarp},
                      {"shear_n_per_m", m.shear},
                      {"poisson", m.poisson}};
+    if (m.stretchKnee > 0) {
+        j["material"]["knee_strain"] = m.stretchKnee;
+        j["material"]["weft_beyond_n_per_m"] = m.stretchWeftBeyond;
+        j["material"]["warp_beyond_n_per_m"] = m.stretchWarpBeyond;
+    }
+    if (!options.fabric.empty()) {
+        j["material"]["fabric"] = options.fabric;
+    }
     j["requested"] = {{"stretch_n_per_m", r.requestedStretch}, {"poisson", r.requestedPoisson}};
     j["measured"] = {{"stretch_n_per_m", r.measuredStretch},
                      {"poisson", r.measuredPoisson},
@@ -447,6 +469,11 @@ int runMaterialBench(const MaterialBenchOptions& options) {
     j["relative_error"] = {{"stretch", relative(r.measuredStretch, r.requestedStretch)},
                            {"poisson", relative(r.measuredPoisson, r.requestedPoisson)}};
     j["poisson_difference"] = r.measuredPoisson - r.requestedPoisson;
+    // The stiffening law's own figure: what the strip must give at this strain.
+    if (std::isfinite(r.lawStretch)) {
+        j["law"] = {{"stretch_n_per_m", r.lawStretch},
+                    {"relative_error", relative(r.measuredStretch, r.lawStretch)}};
+    }
     j["iterations"] = r.iterations;
     j["residual"] = r.residual;
     j["converged"] = r.converged;
@@ -461,6 +488,13 @@ int runMaterialBench(const MaterialBenchOptions& options) {
                   directionName(o.direction), r.measuredStretch, r.requestedStretch,
                   r.measuredPoisson, r.requestedPoisson, r.iterations, r.residual);
     std::cerr << line << "\n";
+    if (std::isfinite(r.lawStretch)) {
+        std::snprintf(line, sizeof line,
+                      "bench tensile: the stiffening law gives %.6g N/m at this strain (measured "
+                      "%+.2g relative)",
+                      r.lawStretch, relative(r.measuredStretch, r.lawStretch));
+        std::cerr << line << "\n";
+    }
     if (options.out.empty()) {
         std::cout << text;
     } else if (auto written = io::writeFileAtomically(options.out, text); !written.ok()) {

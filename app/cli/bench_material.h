@@ -10,6 +10,7 @@
 #include "sim/mesh/cloth_mesh.h"
 #include "sim/scene.h"
 
+#include <limits>
 #include <string>
 
 namespace atelier::app {
@@ -31,7 +32,8 @@ struct TensionTestOptions {
     sim::StretchModel model = sim::StretchModel::Fem;
     sim::Triangulation triangulation = sim::Triangulation::Regular;
     PullDirection direction = PullDirection::Weft;
-    /// Fabric; only stretchWeft, stretchWarp, shear and poisson matter (the test is static).
+    /// Fabric; only stretchWeft, stretchWarp, shear, poisson and the stiffening law (fem) matter
+    /// (the test is static).
     sim::Material material;
     double strain = 0.01;      ///< imposed engineering strain of the strip along the pull [-]
     double length = 0.5;       ///< strip length along the pull [m]
@@ -56,6 +58,10 @@ struct TensionTestResult {
     double measuredStretch = 0;
     /// −(width change at mid-length / width) / strain [-].
     double measuredPoisson = 0;
+    /// With a stiffening law (fem, a weft or warp pull): the strip's exact uniaxial secant
+    /// stiffness at the imposed strain, reaction / (width × strain) of a homogeneous strip
+    /// (`uniaxialLawStretch`); NaN otherwise [N/m].
+    double lawStretch = std::numeric_limits<double>::quiet_NaN();
     double reactionForce = 0; ///< total force the pulling grip applies along the pull [N]
     double lateralStrain = 0; ///< width change at mid-length / width [-]
     int iterations = 0;       ///< Newton iterations
@@ -66,13 +72,20 @@ struct TensionTestResult {
     std::string error; ///< why the solve failed, empty otherwise
 };
 
+/// The reaction per width and strain of a homogeneous strip of `m` (St. Venant–Kirchhoff with its
+/// stiffening law) pulled along weft or warp to engineering strain ε with free sides: Green
+/// strain E = ε + ε²/2 along the pull, the lateral one compressive (so never stiffened), hence
+/// S = E_pull·E + Δ·max(0, E − κ) exactly and the secant (1 + ε)·S / ε [N/m].
+double uniaxialLawStretch(const sim::Material& m, PullDirection direction, double strain);
+
 /// Runs the uniaxial tension test (see bench_material.cpp for the boundary conditions).
 TensionTestResult runTensionTest(const TensionTestOptions& options);
 
 /// `bench material` as a whole: options plus where to write the JSON.
 struct MaterialBenchOptions {
     TensionTestOptions test;
-    std::string out; ///< JSON output path; empty = stdout only
+    std::string fabric; ///< the preset the material was taken from, if any
+    std::string out;    ///< JSON output path; empty = stdout only
 };
 
 /// Runs the test, prints a summary and writes the JSON atomically. Returns an exit code

@@ -86,6 +86,52 @@ TEST_P(BenchMaterial, FemAlongWarp) {
     EXPECT_LT(std::abs(f.poisson - f.requestedPoisson), 0.03) << f.poisson;
 }
 
+// Past the knee the strip gives what the stiffening law says, exactly (a homogeneous strain),
+// along the weft and the warp; a built-in preset's law is taken with --fabric.
+TEST_P(BenchMaterial, FemStiffensAsItsLawSaysAndTakesAPresetsLaw) {
+    const TempDir dir;
+    const std::string mesh = GetParam();
+    for (const char* direction : {"weft", "warp"}) {
+        SCOPED_TRACE(direction);
+        const auto out = dir / (std::string(direction) + "-law.json");
+        const auto log = dir / (std::string(direction) + "-law.log");
+        ASSERT_EQ(runCli("bench tensile --model fem --mesh " + mesh + " --direction " + direction +
+                             " --weft 3000 --warp 1500 --shear 400 --poisson 0.3 --knee 0.03 "
+                             "--weft-beyond 12000 --warp-beyond 9000 --strain 0.1 --out \"" +
+                             out.string() + "\"",
+                         log),
+                  0)
+            << readText(log);
+        const auto j = nlohmann::json::parse(readText(out));
+        const double strain = 0.1, green = strain + 0.5 * strain * strain;
+        const bool weft = std::string(direction) == "weft";
+        const double law = (1 + strain) *
+                           ((weft ? 3000 : 1500) * green + (weft ? 9000 : 7500) * (green - 0.03)) /
+                           strain;
+        EXPECT_NEAR(j.at("law").at("stretch_n_per_m").get<double>(), law, 1e-9 * law);
+        EXPECT_NEAR(j.at("measured").at("stretch_n_per_m").get<double>(), law, 1e-6 * law);
+        EXPECT_EQ(j.at("material").at("knee_strain"), 0.03);
+    }
+    const auto out = dir / "preset.json";
+    ASSERT_EQ(runCli("bench tensile --model fem --mesh " + mesh +
+                         " --fabric wang-gray-interlock --direction warp --strain 0.2 --out \"" +
+                         out.string() + "\"",
+                     dir / "preset.log"),
+              0)
+        << readText(dir / "preset.log");
+    const auto j = nlohmann::json::parse(readText(out));
+    EXPECT_EQ(j.at("material").at("fabric"), "wang-gray-interlock");
+    EXPECT_GT(j.at("material").at("knee_strain").get<double>(), 0.0);
+    const double law = j.at("law").at("stretch_n_per_m").get<double>();
+    EXPECT_NEAR(j.at("measured").at("stretch_n_per_m").get<double>(), law, 1e-6 * law);
+    EXPECT_GT(law, 2 * j.at("requested").at("stretch_n_per_m").get<double>())
+        << "the knit locks up beyond its knee";
+    EXPECT_NE(runCli("bench tensile --model fem --fabric no-such-fabric", dir / "bad.log"), 0);
+    EXPECT_NE(readText(dir / "bad.log").find("no built-in preset 'no-such-fabric'"),
+              std::string::npos);
+    EXPECT_NE(runCli("bench tensile --model fem --fabric cotton --weft 10", dir / "both.log"), 0);
+}
+
 TEST_P(BenchMaterial, FemOnTheBiasIsTheOrthotropicPlateTurnedBy45Degrees) {
     const TempDir dir;
     const std::string mesh = GetParam();
