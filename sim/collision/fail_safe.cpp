@@ -173,6 +173,8 @@ std::vector<int> CrossingFailSafe::crossingVertices(const CollisionMesh& mesh, S
     std::vector<int>& hits = m_crossings;
     hits.clear();
     findCrossingsAround(mesh, clothBvh, xs, xe, moved, hits);
+    m_found.clear(); // a hypothetical move's crossings are not watched (nor kept: no rollBack
+                     // may follow to clear them when the fail-safe is off)
     marked = hits;
     std::sort(marked.begin(), marked.end());
     marked.erase(std::unique(marked.begin(), marked.end()), marked.end());
