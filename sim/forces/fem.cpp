@@ -89,9 +89,13 @@ FemStretch::FemStretch(const ClothMesh& mesh, int offset, const Material& materi
     }
 }
 
+Vec2 FemStretch::beyondKnee(const Vec3& e) const {
+    return {std::max(e.x() - m_knee, 0.0), std::max(e.y() - m_knee, 0.0)};
+}
+
 Vec3 FemStretch::stiffeningStress(const Vec3& e) const {
-    return {m_stiffening.x() * std::max(e.x() - m_knee, 0.0),
-            m_stiffening.y() * std::max(e.y() - m_knee, 0.0), 0.0};
+    const Vec2 beyond = beyondKnee(e);
+    return {m_stiffening.x() * beyond.x(), m_stiffening.y() * beyond.y(), 0.0};
 }
 
 Vec2 FemStretch::stiffeningTangent(const Vec3& e) const {
@@ -151,8 +155,7 @@ double FemStretch::energy(const MatX3& x) const {
         const Vec3 e = greenStrain(x, t);
         w[t] = 0.5 * m_restArea[t] * e.dot(m_stiffness * e);
         if (m_biphasic) {
-            const Vec2 beyond((e.x() - m_knee) * (e.x() > m_knee ? 1.0 : 0.0),
-                              (e.y() - m_knee) * (e.y() > m_knee ? 1.0 : 0.0));
+            const Vec2 beyond = beyondKnee(e);
             w[t] += 0.5 * m_restArea[t] * beyond.dot(m_stiffening.cwiseProduct(beyond));
         }
     });
@@ -202,7 +205,8 @@ void FemStretch::addJacobian(const MatX3& x, const MatX3& v, double kx, double k
             Eigen::Matrix<double, 9, 3> dampingX;
             Eigen::Matrix<double, 9, 3> stiffening; // the same with the stiffening's tangent
             for (int k = 0; k < 3; ++k) {
-                const Vec3 dS = m_stiffness * symOuterVoigt(F.row(k).transpose(), bvec);
+                const Vec3 sym = symOuterVoigt(F.row(k).transpose(), bvec);
+                const Vec3 dS = m_stiffness * sym;
                 const Vec3 dSd =
                     m_damping * (m_stiffness * symOuterVoigt(Fdot.row(k).transpose(), bvec));
                 const Mat2 dSm = stressMatrix(dS);
@@ -212,7 +216,6 @@ void FemStretch::addJacobian(const MatX3& x, const MatX3& v, double kx, double k
                     dampingX.block<3, 1>(3 * a, k) = -a0 * F * (dSdm * b.col(a));
                 }
                 if (stiffened) {
-                    const Vec3 sym = symOuterVoigt(F.row(k).transpose(), bvec);
                     const Mat2 dSs =
                         stressMatrix(Vec3(extra.x() * sym.x(), extra.y() * sym.y(), 0));
                     for (int a = 0; a < 3; ++a) {

@@ -85,6 +85,8 @@ class FemStretch : public ForceModel {
     Vec2 m_stiffening = Vec2::Zero();
     double m_knee = 0;       ///< κ [-]
     bool m_biphasic = false; ///< some Δ > 0 with κ > 0
+    /// max(0, E_ii − κ) for the weft and warp normal strains of e.
+    Vec2 beyondKnee(const Vec3& e) const;
     /// Stress S_ii added beyond the knee at Green strain e (Voigt; zero shear).
     Vec3 stiffeningStress(const Vec3& e) const;
     /// The tangent of stiffeningStress at e (diagonal: Δ_i where E_ii > κ).

@@ -188,12 +188,17 @@ DetectionResult detectSelfContacts(const DetectionContext& ctx, const ContactMem
     ctx.clothBvh.selfOverlaps(scratch.pairs);
     if (!watched.empty()) {
         // Pairs the curvature culling skipped although the fail-safe saw them cross: each
-        // tested once (the traversal finds a pair at most once).
-        std::vector<std::pair<int, int>> found(scratch.pairs);
-        std::sort(found.begin(), found.end());
-        for (const auto& pair : watched) {
-            if (!std::binary_search(found.begin(), found.end(), pair)) {
-                scratch.pairs.push_back(pair);
+        // tested once (the traversal finds a pair at most once, and `watched` is sorted).
+        std::vector<char> found(watched.size(), 0);
+        for (const auto& pair : scratch.pairs) {
+            const auto it = std::lower_bound(watched.begin(), watched.end(), pair);
+            if (it != watched.end() && *it == pair) {
+                found[static_cast<std::size_t>(it - watched.begin())] = 1;
+            }
+        }
+        for (std::size_t i = 0; i < watched.size(); ++i) {
+            if (!found[i]) {
+                scratch.pairs.push_back(watched[i]);
             }
         }
     }
