@@ -54,47 +54,51 @@ def biphasic(e_small, knee, beyond, green):
     return e_small * green + (beyond - e_small) * max(green - knee, 0.0)
 
 
+GREENS = [GREEN_MAX * i / (SAMPLES - 1) for i in range(SAMPLES)]
+
+
+def rms(rows, along, e_small, knee, beyond):
+    """Root-mean-square departure of the biphasic law from their tension over GREENS [N/m]."""
+    err = sum((biphasic(e_small, knee, beyond, g) - tension(rows, along, g)) ** 2 for g in GREENS)
+    return math.sqrt(err / SAMPLES)
+
+
+def beyond_at(rows, along, e_small, knee):
+    """Least-squares modulus beyond a given knee (the law is linear in it), never below e_small."""
+    num = den = 0.0
+    for g in GREENS:
+        h = max(g - knee, 0.0)
+        num += h * (tension(rows, along, g) - e_small * g)
+        den += h * h
+    return e_small + (max(num / den, 0.0) if den > 0 else 0.0)
+
+
 def fit_knee(rows, along, e_small):
-    """Least-squares knee and modulus beyond it; (0, 0) when stiffening does not pay."""
-    greens = [GREEN_MAX * i / (SAMPLES - 1) for i in range(SAMPLES)]
-    target = [tension(rows, along, g) for g in greens]
-    linear_error = sum((e_small * g - t) ** 2 for g, t in zip(greens, target))
-    best = (linear_error, 0.0, 0.0)
+    """Least-squares knee over a grid; 0 when stiffening does not pay."""
+    best = (rms(rows, along, e_small, 0.0, e_small), 0.0)
     for j in range(1, 200):
         knee = GREEN_MAX * j / 200
-        # For a fixed knee the law is linear in the modulus beyond it: solve for it.
-        num = den = 0.0
-        for g, t in zip(greens, target):
-            h = max(g - knee, 0.0)
-            num += h * (t - e_small * g)
-            den += h * h
-        if den <= 0:
-            continue
-        extra = max(num / den, 0.0)
-        err = sum((biphasic(e_small, knee, e_small + extra, g) - t) ** 2
-                  for g, t in zip(greens, target))
+        err = rms(rows, along, e_small, knee, beyond_at(rows, along, e_small, knee))
         if err < best[0]:
-            best = (err, knee, e_small + extra)
-    return best[1], best[2], math.sqrt(best[0] / SAMPLES), math.sqrt(linear_error / SAMPLES)
+            best = (err, knee)
+    return best[1]
 
 
 def preset(name, data):
     rows = data["stretching"]
-    k0, k1, k2, k3 = rows[0]
-    e_weft = uniaxial_modulus(rows[0], "weft")
-    e_warp = uniaxial_modulus(rows[0], "warp")
-    knee_weft, _, _, lin_weft = fit_knee(rows, "weft", e_weft)
-    knee_warp, _, _, lin_warp = fit_knee(rows, "warp", e_warp)
-    # One knee for both directions (the engine's law): the earlier of the two fits' knees,
-    # with the moduli beyond it refitted below.
-    knees = [k for k in (knee_weft, knee_warp) if k > 0]
-    knee = min(knees) if knees else 0.0
+    _, k1, k2, k3 = rows[0]
+    e_small = {"weft": uniaxial_modulus(rows[0], "weft"),
+               "warp": uniaxial_modulus(rows[0], "warp")}
+    # One knee for both directions (the engine's law): the earlier of the two fitted apart,
+    # with the moduli beyond it refitted.
+    knees_apart = [fit_knee(rows, along, e_small[along]) for along in ("weft", "warp")]
+    knee = min((k for k in knees_apart if k > 0), default=0.0)
     bending = data["bending"]
     b_warp, b_bias, b_weft = (row[0] / 4.0 for row in bending)
     out = {
         "density_kg_per_m2": data["density"],
-        "stretch_weft_n_per_m": round(e_weft, 3),
-        "stretch_warp_n_per_m": round(e_warp, 3),
+        "stretch_weft_n_per_m": round(e_small["weft"], 3),
+        "stretch_warp_n_per_m": round(e_small["warp"], 3),
         "shear_n_per_m": round(k3 / 2.0, 3),
         "poisson": round(max(k1, 0.0) / k2, 4),
         "bending_n_m": float(f"{math.sqrt(b_weft * b_warp):.4g}"),
@@ -102,30 +106,17 @@ def preset(name, data):
         "bending_warp_n_m": float(f"{b_warp:.4g}"),
         "bending_bias_n_m": float(f"{b_bias:.4g}"),
     }
+    fit = {"knees": knees_apart}
     if knee > 0:
-        # Refit the moduli beyond the shared knee.
         out["stretch_knee_strain"] = round(knee, 4)
-        for along, e_small, key in (("weft", e_weft, "stretch_weft_beyond_n_per_m"),
-                                    ("warp", e_warp, "stretch_warp_beyond_n_per_m")):
-            greens = [GREEN_MAX * i / (SAMPLES - 1) for i in range(SAMPLES)]
-            num = den = 0.0
-            for g in greens:
-                h = max(g - knee, 0.0)
-                num += h * (tension(rows, along, g) - e_small * g)
-                den += h * h
-            extra = max(num / den, 0.0)
-            if extra > 0:
-                out[key] = round(e_small + extra, 3)
-    fit = {"linear_rms_weft": lin_weft, "linear_rms_warp": lin_warp,
-           "knees": (knee_weft, knee_warp)}
-    # How far the law written departs from their tension (one knee for both directions).
-    greens = [GREEN_MAX * i / (SAMPLES - 1) for i in range(SAMPLES)]
-    for along, e_small, key in (("weft", e_weft, "stretch_weft_beyond_n_per_m"),
-                                ("warp", e_warp, "stretch_warp_beyond_n_per_m")):
-        beyond = out.get(key, e_small)
-        err = sum((biphasic(e_small, knee, beyond, g) - tension(rows, along, g)) ** 2
-                  for g in greens)
-        fit["rms_" + along] = math.sqrt(err / SAMPLES)
+    for along in ("weft", "warp"):
+        key = f"stretch_{along}_beyond_n_per_m"
+        beyond = beyond_at(rows, along, e_small[along], knee) if knee > 0 else e_small[along]
+        if beyond > e_small[along]:
+            out[key] = round(beyond, 3)
+        fit["linear_rms_" + along] = rms(rows, along, e_small[along], 0.0, e_small[along])
+        # How far the law written departs from their tension.
+        fit["rms_" + along] = rms(rows, along, e_small[along], knee, out.get(key, e_small[along]))
     return out, fit
 
 
